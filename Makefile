@@ -1,0 +1,30 @@
+# aniso: every target installs what it needs first (scripts/install-deps.sh is idempotent).
+PRESET ?= release
+JOBS   ?= $(shell nproc)
+BIN    := build/$(PRESET)/bin
+
+.PHONY: all deps configure build test bench clean format
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+configure: deps
+	@cmake --preset $(PRESET) >/dev/null
+
+build: configure
+	@cmake --build --preset $(PRESET) -j $(JOBS)
+	@echo "built $(BIN)/aniso"
+
+test: build
+	@ctest --preset $(PRESET) -j $(JOBS)
+
+bench: build
+	@$(BIN)/aniso_bench --benchmark_min_time=0.2 $(BENCH_ARGS)
+
+format:
+	@clang-format -i $$(git ls-files '*.h' '*.cpp' '*.cu')
+
+clean:
+	@rm -rf build

@@ -1,0 +1,53 @@
+// aniso/brdf/fresnel.h: Fresnel reflectance of conductors (exact, from n + ik) and Schlick's
+// approximation. Unpolarised light, incident from air (n = 1).
+#pragma once
+
+#include "aniso/core/math.h"
+
+namespace aniso {
+
+// Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering", Eq. 15:
+// F(c) = F0 + (1 - F0)(1 - c)^5, c = cos of the angle between the light and the half vector.
+template <typename T> ANISO_INLINE T F_Schlick(T f0, T cos_theta) {
+  const T m = T(1) - clamp01(cos_theta);
+  const T m2 = m * m;
+  return f0 + (T(1) - f0) * (m2 * m2 * m);
+}
+
+template <typename T> ANISO_INLINE RGBT<T> F_Schlick(const RGBT<T>& f0, T cos_theta) {
+  const T m = T(1) - clamp01(cos_theta);
+  const T m2 = m * m;
+  return f0 + (RGBT<T>(T(1)) - f0) * (m2 * m2 * m);
+}
+
+// Exact unpolarised reflectance of a conductor with complex index eta + i k, from air.
+// Real-arithmetic form of the Fresnel equations (Born & Wolf, Principles of Optics, Sec. 14.2;
+// the a^2 + b^2 formulation as in pbrt-v3's FrConductor):
+//   a^2 + b^2 = sqrt((eta^2 - k^2 - sin^2)^2 + 4 eta^2 k^2),  a = sqrt((a^2 + b^2 + eta^2 - k^2 - sin^2)/2)
+//   R_s = (a^2 + b^2 + cos^2 - 2 a cos) / (a^2 + b^2 + cos^2 + 2 a cos)
+//   R_p = R_s (cos^2 (a^2 + b^2) + sin^4 - 2 a cos sin^2) / (cos^2 (a^2 + b^2) + sin^4 + 2 a cos sin^2)
+// F = (R_s + R_p) / 2. At cos = 0 both are 1 (grazing incidence reflects everything).
+template <typename T> ANISO_INLINE T F_Conductor(T cos_theta, T eta, T k) {
+  using std::sqrt;
+  const T c = clamp01(cos_theta);
+  const T cos2 = c * c;
+  const T sin2 = T(1) - cos2;
+  const T eta2 = eta * eta, k2 = k * k;
+  const T t0 = eta2 - k2 - sin2;
+  const T a2_plus_b2 = sqrt(t0 * t0 + T(4) * eta2 * k2);
+  const T t1 = a2_plus_b2 + cos2;
+  const T a = safe_sqrt(T(0.5) * (a2_plus_b2 + t0));
+  const T t2 = T(2) * c * a;
+  const T rs = (t1 - t2) / (t1 + t2);
+  const T t3 = cos2 * a2_plus_b2 + sin2 * sin2;
+  const T t4 = t2 * sin2;
+  const T rp = rs * (t3 - t4) / (t3 + t4);
+  return T(0.5) * (rp + rs);
+}
+
+template <typename T> ANISO_INLINE RGBT<T> F_Conductor(T cos_theta, const RGBT<T>& eta, const RGBT<T>& k) {
+  return RGBT<T>(F_Conductor(cos_theta, eta.x, k.x), F_Conductor(cos_theta, eta.y, k.y),
+                 F_Conductor(cos_theta, eta.z, k.z));
+}
+
+}  // namespace aniso

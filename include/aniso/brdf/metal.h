@@ -1,0 +1,114 @@
+// aniso/brdf/metal.h: a conductor. Light cannot penetrate a metal beyond a skin of tens of
+// nanometres (penetration depth lambda / (4 pi k)), so there is no subsurface (Lambertian) term.
+// The reflection has two parts (the lecture, "Metals"; Cook & Torrance 1982):
+//   f = F_conductor(wi.h; eta, k) * specular(wi, wo)  +  directional_diffuse(wi, wo)
+// - specular: an anisotropic Ward, Ashikhmin-Shirley or GGX lobe without colour or Fresnel;
+// - directional diffuse: an optional broad Lafortune lobe coloured by the metal, with Ngan et
+//   al. 2005's normalisation folded in by the host (scale = albedo F0 (n + 2) / (2 pi), C / max|C|).
+// docs/models/metal.md; the RGB eta, k come from measured spectra (docs/metals.md).
+#pragma once
+
+#include "aniso/brdf/ashikhmin_shirley.h"
+#include "aniso/brdf/fresnel.h"
+#include "aniso/brdf/ggx.h"
+#include "aniso/brdf/lafortune.h"
+#include "aniso/brdf/ward.h"
+
+namespace aniso {
+
+enum class SpecularLobeKind : int { Ward = 0, AshikhminShirley = 1, GGX = 2 };
+
+template <typename T> struct MetalT {
+  RGBT<T> eta{T(0.2)};
+  RGBT<T> k{T(3)};
+  SpecularLobeKind lobe_kind = SpecularLobeKind::GGX;
+  WardLobeT<T> ward;
+  AshikhminShirleyLobeT<T> ashikhmin_shirley;
+  GGXLobeT<T> ggx;
+  bool has_directional_diffuse = false;
+  LafortuneLobeT<T> directional_diffuse;
+
+  ANISO_HD T specular(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    switch (lobe_kind) {
+      case SpecularLobeKind::Ward: return ward.eval(wi, wo);
+      case SpecularLobeKind::AshikhminShirley: return ashikhmin_shirley.eval(wi, wo);
+      default: return ggx.eval(wi, wo);
+    }
+  }
+  ANISO_HD T specular_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    switch (lobe_kind) {
+      case SpecularLobeKind::Ward: return ward.pdf(wi, wo);
+      case SpecularLobeKind::AshikhminShirley: return ashikhmin_shirley.pdf(wi, wo);
+      default: return ggx.pdf(wi, wo);
+    }
+  }
+  ANISO_HD Vec3T<T> specular_sample(const Vec3T<T>& wo, const Vec2T<T>& u) const {
+    switch (lobe_kind) {
+      case SpecularLobeKind::Ward: return ward.sample(wo, u);
+      case SpecularLobeKind::AshikhminShirley: return ashikhmin_shirley.sample(wo, u);
+      default: return ggx.sample(wo, u);
+    }
+  }
+
+  ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    if (!same_upper_hemisphere(wi, wo)) return RGBT<T>(T(0));
+    const Vec3T<T> h = glm::normalize(wi + wo);
+    RGBT<T> out = F_Conductor(glm::dot(wi, h), eta, k) * specular(wi, wo);
+    if (has_directional_diffuse) out += directional_diffuse.eval(wi, wo);
+    return out;
+  }
+
+  // Lobe choice: the specular lobe weighs its Fresnel reflectance seen from wo, the directional
+  // diffuse lobe its channel weights (an albedo bound, lafortune.h).
+  ANISO_HD T specular_probability(const Vec3T<T>& wo) const {
+    const T s = average(F_Conductor(wo.z, eta, k));
+    T d = T(0);
+    if (has_directional_diffuse)
+      for (int c = 0; c < 3; ++c) d += directional_diffuse.channel_weight(wo, c);
+    return s + d > T(0) ? s / (s + d) : T(1);
+  }
+  ANISO_HD T directional_diffuse_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    T wsum = T(0), p = T(0);
+    for (int c = 0; c < 3; ++c) {
+      const T w = directional_diffuse.channel_weight(wo, c);
+      if (w > T(0)) {
+        wsum += w;
+        p += w * directional_diffuse.channel_pdf(wi, wo, c);
+      }
+    }
+    return wsum > T(0) ? p / wsum : T(0);
+  }
+  ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    if (!same_upper_hemisphere(wi, wo)) return T(0);
+    const T ps = specular_probability(wo);
+    T p = ps * specular_pdf(wi, wo);
+    if (ps < T(1)) p += (T(1) - ps) * directional_diffuse_pdf(wi, wo);
+    return p;
+  }
+  ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
+    if (!(wo.z > T(0))) return {};
+    const T ps = specular_probability(wo);
+    Vec3T<T> wi;
+    if (uc < ps) {
+      wi = specular_sample(wo, u);
+    } else {
+      // Pick the channel of the directional-diffuse lobe by weight, reusing uc rescaled to [0, 1).
+      T ws[3], wsum = T(0);
+      for (int c = 0; c < 3; ++c) wsum += (ws[c] = directional_diffuse.channel_weight(wo, c));
+      if (!(wsum > T(0))) return {};
+      T target = (uc - ps) / (T(1) - ps) * wsum;
+      int chosen = 2;
+      for (int c = 0; c < 3; ++c) {
+        if (ws[c] > T(0) && target < ws[c]) { chosen = c; break; }
+        target -= ws[c];
+      }
+      while (chosen > 0 && !(ws[chosen] > T(0))) --chosen;
+      const Vec3T<T> a = directional_diffuse.axis(wo, chosen);
+      wi = sample_cosine_power(a / std::sqrt(glm::dot(a, a)), directional_diffuse.n[chosen], u);
+    }
+    if (!(wi.z > T(0))) return {};
+    return make_sample(wi, f(wi, wo), pdf(wi, wo));
+  }
+};
+
+}  // namespace aniso

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs the Debian packages aniso builds and tests with. Idempotent: packages already present
+# are not touched, and when everything is present nothing is run at all (no apt-get update).
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libglm-dev          # vector math in the kernels (mirrors GLSL)
+  libfmt-dev          # formatting in host code
+  libcli11-dev        # command-line parsing
+  nlohmann-json3-dev  # material JSON
+  libgtest-dev        # unit and statistical tests
+  libbenchmark-dev    # benchmarks
+)
+# Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
+if [[ "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then
+  packages+=(python3-numpy python3-scipy)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

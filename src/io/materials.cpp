@@ -1,0 +1,323 @@
+// io/materials.cpp: the JSON reader (generic, driven by the tables) and one builder per model.
+#include "io/materials.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "data/metals.h"
+#include "io/presets.h"
+
+namespace aniso {
+namespace {
+
+using nlohmann::json;
+
+std::string type_name(const json& v) {
+  if (v.is_number()) return fmt::format("the number {}", v.dump());
+  if (v.is_string()) return fmt::format("the string {}", v.dump());
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  if (v.is_array()) return fmt::format("an array of {} elements", v.size());
+  if (v.is_object()) return "an object";
+  return "null";
+}
+
+bool in_range(const ParamSpec& p, double x) {
+  if (!std::isfinite(x)) return false;
+  if (p.min_exclusive ? !(x > p.min) : !(x >= p.min)) return false;
+  return x <= p.max;
+}
+
+[[noreturn]] void fail(const std::string& where, std::string_view key, const std::string& what) {
+  throw InputError(fmt::format("{}: key \"{}\": {}", where, key, what));
+}
+
+ParamValue read_value(const json& v, const ParamSpec& p, const std::string& where) {
+  const auto expected = [&] { return fmt::format("expected {}, got {}", describe_range(p), type_name(v)); };
+  switch (p.kind) {
+    case ParamKind::Scalar:
+      if (!v.is_number() || !in_range(p, v.get<double>())) fail(where, p.name, expected());
+      return v.get<double>();
+    case ParamKind::Color: {
+      if (v.is_number()) {
+        if (!in_range(p, v.get<double>())) fail(where, p.name, expected());
+        return glm::dvec3(v.get<double>());
+      }
+      if (!v.is_array() || v.size() != 3) fail(where, p.name, expected());
+      glm::dvec3 c;
+      for (int i = 0; i < 3; ++i) {
+        if (!v[i].is_number() || !in_range(p, v[i].get<double>()))
+          fail(where, p.name, fmt::format("element {}: expected {}, got {}", i, describe_range(p), type_name(v[i])));
+        c[i] = v[i].get<double>();
+      }
+      return c;
+    }
+    case ParamKind::Bool:
+      if (!v.is_boolean()) fail(where, p.name, expected());
+      return v.get<bool>();
+    case ParamKind::Choice:
+    case ParamKind::String: {
+      if (!v.is_string()) fail(where, p.name, expected());
+      const std::string s = v.get<std::string>();
+      if (p.kind == ParamKind::Choice) {
+        bool ok = false;
+        for (auto c : p.choices) ok = ok || c == s;
+        if (!ok) fail(where, p.name, expected());
+      }
+      return s;
+    }
+    case ParamKind::Object:
+      if (!v.is_object()) fail(where, p.name, expected());
+      return std::make_shared<ParamValues>(read_params(v, *p.sub, fmt::format("{}: {}", where, p.name)));
+    case ParamKind::TaggedObject: {
+      if (!v.is_object()) fail(where, p.name, expected());
+      const auto it = v.find("model");
+      if (it == v.end() || !it->is_string()) fail(where, fmt::format("{}.model", p.name), expected());
+      const std::string model = it->get<std::string>();
+      bool ok = false;
+      for (auto c : p.choices) ok = ok || c == model;
+      if (!ok) fail(where, fmt::format("{}.model", p.name), expected());
+      json rest = v;
+      rest.erase("model");
+      auto out = std::make_shared<ParamValues>(read_params(rest, metal_lobe_spec(model), fmt::format("{}: {}", where, p.name)));
+      out->values["model"] = model;
+      return out;
+    }
+    case ParamKind::List: {
+      if (!v.is_array() || v.empty() || static_cast<int>(v.size()) > p.max_items) fail(where, p.name, expected());
+      std::vector<ParamValues> items;
+      for (size_t i = 0; i < v.size(); ++i) {
+        if (!v[i].is_object()) fail(where, fmt::format("{}[{}]", p.name, i), fmt::format("expected an object, got {}", type_name(v[i])));
+        items.push_back(read_params(v[i], *p.sub, fmt::format("{}: {}[{}]", where, p.name, i)));
+      }
+      return items;
+    }
+  }
+  fail(where, p.name, "unsupported parameter kind");
+}
+
+std::string allowed_keys(const ModelSpec& spec) {
+  std::string s;
+  for (const ParamSpec* p : spec.params()) s += fmt::format("{}\"{}\"", s.empty() ? "" : ", ", p->name);
+  return s;
+}
+
+// "cxy" sets cx and cy; it may not be given together with either.
+void resolve_cxy(ParamValues& pv, const json& obj) {
+  if (!pv.has("cxy")) return;
+  if (obj.contains("cx") || obj.contains("cy")) pv.fail("cxy", "cannot be given together with \"cx\" or \"cy\"");
+  pv.values["cx"] = pv.values["cxy"];
+  pv.values["cy"] = pv.values["cxy"];
+  pv.values.erase("cxy");
+}
+
+}  // namespace
+
+ParamValues read_params(const json& obj, const ModelSpec& spec, const std::string& where) {
+  ParamValues pv;
+  pv.where = where;
+  if (!obj.is_object()) throw InputError(fmt::format("{}: expected a JSON object, got {}", where, type_name(obj)));
+  for (const auto& [key, value] : obj.items()) {
+    if (!spec.find(key))
+      throw InputError(fmt::format("{}: unknown key \"{}\" for {}; allowed keys: {}", where, key, spec.name,
+                                   allowed_keys(spec)));
+  }
+  for (const ParamSpec* p : spec.params()) {
+    const auto it = obj.find(p->name);
+    if (it != obj.end()) {
+      pv.values[std::string(p->name)] = read_value(*it, *p, where);
+      continue;
+    }
+    if (p->required) fail(where, p->name, fmt::format("missing (required; {})", describe_range(*p)));
+    switch (p->kind) {
+      case ParamKind::Scalar:
+        if (!std::isnan(p->default_value)) pv.values[std::string(p->name)] = p->default_value;
+        break;
+      case ParamKind::Color:
+        if (!std::isnan(p->default_value)) pv.values[std::string(p->name)] = glm::dvec3(p->default_value);
+        break;
+      case ParamKind::Bool: pv.values[std::string(p->name)] = p->default_value != 0.0; break;
+      case ParamKind::Choice: pv.values[std::string(p->name)] = std::string(p->choices[0]); break;
+      default: break;  // optional objects, strings and lists have no default: absent
+    }
+  }
+  if (spec.find("cxy")) resolve_cxy(pv, obj);
+  return pv;
+}
+
+MaterialDesc parse_material(const json& obj, const std::string& where) {
+  if (!obj.is_object()) throw InputError(fmt::format("{}: expected a JSON object, got {}", where, type_name(obj)));
+  const auto it = obj.find("model");
+  std::string models;
+  for (const ModelSpec* m : model_specs()) models += fmt::format("{}\"{}\"", models.empty() ? "" : ", ", m->name);
+  if (it == obj.end()) throw InputError(fmt::format("{}: key \"model\": missing; expected one of {}", where, models));
+  if (!it->is_string() || !find_model_spec(it->get<std::string>()))
+    throw InputError(fmt::format("{}: key \"model\": expected one of {}, got {}", where, models, type_name(*it)));
+  MaterialDesc d;
+  d.model = it->get<std::string>();
+  json rest = obj;
+  rest.erase("model");
+  d.params = read_params(rest, *find_model_spec(d.model), where);
+  d.json = obj;
+  // Cross-key rules the tables cannot express.
+  if (d.model == "metal") {
+    const bool named = d.params.has("metal"), custom = d.params.has("eta") || d.params.has("k");
+    if (named && custom) d.params.fail("metal", "give either \"metal\" or \"eta\" and \"k\", not both");
+    if (!named && !(d.params.has("eta") && d.params.has("k")))
+      d.params.fail(d.params.has("eta") ? "k" : (d.params.has("k") ? "eta" : "metal"),
+                    "missing: a metal needs \"metal\" (a name) or both \"eta\" and \"k\"");
+    if (named && !find_metal(d.params.text("metal")))
+      d.params.fail("metal", fmt::format("unknown metal \"{}\"; expected one of {}", d.params.text("metal"), metal_names()));
+  }
+  return d;
+}
+
+MaterialDesc load_material(const std::string& name_or_path) {
+  if (const auto preset = find_preset(name_or_path)) return parse_material(*preset, fmt::format("preset {}", name_or_path));
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_regular_file(name_or_path, ec)) {
+    throw InputError(fmt::format(
+        "material \"{}\": neither a preset (see `aniso presets`) nor a readable JSON file", name_or_path));
+  }
+  std::ifstream in(name_or_path);
+  json obj;
+  try {
+    obj = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw InputError(fmt::format("{}: invalid JSON: {}", name_or_path, e.what()));
+  }
+  return parse_material(obj, name_or_path);
+}
+
+// --- builders: one per model, each a plain copy from the validated values --------------------
+
+namespace {
+
+template <typename T> RGBT<T> rgb(const glm::dvec3& c) { return RGBT<T>(T(c.x), T(c.y), T(c.z)); }
+
+template <typename T> WardLobeT<T> build_ward_lobe(const ParamValues& p) {
+  WardLobeT<T> l;
+  l.alpha_x = T(p.scalar("alpha_x"));
+  l.alpha_y = T(p.scalar("alpha_y"));
+  const std::string& form = p.text("form");
+  l.form = form == "angle" ? WardForm::Angle : (form == "approx" ? WardForm::Approx : WardForm::Vector);
+  const std::string& norm = p.text("normalization");
+  l.normalization = norm == "duer" ? WardNormalization::Duer
+                                   : (norm == "balanced" ? WardNormalization::Balanced : WardNormalization::Ward1992);
+  return l;
+}
+
+template <typename T> LafortuneLobeT<T> build_lafortune_lobe(const ParamValues& p) {
+  LafortuneLobeT<T> l;
+  l.cx = rgb<T>(p.color("cx"));
+  l.cy = rgb<T>(p.color("cy"));
+  l.cz = rgb<T>(p.color("cz"));
+  l.n = rgb<T>(p.color("n"));
+  l.scale = rgb<T>(p.color("scale"));
+  return l;
+}
+
+template <typename T> MetalT<T> build_metal(const ParamValues& p) {
+  MetalT<T> m;
+  if (p.has("metal")) {
+    const MetalData* md = find_metal(p.text("metal"));
+    m.eta = rgb<T>(md->eta);
+    m.k = rgb<T>(md->k);
+  } else {
+    m.eta = rgb<T>(p.color("eta"));
+    m.k = rgb<T>(p.color("k"));
+  }
+  const ParamValues& lobe = p.object("lobe");
+  const std::string& kind = lobe.text("model");
+  if (kind == "ward") {
+    m.lobe_kind = SpecularLobeKind::Ward;
+    m.ward = build_ward_lobe<T>(lobe);
+  } else if (kind == "ashikhmin-shirley") {
+    m.lobe_kind = SpecularLobeKind::AshikhminShirley;
+    m.ashikhmin_shirley.n_u = T(lobe.scalar("n_u"));
+    m.ashikhmin_shirley.n_v = T(lobe.scalar("n_v"));
+  } else {
+    m.lobe_kind = SpecularLobeKind::GGX;
+    m.ggx.alpha_x = T(lobe.scalar("alpha_x"));
+    m.ggx.alpha_y = T(lobe.scalar("alpha_y"));
+  }
+  if (p.has("directional_diffuse")) {
+    // Ngan et al. 2005's Lafortune normalisation, (n + 2) / (2 pi max|C|^n), folded in: dividing C by
+    // max|C| keeps the lobe's peak at 1 without computing max|C|^n (which underflows for large n),
+    // and the scale becomes albedo F0 (n + 2) / (2 pi), coloured by the metal's F0.
+    const ParamValues& dd = p.object("directional_diffuse");
+    const double cx = dd.scalar("cx"), cy = dd.scalar("cy"), cz = dd.scalar("cz"), n = dd.scalar("n");
+    const double cmax = std::max({std::abs(cx), std::abs(cy), std::abs(cz)});
+    if (!(cmax > 0.0)) dd.fail("cz", "the lobe needs at least one non-zero coefficient");
+    const RGBT<T> f0 = F_Conductor(T(1), m.eta, m.k);
+    m.has_directional_diffuse = true;
+    m.directional_diffuse.cx = RGBT<T>(T(cx / cmax));
+    m.directional_diffuse.cy = RGBT<T>(T(cy / cmax));
+    m.directional_diffuse.cz = RGBT<T>(T(cz / cmax));
+    m.directional_diffuse.n = RGBT<T>(T(n));
+    m.directional_diffuse.scale = rgb<T>(dd.color("albedo")) * f0 * T((n + 2.0) / (2.0 * M_PI));
+  }
+  return m;
+}
+
+}  // namespace
+
+template <typename T> MaterialT<T> build_material(const MaterialDesc& d) {
+  const ParamValues& p = d.params;
+  if (d.model == "lambert") {
+    LambertT<T> m;
+    m.kd = rgb<T>(p.color("kd"));
+    return m;
+  }
+  if (d.model == "phong") {
+    PhongT<T> m;
+    m.kd = rgb<T>(p.color("kd"));
+    m.ks = rgb<T>(p.color("ks"));
+    m.exponent = T(p.scalar("exponent"));
+    m.normalized = p.boolean("normalized");
+    return m;
+  }
+  if (d.model == "ward") {
+    WardT<T> m;
+    m.kd = rgb<T>(p.color("kd"));
+    m.ks = rgb<T>(p.color("ks"));
+    m.lobe = build_ward_lobe<T>(p);
+    return m;
+  }
+  if (d.model == "ashikhmin-shirley") {
+    AshikhminShirleyT<T> m;
+    m.rd = rgb<T>(p.color("rd"));
+    m.rs = rgb<T>(p.color("rs"));
+    m.kd = rgb<T>(p.color("kd"));
+    m.ks_scale = rgb<T>(p.color("ks_scale"));
+    m.lobe.n_u = T(p.scalar("n_u"));
+    m.lobe.n_v = T(p.scalar("n_v"));
+    return m;
+  }
+  if (d.model == "lafortune") {
+    LafortuneT<T> m;
+    m.rho_d = rgb<T>(p.color("rho_d"));
+    const auto& lobes = p.list("lobes");
+    m.lobe_count = static_cast<int>(lobes.size());
+    for (size_t i = 0; i < lobes.size(); ++i) m.lobes[i] = build_lafortune_lobe<T>(lobes[i]);
+    return m;
+  }
+  if (d.model == "ggx") {
+    GGXT<T> m;
+    m.kd = rgb<T>(p.color("kd"));
+    m.f0 = rgb<T>(p.color("f0"));
+    m.lobe.alpha_x = T(p.scalar("alpha_x"));
+    m.lobe.alpha_y = T(p.scalar("alpha_y"));
+    return m;
+  }
+  if (d.model == "metal") return build_metal<T>(p);
+  throw InputError(fmt::format("{}: model \"{}\" has no builder", p.where, d.model));
+}
+
+template MaterialT<float> build_material<float>(const MaterialDesc&);
+template MaterialT<double> build_material<double>(const MaterialDesc&);
+
+}  // namespace aniso

@@ -1,0 +1,98 @@
+// io/params.h: the parameter tables. One table per model (name, kind, range, default, doc) is
+// the single source of truth that the JSON reader validates against, that `aniso models` prints,
+// that docs/models/*.md quote, and that later the Python keywords, GLSL uniforms and viewer
+// sliders are generated from. Add a parameter here and in the model's builder (materials.cpp).
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace aniso {
+
+// Every error a host reader raises: the message names the file, the key and what was expected.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class ParamKind {
+  Scalar,  // a number in [min, max]
+  Color,   // a number or an [r, g, b] array, each in [min, max]
+  Bool,
+  Choice,  // one of `choices`
+  String,  // free text (for example a metal name, checked by the builder)
+  Object,  // a nested object validated against `sub`
+  List,    // an array of objects, each validated against `sub`
+  TaggedObject,  // an object whose "model" key (one of `choices`) selects its table: metal_lobe_spec()
+};
+
+struct ModelSpec;
+
+struct ParamSpec {
+  std::string_view name;
+  ParamKind kind = ParamKind::Scalar;
+  std::string_view doc;
+  double min = 0.0;
+  double max = 1.0;
+  bool min_exclusive = false;  // the range is (min, max] instead of [min, max]
+  // Default (Scalar, Color: all three; Bool: != 0). Ignored when required.
+  double default_value = 0.0;
+  bool required = false;
+  std::span<const std::string_view> choices = {};  // Choice; choices[0] is the default
+  const ModelSpec* sub = nullptr;                   // Object, List
+  int max_items = 0;                                // List
+};
+
+// A model's table: its parts are spans of parameters, so that a lobe shared by two models (the
+// Ward lobe of `ward` and of `metal`) is written once.
+struct ModelSpec {
+  std::string_view name;
+  std::string_view title;
+  std::string_view citation;
+  std::span<const std::span<const ParamSpec>> parts;
+
+  // Every parameter of every part, in order.
+  std::vector<const ParamSpec*> params() const;
+  const ParamSpec* find(std::string_view key) const;
+};
+
+// Values read from JSON and validated; defaults filled in for every optional key that has one.
+struct ParamValues;
+using ParamValue = std::variant<double, glm::dvec3, bool, std::string, std::shared_ptr<ParamValues>,
+                                std::vector<ParamValues>>;
+
+struct ParamValues {
+  std::string where;  // "material.json: lobe" etc., for errors raised after validation
+  std::map<std::string, ParamValue, std::less<>> values;
+
+  bool has(std::string_view key) const { return values.find(key) != values.end(); }
+  double scalar(std::string_view key) const;
+  glm::dvec3 color(std::string_view key) const;
+  bool boolean(std::string_view key) const;
+  const std::string& text(std::string_view key) const;
+  const ParamValues& object(std::string_view key) const;
+  const std::vector<ParamValues>& list(std::string_view key) const;
+  [[noreturn]] void fail(std::string_view key, std::string_view what) const;
+};
+
+// All model tables, in the order `aniso models` lists them.
+std::span<const ModelSpec* const> model_specs();
+const ModelSpec* find_model_spec(std::string_view name);
+
+// Sub-tables used inside models (lobes).
+const ModelSpec& lafortune_lobe_spec();
+const ModelSpec& metal_lobe_spec(std::string_view model);  // ward | ashikhmin-shirley | ggx
+const ModelSpec& directional_diffuse_spec();
+
+std::string describe_range(const ParamSpec& p);
+
+}  // namespace aniso
