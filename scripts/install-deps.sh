@@ -11,10 +11,11 @@ packages=(
   nlohmann-json3-dev  # material JSON
   libgtest-dev        # unit and statistical tests
   libbenchmark-dev    # benchmarks
+  libboost-dev        # boost::math::gamma_q for the chi-square p-values in tests
 )
 # Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
 if [[ "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then
-  packages+=(python3-numpy python3-scipy)
+  packages+=(python3 python3-numpy python3-scipy)
 fi
 
 missing=()
