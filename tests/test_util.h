@@ -1,0 +1,70 @@
+// tests/test_util.h: what the property tests share: a list of materials covering every model,
+// form and normalisation (isotropic and anisotropic), and random directions.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aniso/brdf/material.h"
+#include "io/materials.h"
+#include "stats/rng.h"
+
+namespace aniso::test {
+
+struct NamedMaterial {
+  std::string name;
+  nlohmann::json json;
+};
+
+// Every model, every Ward form x normalisation, isotropic and anisotropic, metals with each lobe.
+inline std::vector<NamedMaterial> all_model_materials() {
+  using nlohmann::json;
+  std::vector<NamedMaterial> v;
+  v.push_back({"lambert", {{"model", "lambert"}, {"kd", {0.8, 0.5, 0.2}}}});
+  v.push_back({"phong", {{"model", "phong"}, {"kd", 0.2}, {"ks", 0.5}, {"exponent", 30.0}, {"normalized", true}}});
+  v.push_back({"phong_plain", {{"model", "phong"}, {"kd", 0.1}, {"ks", 0.3}, {"exponent", 8.0}, {"normalized", false}}});
+  for (const char* form : {"vector", "angle", "approx"})
+    for (const char* norm : {"ward", "duer", "balanced"}) {
+      v.push_back({std::string("ward_") + form + "_" + norm,
+                   {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.08}, {"alpha_y", 0.3},
+                    {"form", form}, {"normalization", norm}}});
+    }
+  v.push_back({"ward_iso", {{"model", "ward"}, {"kd", 0.2}, {"ks", 0.3}, {"alpha_x", 0.15}, {"alpha_y", 0.15}}});
+  v.push_back({"as_aniso", {{"model", "ashikhmin-shirley"}, {"rd", {0.5, 0.3, 0.2}}, {"rs", 0.05}, {"n_u", 10.0}, {"n_v", 500.0}}});
+  v.push_back({"as_iso", {{"model", "ashikhmin-shirley"}, {"rd", 0.4}, {"rs", 0.5}, {"n_u", 80.0}, {"n_v", 80.0}}});
+  v.push_back({"lafortune_aniso",
+               {{"model", "lafortune"}, {"rho_d", 0.1},
+                {"lobes", json::array({{{"cx", -0.9}, {"cy", -1.1}, {"cz", 0.95}, {"n", {20.0, 25.0, 30.0}}},
+                                       {{"cxy", 0.6}, {"cz", 0.3}, {"n", 3.0}, {"scale", 0.5}}})}}});
+  v.push_back({"matte_steel", {{"model", "lafortune"}, {"lobes", json::array({{{"cxy", -1.11954}, {"cz", 1.01272}, {"n", 15.8708}}})}}});
+  v.push_back({"ggx_aniso", {{"model", "ggx"}, {"kd", 0.2}, {"f0", {0.9, 0.6, 0.3}}, {"alpha_x", 0.05}, {"alpha_y", 0.4}}});
+  v.push_back({"ggx_iso", {{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.04}, {"alpha_x", 0.3}, {"alpha_y", 0.3}}});
+  v.push_back({"metal_ward", {{"model", "metal"}, {"metal", "gold"},
+                              {"lobe", {{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.35}, {"normalization", "balanced"}}},
+                              {"directional_diffuse", {{"albedo", 0.2}, {"n", 4.0}}}}});
+  v.push_back({"metal_as", {{"model", "metal"}, {"metal", "copper"}, {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 20.0}, {"n_v", 300.0}}}}});
+  v.push_back({"metal_ggx", {{"model", "metal"}, {"eta", {0.2, 0.9, 1.1}}, {"k", {3.9, 2.4, 2.2}},
+                             {"lobe", {{"model", "ggx"}, {"alpha_x", 0.3}, {"alpha_y", 0.1}}}}});
+  return v;
+}
+
+template <typename T> MaterialT<T> build(const nlohmann::json& j) {
+  return build_material<T>(parse_material(j, "test material"));
+}
+
+// Uniform direction on the upper hemisphere (z > 0).
+template <typename T> Vec3T<T> random_upper(Rng& rng) {
+  const double z = 1.0 - rng.uniform();  // (0, 1]
+  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+  const double phi = 2.0 * M_PI * rng.uniform();
+  return Vec3T<T>(T(r * std::cos(phi)), T(r * std::sin(phi)), T(z));
+}
+
+inline Vec3d spherical(double theta_deg, double phi_deg) {
+  const double t = theta_deg * M_PI / 180.0, p = phi_deg * M_PI / 180.0;
+  return Vec3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+}
+
+}  // namespace aniso::test
