@@ -1,0 +1,327 @@
+// tests/reference/reference_brdfs.h: an independent, deliberately plain double-precision
+// evaluation of every model, written from the formulas in docs/models.md (the project's
+// specification, /work/shared/docs/models.md) and the lecture (VGP352 week 5), not from
+// include/aniso. tests/test_reference.cpp holds the library against it.
+//
+// Independence is the point, so the formulas are written in a *different* form from the kernels
+// wherever the specification allows one:
+// - Ward (every form and normalisation): the angle form, theta_h = acos(h.z) and
+//   phi_h = atan2(h.y, h.x) of the unit half vector (the lecture's first formula), never the
+//   vector form; the 1992 approximation exactly as printed (h unit).
+// - Ashikhmin-Shirley: the exponent n_u cos^2 phi_h + n_v sin^2 phi_h with phi_h from atan2.
+// - GGX: D and Lambda written with theta and phi (tan^2 theta, cos^2 phi, sin^2 phi).
+// - Conductor Fresnel: complex arithmetic (std::complex<double>), Born & Wolf / pbrt-v4's
+//   FrComplex, while the library uses the real a^2 + b^2 form.
+// Only the standard library is used; directions are unit vectors in the local frame
+// (z = normal, x = tangent), wi towards the light, wo towards the viewer.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <vector>
+
+namespace aniso_ref {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct V3 {
+  double x = 0, y = 0, z = 0;
+};
+using C3 = std::array<double, 3>;  // an RGB triple
+
+inline double dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V3 add(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline V3 normalize(const V3& a) {
+  const double l = std::sqrt(dot(a, a));
+  return {a.x / l, a.y / l, a.z / l};
+}
+inline C3 grey(double v) { return {v, v, v}; }
+
+// Both directions strictly above the horizon and wi + wo != 0 (models.md: otherwise f = 0).
+inline bool valid(const V3& wi, const V3& wo) { return wi.z > 0.0 && wo.z > 0.0; }
+
+// Angles of the unit half vector: theta_h from z, phi_h from x (atan2 of the projection onto the
+// xy plane; at h = n the projection has no direction and atan2(0, 0) = 0, where tan theta_h = 0).
+struct HalfAngles {
+  V3 h;          // unit half vector
+  double theta;  // theta_h
+  double phi;    // phi_h
+};
+inline HalfAngles half_angles(const V3& wi, const V3& wo) {
+  HalfAngles a;
+  a.h = normalize(add(wi, wo));
+  a.theta = std::acos(std::clamp(a.h.z, -1.0, 1.0));
+  a.phi = std::atan2(a.h.y, a.h.x);
+  return a;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lambert and Phong
+inline C3 lambert(const C3& kd, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return grey(0.0);
+  return {kd[0] / kPi, kd[1] / kPi, kd[2] / kPi};
+}
+
+// Phong: k = ks (v . r)^s, r = 2 (n . l) n - l (the lecture), l = wi, v = wo, n = z.
+inline C3 phong(const C3& kd, const C3& ks, double s, bool normalized, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return grey(0.0);
+  const V3 n{0.0, 0.0, 1.0};
+  const double nl = dot(n, wi);
+  const V3 r{2.0 * nl * n.x - wi.x, 2.0 * nl * n.y - wi.y, 2.0 * nl * n.z - wi.z};
+  const double c = dot(r, wo);
+  double lobe = c > 0.0 ? std::pow(c, s) : 0.0;
+  if (normalized) lobe *= (s + 2.0) / (2.0 * kPi);
+  C3 out;
+  for (int i = 0; i < 3; ++i) out[i] = kd[i] / kPi + ks[i] * lobe;
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ward 1992 and its variants
+enum class WardForm { Vector, Angle, Approx };
+enum class WardNorm { Ward1992, Duer, Balanced };
+
+// The Gaussian term. Vector and Angle are the same function (models.md, Ward point 3), so both are
+// computed from the angles; Approx is Ward's Eq. 5b, with the unit h.
+inline double ward_exponential(double ax, double ay, WardForm form, const V3& wi, const V3& wo) {
+  const HalfAngles a = half_angles(wi, wo);
+  if (form == WardForm::Approx) {
+    const double u = a.h.x / ax, v = a.h.y / ay;
+    return std::exp(-2.0 * (u * u + v * v) / (1.0 + a.h.z));
+  }
+  const double t = std::tan(a.theta), cp = std::cos(a.phi), sp = std::sin(a.phi);
+  return std::exp(-t * t * (cp * cp / (ax * ax) + sp * sp / (ay * ay)));
+}
+
+inline double ward_normalization(double ax, double ay, WardNorm norm, const V3& wi, const V3& wo) {
+  const double ci = wi.z, co = wo.z;
+  switch (norm) {
+    case WardNorm::Ward1992:
+      return 1.0 / (4.0 * kPi * ax * ay * std::sqrt(ci * co));
+    case WardNorm::Duer:
+      return 1.0 / (4.0 * kPi * ax * ay * ci * co);
+    case WardNorm::Balanced: {
+      const V3 h = add(wi, wo);  // unnormalised
+      const double hn = h.z;
+      return dot(h, h) / (kPi * ax * ay * hn * hn * hn * hn);
+    }
+  }
+  return 0.0;
+}
+
+// The colourless specular lobe (ks = 1).
+inline double ward_lobe(double ax, double ay, WardForm form, WardNorm norm, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return 0.0;
+  return ward_normalization(ax, ay, norm, wi, wo) * ward_exponential(ax, ay, form, wi, wo);
+}
+
+inline C3 ward(const C3& kd, const C3& ks, double ax, double ay, WardForm form, WardNorm norm, const V3& wi,
+               const V3& wo) {
+  if (!valid(wi, wo)) return grey(0.0);
+  const double s = ward_lobe(ax, ay, form, norm, wi, wo);
+  C3 out;
+  for (int i = 0; i < 3; ++i) out[i] = kd[i] / kPi + ks[i] * s;
+  return out;
+}
+
+// Walter 2005: pdf(wi) = exp(-tan^2 theta_h (cos^2 phi_h / ax^2 + sin^2 phi_h / ay^2))
+//                        / (4 pi ax ay (h . wo) cos^3 theta_h)
+inline double ward_pdf(double ax, double ay, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return 0.0;
+  const HalfAngles a = half_angles(wi, wo);
+  const double t = std::tan(a.theta), cp = std::cos(a.phi), sp = std::sin(a.phi), ct = std::cos(a.theta);
+  const double e = std::exp(-t * t * (cp * cp / (ax * ax) + sp * sp / (ay * ay)));
+  return e / (4.0 * kPi * ax * ay * dot(a.h, wo) * ct * ct * ct);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ashikhmin-Shirley 2000
+inline double schlick(double f0, double c) { return f0 + (1.0 - f0) * std::pow(1.0 - c, 5.0); }
+
+inline double as_exponent(double nu, double nv, double phi_h) {
+  const double cp = std::cos(phi_h), sp = std::sin(phi_h);
+  return nu * cp * cp + nv * sp * sp;
+}
+
+// f_s with F = 1: sqrt((nu + 1)(nv + 1)) / (8 pi) (n.h)^e / ((h.w) max(n.wi, n.wo)).
+inline double as_lobe(double nu, double nv, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return 0.0;
+  const HalfAngles a = half_angles(wi, wo);
+  const double e = as_exponent(nu, nv, a.phi);
+  return std::sqrt((nu + 1.0) * (nv + 1.0)) / (8.0 * kPi) * std::pow(std::cos(a.theta), e) /
+         (dot(a.h, wi) * std::max(wi.z, wo.z));
+}
+
+inline C3 ashikhmin_shirley(const C3& rd, const C3& rs, double nu, double nv, const C3& kd, const C3& ks_scale,
+                            const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return grey(0.0);
+  const HalfAngles a = half_angles(wi, wo);
+  const double lobe = as_lobe(nu, nv, wi, wo);
+  const double wh = dot(wi, a.h);
+  const double di = 1.0 - std::pow(1.0 - wi.z / 2.0, 5.0), dout = 1.0 - std::pow(1.0 - wo.z / 2.0, 5.0);
+  C3 out;
+  for (int i = 0; i < 3; ++i) {
+    const double fs = lobe * schlick(rs[i], wh);
+    const double fd = 28.0 * rd[i] / (23.0 * kPi) * (1.0 - rs[i]) * di * dout;
+    out[i] = ks_scale[i] * fs + fd + kd[i] / kPi;
+  }
+  return out;
+}
+
+// p_h(h) = sqrt((nu + 1)(nv + 1)) / (2 pi) (n . h)^e;  pdf(wi) = p_h / (4 (wo . h)).
+inline double as_pdf(double nu, double nv, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return 0.0;
+  const HalfAngles a = half_angles(wi, wo);
+  const double ph =
+      std::sqrt((nu + 1.0) * (nv + 1.0)) / (2.0 * kPi) * std::pow(std::cos(a.theta), as_exponent(nu, nv, a.phi));
+  return ph / (4.0 * dot(wo, a.h));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lafortune 1997
+struct LafortuneLobe {
+  C3 cx, cy, cz, n, scale{1.0, 1.0, 1.0};
+};
+
+inline C3 lafortune(const C3& rho_d, const std::vector<LafortuneLobe>& lobes, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return grey(0.0);
+  C3 out;
+  for (int c = 0; c < 3; ++c) {
+    double sum = rho_d[c] / kPi;
+    for (const LafortuneLobe& l : lobes) {
+      const double base = l.cx[c] * wi.x * wo.x + l.cy[c] * wi.y * wo.y + l.cz[c] * wi.z * wo.z;
+      if (base > 0.0) sum += l.scale[c] * std::pow(base, l.n[c]);
+    }
+    out[c] = sum;
+  }
+  return out;
+}
+
+// The lecture's matte steel (three lobes, C_xy, C_z, s per channel), typed in from models.md.
+inline std::vector<LafortuneLobe> matte_steel_lobes() {
+  const double t[3][3][3] = {
+      // [lobe][channel] = {C_xy, C_z, s}
+      {{-1.11954, 1.01272, 15.8708}, {-1.11845, 1.01469, 15.6489}, {-1.11999, 1.01942, 15.4571}},
+      {{-1.05334, 0.69541, 111.267}, {-1.06409, 0.662178, 88.9222}, {-1.08378, 0.626672, 65.2179}},
+      {{-1.01684, 1.00132, 180.181}, {-1.01635, 1.00112, 184.152}, {-1.01529, 1.00108, 195.773}}};
+  std::vector<LafortuneLobe> lobes(3);
+  for (int l = 0; l < 3; ++l)
+    for (int c = 0; c < 3; ++c) {
+      lobes[l].cx[c] = lobes[l].cy[c] = t[l][c][0];
+      lobes[l].cz[c] = t[l][c][1];
+      lobes[l].n[c] = t[l][c][2];
+    }
+  return lobes;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Anisotropic GGX with height-correlated Smith masking
+// D(h) = 1 / (pi ax ay cos^4 theta_h (1 + tan^2 theta_h (cos^2 phi_h / ax^2 + sin^2 phi_h / ay^2))^2)
+inline double ggx_D(double ax, double ay, double theta_h, double phi_h) {
+  const double t = std::tan(theta_h), c = std::cos(theta_h), cp = std::cos(phi_h), sp = std::sin(phi_h);
+  const double q = 1.0 + t * t * (cp * cp / (ax * ax) + sp * sp / (ay * ay));
+  return 1.0 / (kPi * ax * ay * c * c * c * c * q * q);
+}
+
+// Lambda(w) = (-1 + sqrt(1 + alpha(phi)^2 tan^2 theta)) / 2, alpha(phi)^2 = ax^2 cos^2 phi + ay^2 sin^2 phi
+// (the same as (ax^2 w.x^2 + ay^2 w.y^2) / w.z^2).
+inline double ggx_Lambda(double ax, double ay, const V3& w) {
+  const double theta = std::acos(std::clamp(w.z, -1.0, 1.0)), phi = std::atan2(w.y, w.x);
+  const double t = std::tan(theta), cp = std::cos(phi), sp = std::sin(phi);
+  const double a2 = ax * ax * cp * cp + ay * ay * sp * sp;
+  return (-1.0 + std::sqrt(1.0 + a2 * t * t)) / 2.0;
+}
+
+// D G2 / (4 cos_i cos_o), G2 = 1 / (1 + Lambda(wi) + Lambda(wo)).
+inline double ggx_lobe(double ax, double ay, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return 0.0;
+  const HalfAngles a = half_angles(wi, wo);
+  const double G2 = 1.0 / (1.0 + ggx_Lambda(ax, ay, wi) + ggx_Lambda(ax, ay, wo));
+  return ggx_D(ax, ay, a.theta, a.phi) * G2 / (4.0 * wi.z * wo.z);
+}
+
+inline C3 ggx(const C3& kd, const C3& f0, double ax, double ay, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return grey(0.0);
+  const HalfAngles a = half_angles(wi, wo);
+  const double lobe = ggx_lobe(ax, ay, wi, wo), c = dot(wi, a.h);
+  C3 out;
+  for (int i = 0; i < 3; ++i) out[i] = kd[i] / kPi + schlick(f0[i], c) * lobe;
+  return out;
+}
+
+// Visible-normal sampling (Heitz 2018): D_wo(h) = G1(wo) max(0, wo.h) D(h) / wo.z,
+// G1 = 1 / (1 + Lambda(wo)); pdf(wi) = D_wo(h) / (4 wo.h).
+inline double ggx_pdf(double ax, double ay, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return 0.0;
+  const HalfAngles a = half_angles(wi, wo);
+  const double G1 = 1.0 / (1.0 + ggx_Lambda(ax, ay, wo));
+  const double woh = dot(wo, a.h);
+  const double Dwo = G1 * std::max(0.0, woh) * ggx_D(ax, ay, a.theta, a.phi) / wo.z;
+  return Dwo / (4.0 * woh);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Conductor Fresnel, complex arithmetic (Born & Wolf Sec. 14.2; pbrt-v4 FrComplex):
+//   m = eta + i k, cos_t = sqrt(1 - sin^2 theta / m^2) (principal root),
+//   r_par = (m cos_i - cos_t) / (m cos_i + cos_t), r_perp = (cos_i - m cos_t) / (cos_i + m cos_t),
+//   F = (|r_par|^2 + |r_perp|^2) / 2.
+inline double fresnel_conductor(double cos_i, double eta, double k) {
+  using cd = std::complex<double>;
+  const cd m(eta, k);
+  const double sin2 = std::max(0.0, 1.0 - cos_i * cos_i);
+  const cd cos_t = std::sqrt(cd(1.0) - sin2 / (m * m));
+  const cd r_par = (m * cos_i - cos_t) / (m * cos_i + cos_t);
+  const cd r_perp = (cos_i - m * cos_t) / (cos_i + m * cos_t);
+  return (std::norm(r_par) + std::norm(r_perp)) / 2.0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Metal: F_conductor(wi.h; eta, k) x colourless lobe + optional directional diffuse.
+// The directional-diffuse lobe follows the convention documented for the metal material
+// (include/aniso/brdf/metal.h header comment; Ngan 2005's Lafortune normalisation):
+//   albedo F0 (n + 2) / (2 pi) max(0, (cx wi.x wo.x + cy wi.y wo.y + cz wi.z wo.z) / max|C|)^n,
+// F0 = F_conductor(normal incidence; eta, k) per channel.
+enum class MetalLobe { Ward, AS, GGX };
+struct MetalParams {
+  C3 eta, k;
+  MetalLobe lobe = MetalLobe::Ward;
+  double ax = 0.1, ay = 0.1;  // Ward / GGX
+  WardForm form = WardForm::Vector;
+  WardNorm norm = WardNorm::Ward1992;
+  double nu = 100, nv = 100;  // AS
+  bool dd = false;
+  C3 dd_albedo{0.1, 0.1, 0.1};
+  double dd_cx = -1, dd_cy = -1, dd_cz = 1, dd_n = 5;
+};
+
+inline C3 metal(const MetalParams& p, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return grey(0.0);
+  const HalfAngles a = half_angles(wi, wo);
+  double lobe = 0.0;
+  switch (p.lobe) {
+    case MetalLobe::Ward:
+      lobe = ward_lobe(p.ax, p.ay, p.form, p.norm, wi, wo);
+      break;
+    case MetalLobe::AS:
+      lobe = as_lobe(p.nu, p.nv, wi, wo);
+      break;
+    case MetalLobe::GGX:
+      lobe = ggx_lobe(p.ax, p.ay, wi, wo);
+      break;
+  }
+  const double c = dot(wi, a.h);
+  C3 out;
+  for (int i = 0; i < 3; ++i) out[i] = fresnel_conductor(c, p.eta[i], p.k[i]) * lobe;
+  if (p.dd) {
+    const double cmax = std::max({std::abs(p.dd_cx), std::abs(p.dd_cy), std::abs(p.dd_cz)});
+    const double base = (p.dd_cx * wi.x * wo.x + p.dd_cy * wi.y * wo.y + p.dd_cz * wi.z * wo.z) / cmax;
+    const double l = base > 0.0 ? std::pow(base, p.dd_n) : 0.0;
+    for (int i = 0; i < 3; ++i)
+      out[i] += p.dd_albedo[i] * fresnel_conductor(1.0, p.eta[i], p.k[i]) * (p.dd_n + 2.0) / (2.0 * kPi) * l;
+  }
+  return out;
+}
+
+}  // namespace aniso_ref
