@@ -98,7 +98,6 @@ void add_ngan(std::vector<PresetInfo>& out) {
       return it->second;
     };
     json m;
-    std::string model = r[0];
     if (r[0] == "ward" || r[0] == "wardduer") {
       m = {{"model", "ward"}, {"kd", kd}, {"ks", ks}, {"alpha_x", param("roughness")}, {"alpha_y", param("roughness")},
            {"form", "vector"}, {"normalization", r[0] == "ward" ? "ward" : "duer"}};
@@ -117,14 +116,12 @@ void add_ngan(std::vector<PresetInfo>& out) {
            {"lobes", json::array({{{"cxy", cxy / cmax}, {"cz", cz / cmax}, {"n", n}, {"scale", scale}}})}};
     } else if (r[0] == "ashikhminshirley") {
       // Lambertian kd plus ks times the AS specular term with Schlick F0; no coupled diffuse term.
-      model = "ashikhmin-shirley";
       m = {{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"rs", param("fresnelReflectance")}, {"kd", kd},
            {"ks_scale", ks}, {"n_u", param("sharpness")}, {"n_v", param("sharpness")}};
     } else {
       continue;  // cooktorrance, he: models aniso does not implement (yet); see docs/presets.md
     }
     out.push_back({fmt::format("ngan/{}/{}", r[0], r[1]), "Ngan, Durand & Matusik 2005 fit of MERL (via bbm)", m});
-    (void)model;
   }
 }
 
