@@ -276,8 +276,8 @@ template <typename T> MaterialT<T> build_material(const MaterialDesc& d) {
     PhongT<T> m;
     m.kd = rgb<T>(p.color("kd"));
     m.ks = rgb<T>(p.color("ks"));
-    m.exponent = T(p.scalar("exponent"));
-    m.normalized = p.boolean("normalized");
+    m.lobe.exponent = T(p.scalar("exponent"));
+    m.lobe.normalized = p.boolean("normalized");
     return m;
   }
   if (d.model == "ward") {

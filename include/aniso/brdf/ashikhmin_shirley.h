@@ -13,7 +13,7 @@
 #pragma once
 
 #include "aniso/brdf/fresnel.h"
-#include "aniso/core/sampling.h"
+#include "aniso/core/lobe_mixture.h"
 
 namespace aniso {
 
@@ -117,20 +117,13 @@ template <typename T> struct AshikhminShirleyT {
   // estimate of the lobe's albedo that grows towards grazing as f_s does), the diffuse weight its
   // colour. Any positive weights are unbiased; these keep the variance low.
   ANISO_HD T specular_probability(const Vec3T<T>& wo) const {
-    const T s = average(ks_scale * F_Schlick(rs, wo.z));
-    const T d = average(rd * (RGBT<T>(T(1)) - rs)) + average(kd);
-    return d + s > T(0) ? s / (d + s) : T(0);
+    return specular_share(average(rd * (RGBT<T>(T(1)) - rs)) + average(kd), average(ks_scale * F_Schlick(rs, wo.z)));
   }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
-    if (!same_upper_hemisphere(wi, wo)) return T(0);
-    const T ps = specular_probability(wo);
-    return (T(1) - ps) * cosine_hemisphere_pdf(wi.z) + ps * lobe.pdf(wi, wo);
+    return pdf_diffuse_specular(specular_probability(wo), lobe, wi, wo);
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
-    if (!(wo.z > T(0))) return {};
-    const Vec3T<T> wi = uc < specular_probability(wo) ? lobe.sample(wo, u) : sample_cosine_hemisphere(u);
-    if (!(wi.z > T(0))) return {};
-    return make_sample(wi, f(wi, wo), pdf(wi, wo));
+    return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);
   }
 };
 

@@ -11,7 +11,7 @@
 #pragma once
 
 #include "aniso/brdf/fresnel.h"
-#include "aniso/core/sampling.h"
+#include "aniso/core/lobe_mixture.h"
 
 namespace aniso {
 
@@ -95,19 +95,13 @@ template <typename T> struct GGXT {
   }
   // Specular weight: Schlick's Fresnel at the view angle (the lobe's albedo is <= that).
   ANISO_HD T specular_probability(const Vec3T<T>& wo) const {
-    const T s = average(F_Schlick(f0, wo.z)), d = average(kd);
-    return d + s > T(0) ? s / (d + s) : T(0);
+    return specular_share(average(kd), average(F_Schlick(f0, wo.z)));
   }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
-    if (!same_upper_hemisphere(wi, wo)) return T(0);
-    const T ps = specular_probability(wo);
-    return (T(1) - ps) * cosine_hemisphere_pdf(wi.z) + ps * lobe.pdf(wi, wo);
+    return pdf_diffuse_specular(specular_probability(wo), lobe, wi, wo);
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
-    if (!(wo.z > T(0))) return {};
-    const Vec3T<T> wi = uc < specular_probability(wo) ? lobe.sample(wo, u) : sample_cosine_hemisphere(u);
-    if (!(wi.z > T(0))) return {};
-    return make_sample(wi, f(wi, wo), pdf(wi, wo));
+    return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);
   }
 };
 

@@ -5,7 +5,7 @@
 // (r . wo) = (M wi) . wo is symmetric in wi and wo, so both are reciprocal.
 #pragma once
 
-#include "aniso/core/sampling.h"
+#include "aniso/core/lobe_mixture.h"
 
 namespace aniso {
 
@@ -18,37 +18,40 @@ template <typename T> ANISO_INLINE T Phong_Lobe(T RoV, T exponent) {
 // Lewis 1994: (s + 2) / (2 pi) makes the lobe's cosine-weighted integral 1 at normal incidence.
 template <typename T> ANISO_INLINE T Phong_Normalization(T exponent) { return (exponent + T(2)) * kInv2Pi<T>; }
 
-template <typename T> struct PhongT {
-  RGBT<T> kd{T(0.5)};
-  RGBT<T> ks{T(0.5)};
+// The specular lobe without its colour; sampled as the cosine power about r(wo), which is the same
+// lobe because (M wi) . wo = wi . (M wo).
+template <typename T> struct PhongLobeT {
   T exponent = T(20);
   bool normalized = true;
 
-  ANISO_HD T specular(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+  ANISO_HD T eval(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     const T lobe = Phong_Lobe(glm::dot(reflect_about_normal(wi), wo), exponent);
     return normalized ? lobe * Phong_Normalization(exponent) : lobe;
   }
+  ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    return cosine_power_pdf(glm::dot(reflect_about_normal(wo), wi), exponent);
+  }
+  ANISO_HD Vec3T<T> sample(const Vec3T<T>& wo, const Vec2T<T>& u) const {
+    return sample_cosine_power(reflect_about_normal(wo), exponent, u);
+  }
+};
+
+template <typename T> struct PhongT {
+  RGBT<T> kd{T(0.5)};
+  RGBT<T> ks{T(0.5)};
+  PhongLobeT<T> lobe;
+
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     if (!same_upper_hemisphere(wi, wo)) return RGBT<T>(T(0));
-    return kd * kInvPi<T> + ks * specular(wi, wo);
+    return kd * kInvPi<T> + ks * lobe.eval(wi, wo);
   }
-  // Lobe choice by average colour; the specular lobe is sampled as the cosine power about r(wo).
-  ANISO_HD T specular_probability() const {
-    const T d = average(kd), s = average(ks);
-    return d + s > T(0) ? s / (d + s) : T(0);
-  }
+  // Lobe choice by average colour.
+  ANISO_HD T specular_probability(const Vec3T<T>& /*wo*/) const { return specular_share(average(kd), average(ks)); }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
-    if (!same_upper_hemisphere(wi, wo)) return T(0);
-    const T ps = specular_probability();
-    return (T(1) - ps) * cosine_hemisphere_pdf(wi.z) +
-           ps * cosine_power_pdf(glm::dot(reflect_about_normal(wo), wi), exponent);
+    return pdf_diffuse_specular(specular_probability(wo), lobe, wi, wo);
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
-    if (!(wo.z > T(0))) return {};
-    const Vec3T<T> wi = uc < specular_probability()
-                            ? sample_cosine_power(reflect_about_normal(wo), exponent, u)
-                            : sample_cosine_hemisphere(u);
-    return make_sample(wi, f(wi, wo), pdf(wi, wo));
+    return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);
   }
 };
 

@@ -11,7 +11,7 @@
 // N is the normalisation (WardNormalization) and E the Gaussian exponential (WardForm).
 #pragma once
 
-#include "aniso/core/sampling.h"
+#include "aniso/core/lobe_mixture.h"
 
 namespace aniso {
 
@@ -171,20 +171,12 @@ template <typename T> struct WardT {
   }
   // Lobe choice by average colour (Walter 2005, Sec. 4: "choose between the diffuse and specular
   // terms with probability proportional to their weights").
-  ANISO_HD T specular_probability() const {
-    const T d = average(kd), s = average(ks);
-    return d + s > T(0) ? s / (d + s) : T(0);
-  }
+  ANISO_HD T specular_probability(const Vec3T<T>& /*wo*/) const { return specular_share(average(kd), average(ks)); }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
-    if (!same_upper_hemisphere(wi, wo)) return T(0);
-    const T ps = specular_probability();
-    return (T(1) - ps) * cosine_hemisphere_pdf(wi.z) + ps * lobe.pdf(wi, wo);
+    return pdf_diffuse_specular(specular_probability(wo), lobe, wi, wo);
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
-    if (!(wo.z > T(0))) return {};
-    const Vec3T<T> wi = uc < specular_probability() ? lobe.sample(wo, u) : sample_cosine_hemisphere(u);
-    if (!(wi.z > T(0))) return {};
-    return make_sample(wi, f(wi, wo), pdf(wi, wo));
+    return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);
   }
 };
 
