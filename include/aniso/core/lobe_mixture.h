@@ -31,4 +31,25 @@ template <typename T> ANISO_INLINE T specular_share(T diffuse_weight, T specular
   return total > T(0) ? specular_weight / total : T(0);
 }
 
+// f = kd / pi + ks lobe(wi, wo): the shape of Phong and Ward, which differ only in their lobe.
+// Lobe choice by average colour (Walter 2005, Sec. 4: "choose between the diffuse and specular
+// terms with probability proportional to their weights").
+template <typename T, typename Lobe> struct LambertPlusLobeT {
+  RGBT<T> kd{T(0)};
+  RGBT<T> ks{T(0.5)};
+  Lobe lobe;
+
+  ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    if (!same_upper_hemisphere(wi, wo)) return RGBT<T>(T(0));
+    return kd * kInvPi<T> + ks * lobe.eval(wi, wo);
+  }
+  ANISO_HD T specular_probability(const Vec3T<T>& /*wo*/) const { return specular_share(average(kd), average(ks)); }
+  ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    return pdf_diffuse_specular(specular_probability(wo), lobe, wi, wo);
+  }
+  ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
+    return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);
+  }
+};
+
 }  // namespace aniso
