@@ -123,7 +123,17 @@ int cmd_presets(const std::string& show) {
   return 0;
 }
 
-int cmd_models() {
+int cmd_models(bool markdown, const std::string& only) {
+  if (!only.empty() && !find_model_spec(only)) {
+    std::string names;
+    for (const ModelSpec* m : model_specs()) names += fmt::format(" {}", m->name);
+    throw InputError(fmt::format("--model: unknown model \"{}\"; expected one of{}", only, names));
+  }
+  if (markdown) {
+    for (const ModelSpec* m : model_specs())
+      if (only.empty() || m->name == only) fmt::print("{}\n", markdown_table(*m));
+    return 0;
+  }
   for (const ModelSpec* m : model_specs()) {
     fmt::print("{} ({}) -- {}\n", m->name, m->title, m->citation);
     for (const ParamSpec* p : m->params()) {
@@ -173,6 +183,10 @@ int main(int argc, char** argv) {
   presets_cmd->add_option("--show", show, "print one preset's JSON");
 
   auto* models = app.add_subcommand("models", "list the models and their parameter tables");
+  bool markdown = false;
+  std::string only_model;
+  models->add_flag("--markdown", markdown, "print the tables as markdown (as docs/models/*.md quote them)");
+  models->add_option("--model", only_model, "only this model");
 
   try {
     app.parse(argc, argv);
@@ -185,7 +199,7 @@ int main(int argc, char** argv) {
     if (albedo->parsed()) return cmd_albedo(material, theta, phi, samples, seed);
     if (fresnel->parsed()) return cmd_fresnel(metal, theta);
     if (presets_cmd->parsed()) return cmd_presets(show);
-    if (models->parsed()) return cmd_models();
+    if (models->parsed()) return cmd_models(markdown, only_model);
   } catch (const InputError& e) {
     fmt::print(stderr, "aniso: error: {}\n", e.what());
     return 2;

@@ -95,4 +95,8 @@ const ModelSpec& directional_diffuse_spec();
 
 std::string describe_range(const ParamSpec& p);
 
+// The parameter table of a model as markdown, with the tables of its nested objects (lobes) after
+// it: what docs/models/<name>.md quote (a test keeps them equal).
+std::string markdown_table(const ModelSpec& spec);
+
 }  // namespace aniso
