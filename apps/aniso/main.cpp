@@ -103,11 +103,13 @@ int cmd_albedo(const std::string& material, double theta, double phi, int64_t sa
   return 0;
 }
 
-int cmd_fresnel(const std::string& metal, double theta) {
+int cmd_fresnel(const std::string& metal, double theta, bool schlick) {
   const MetalData* md = find_metal(metal);
   if (!md) throw InputError(fmt::format("--metal: unknown metal \"{}\"; expected one of {}", metal, metal_names()));
   const double c = std::cos(theta * M_PI / 180.0);
-  const RGBT<double> F = F_Conductor(c, RGBT<double>(md->eta), RGBT<double>(md->k));
+  const RGBT<double> eta(md->eta), k(md->k);
+  // --schlick: Schlick's approximation with the exact F0 of the same metal, for comparison.
+  const RGBT<double> F = schlick ? F_Schlick(F_Conductor(1.0, eta, k), c) : F_Conductor(c, eta, k);
   fmt::print("{} {} {}\n", num(F.x), num(F.y), num(F.z));
   return 0;
 }
@@ -177,6 +179,8 @@ int main(int argc, char** argv) {
   auto* fresnel = app.add_subcommand("fresnel", "conductor Fresnel reflectance 'r g b' of a measured metal");
   fresnel->add_option("--metal", metal, "metal name (aniso presets lists them)")->required();
   fresnel->add_option("--theta-deg", theta, "angle of incidence")->check(CLI::Range(0.0, 90.0));
+  bool schlick = false;
+  fresnel->add_flag("--schlick", schlick, "Schlick's approximation from the metal's F0 instead of the exact equations");
 
   std::string show;
   auto* presets_cmd = app.add_subcommand("presets", "list the named materials");
@@ -197,7 +201,7 @@ int main(int argc, char** argv) {
     if (eval->parsed()) return cmd_eval(material);
     if (sample->parsed()) return cmd_sample(material, wo, count, seed);
     if (albedo->parsed()) return cmd_albedo(material, theta, phi, samples, seed);
-    if (fresnel->parsed()) return cmd_fresnel(metal, theta);
+    if (fresnel->parsed()) return cmd_fresnel(metal, theta, schlick);
     if (presets_cmd->parsed()) return cmd_presets(show);
     if (models->parsed()) return cmd_models(markdown, only_model);
   } catch (const InputError& e) {
