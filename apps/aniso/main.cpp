@@ -195,7 +195,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // CLI11 prints the message (or the help); every command-line error exits 2, like input errors.
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
   }
   try {
     if (eval->parsed()) return cmd_eval(material);

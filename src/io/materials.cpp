@@ -162,6 +162,23 @@ MaterialDesc parse_material(const json& obj, const std::string& where) {
   d.params = read_params(rest, *find_model_spec(d.model), where);
   d.json = obj;
   // Cross-key rules the tables cannot express.
+  if (d.model == "lafortune") {
+    // A lobe's value is at most scale max|C|^n (the base is C . (wi * wo) <= max|C| by
+    // Cauchy-Schwarz); beyond 1e30 the float kernels overflow (float max 3.4e38, with room for the
+    // sums and the sampling weights).
+    const auto& lobes = d.params.list("lobes");
+    for (size_t i = 0; i < lobes.size(); ++i) {
+      const ParamValues& l = lobes[i];
+      for (int c = 0; c < 3; ++c) {
+        const double cmax = std::max({std::abs(l.color("cx")[c]), std::abs(l.color("cy")[c]), std::abs(l.color("cz")[c])});
+        const double log10_peak = l.color("n")[c] * std::log10(std::max(cmax, 1e-300)) + std::log10(std::max(l.color("scale")[c], 1e-300));
+        if (log10_peak > 30.0)
+          l.fail("n", fmt::format("with max|C| = {:g} and scale {:g}, channel {} reaches {:g}^{:g}, beyond the float range "
+                                  "(the peak scale max|C|^n must stay below 1e30: lower n or |C|)",
+                                  cmax, l.color("scale")[c], c, cmax, l.color("n")[c]));
+      }
+    }
+  }
   if (d.model == "metal") {
     const bool named = d.params.has("metal"), custom = d.params.has("eta") || d.params.has("k");
     if (named && custom) d.params.fail("metal", "give either \"metal\" or \"eta\" and \"k\", not both");
@@ -186,7 +203,7 @@ MaterialDesc load_material(const std::string& name_or_path) {
   json obj;
   try {
     obj = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse errors, and numbers that overflow a double (1e999)
     throw InputError(fmt::format("{}: invalid JSON: {}", name_or_path, e.what()));
   }
   return parse_material(obj, name_or_path);
@@ -259,6 +276,9 @@ template <typename T> MetalT<T> build_metal(const ParamValues& p) {
     m.directional_diffuse.cz = RGBT<T>(T(cz / cmax));
     m.directional_diffuse.n = RGBT<T>(T(n));
     m.directional_diffuse.scale = rgb<T>(dd.color("albedo")) * f0 * T((n + 2.0) / (2.0 * M_PI));
+    // The directional lobe's energy is taken from the specular lobe: (1 - albedo) F spec + albedo F0
+    // lobe keeps the albedo <= 1 whenever both lobes are bounded (docs/models/metal.md).
+    m.specular_weight = RGBT<T>(T(1)) - rgb<T>(dd.color("albedo"));
   }
   return m;
 }

@@ -282,6 +282,7 @@ inline double fresnel_conductor(double cos_i, double eta, double k) {
 // The directional-diffuse lobe follows the convention documented for the metal material
 // (include/aniso/brdf/metal.h header comment; Ngan 2005's Lafortune normalisation):
 //   albedo F0 (n + 2) / (2 pi) max(0, (cx wi.x wo.x + cy wi.y wo.y + cz wi.z wo.z) / max|C|)^n,
+// and the specular part is scaled by (1 - albedo),
 // F0 = F_conductor(normal incidence; eta, k) per channel.
 enum class MetalLobe { Ward, AS, GGX };
 struct MetalParams {
@@ -313,7 +314,8 @@ inline C3 metal(const MetalParams& p, const V3& wi, const V3& wo) {
   }
   const double c = dot(wi, a.h);
   C3 out;
-  for (int i = 0; i < 3; ++i) out[i] = fresnel_conductor(c, p.eta[i], p.k[i]) * lobe;
+  // With a directional-diffuse lobe of albedo a, the specular lobe keeps (1 - a) of its energy.
+  for (int i = 0; i < 3; ++i) out[i] = (p.dd ? 1.0 - p.dd_albedo[i] : 1.0) * fresnel_conductor(c, p.eta[i], p.k[i]) * lobe;
   if (p.dd) {
     const double cmax = std::max({std::abs(p.dd_cx), std::abs(p.dd_cy), std::abs(p.dd_cz)});
     const double base = (p.dd_cx * wi.x * wo.x + p.dd_cy * wi.y * wo.y + p.dd_cz * wi.z * wo.z) / cmax;

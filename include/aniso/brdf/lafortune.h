@@ -10,7 +10,8 @@
 //
 // Sampling: lobe i, channel c is the cosine-power lobe |a|^n (a_hat . wi)^n about the axis
 // a = (Cx wo.x, Cy wo.y, Cz wo.z); sample wi with density (n + 1) / (2 pi) (a_hat . wi)^n, reject
-// below the horizon, and mix lobes, channels and the diffuse term by weight (docs/models/lafortune.md).
+// below the horizon, and mix lobes, channels, the diffuse term and a defensive cosine share by
+// weight (docs/models/lafortune.md).
 #pragma once
 
 #include "aniso/core/sampling.h"
@@ -45,15 +46,17 @@ template <typename T> struct LafortuneLobeT {
   // The lobe axis for channel c: a = M wo.
   ANISO_HD Vec3T<T> axis(const Vec3T<T>& wo, int c) const { return Vec3T<T>(cx[c] * wo.x, cy[c] * wo.y, cz[c] * wo.z); }
 
-  // Sampling weight of channel c: an upper bound of the lobe's albedo, scale |a|^n 2 pi / (n + 1),
-  // divided by 3 so that a grey lobe weighs as much as its three channels together.
+  // Sampling weight of channel c: an estimate of the lobe's albedo, scale |a|^n 2 pi / (n + 1)
+  // times the axis' elevation a_hat.z (a lobe about an axis below the horizon reflects little into
+  // the upper hemisphere; without this factor, fits like pbrt-v1's clay with C_z < 0 waste almost
+  // every sample), divided by 3 so that a grey lobe weighs as much as its three channels together.
   ANISO_HD T channel_weight(const Vec3T<T>& wo, int c) const {
     using std::pow;
     using std::sqrt;
     const Vec3T<T> a = axis(wo, c);
     const T len = sqrt(glm::dot(a, a));
-    if (!(len > T(0)) || !(scale[c] > T(0))) return T(0);
-    return scale[c] * pow(len, n[c]) * T(2) * kPi<T> / ((n[c] + T(1)) * T(3));
+    if (!(len > T(0)) || !(scale[c] > T(0)) || !(a.z > T(0))) return T(0);
+    return scale[c] * pow(len, n[c]) * (a.z / len) * T(2) * kPi<T> / ((n[c] + T(1)) * T(3));
   }
 
   ANISO_HD T channel_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, int c) const {
@@ -76,62 +79,59 @@ template <typename T> struct LafortuneT {
     return out;
   }
 
-  ANISO_HD T diffuse_weight() const { return average(rho_d); }
+  // Defensive share of cosine sampling (Hesterberg 1995, "Weighted average importance sampling and
+  // defensive mixture distributions"): the lobe weights are estimates, and where they miss (a lobe
+  // whose axis is below the horizon but whose tail is not) cosine samples keep the variance bounded.
+  static constexpr float kDefensiveShare = 0.1f;
 
-  ANISO_HD T total_weight(const Vec3T<T>& wo) const {
-    T w = diffuse_weight();
+  ANISO_HD T lobe_weights(const Vec3T<T>& wo) const {
+    T w = T(0);
     for (int i = 0; i < lobe_count; ++i)
       for (int c = 0; c < 3; ++c) w += lobes[i].channel_weight(wo, c);
     return w;
   }
+  // Weight of cosine sampling: the diffuse albedo plus the defensive share; all of it when nothing
+  // else has weight, so that the pdf is positive wherever f can be.
+  ANISO_HD T cosine_weight(T lobes_total) const {
+    const T w = average(rho_d) + T(kDefensiveShare) * lobes_total;
+    return w > T(0) || lobes_total > T(0) ? w : T(1);
+  }
 
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     if (!same_upper_hemisphere(wi, wo)) return T(0);
-    const T total = total_weight(wo);
-    if (!(total > T(0))) return T(0);
-    T p = diffuse_weight() * cosine_hemisphere_pdf(wi.z);
+    const T lobes_total = lobe_weights(wo);
+    const T w_cos = cosine_weight(lobes_total);
+    T p = w_cos * cosine_hemisphere_pdf(wi.z);
     for (int i = 0; i < lobe_count; ++i)
       for (int c = 0; c < 3; ++c) {
         const T w = lobes[i].channel_weight(wo, c);
         if (w > T(0)) p += w * lobes[i].channel_pdf(wi, wo, c);
       }
-    return p / total;
+    return p / (w_cos + lobes_total);
   }
 
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     if (!(wo.z > T(0))) return {};
-    const T total = total_weight(wo);
-    if (!(total > T(0))) return {};
-    // Walk the cumulative weights with uc; the last positive-weight candidate absorbs rounding.
-    T target = uc * total;
-    Vec3T<T> wi(T(0));
-    bool chosen = false;
-    target -= diffuse_weight();
-    if (target < T(0) && diffuse_weight() > T(0)) {
-      wi = sample_cosine_hemisphere(u);
-      chosen = true;
-    }
-    int last_i = -1, last_c = 0;
-    for (int i = 0; i < lobe_count && !chosen; ++i)
-      for (int c = 0; c < 3 && !chosen; ++c) {
+    const T lobes_total = lobe_weights(wo);
+    const T w_cos = cosine_weight(lobes_total);
+    // Walk the cumulative weights with uc: cosine first, then each (lobe, channel). Rounding that
+    // leaves target >= 0 after the last lobe picks the last positive-weight candidate.
+    T target = uc * (w_cos + lobes_total) - w_cos;
+    int lobe = -1, channel = 0;
+    for (int i = 0; i < lobe_count && !(target < T(0)); ++i)
+      for (int c = 0; c < 3 && !(target < T(0)); ++c) {
         const T w = lobes[i].channel_weight(wo, c);
         if (!(w > T(0))) continue;
-        last_i = i;
-        last_c = c;
+        lobe = i;
+        channel = c;
         target -= w;
-        if (target < T(0)) {
-          const Vec3T<T> a = lobes[i].axis(wo, c);
-          wi = sample_cosine_power(a / std::sqrt(glm::dot(a, a)), lobes[i].n[c], u);
-          chosen = true;
-        }
       }
-    if (!chosen) {
-      if (last_i < 0) {
-        wi = sample_cosine_hemisphere(u);
-      } else {
-        const Vec3T<T> a = lobes[last_i].axis(wo, last_c);
-        wi = sample_cosine_power(a / std::sqrt(glm::dot(a, a)), lobes[last_i].n[last_c], u);
-      }
+    Vec3T<T> wi;
+    if (lobe < 0) {
+      wi = sample_cosine_hemisphere(u);
+    } else {
+      const Vec3T<T> a = lobes[lobe].axis(wo, channel);
+      wi = sample_cosine_power(a / std::sqrt(glm::dot(a, a)), lobes[lobe].n[channel], u);
     }
     if (!(wi.z > T(0))) return {};
     return make_sample(wi, f(wi, wo), pdf(wi, wo));

@@ -1,10 +1,11 @@
 // aniso/brdf/metal.h: a conductor. Light cannot penetrate a metal beyond a skin of tens of
 // nanometres (penetration depth lambda / (4 pi k)), so there is no subsurface (Lambertian) term.
 // The reflection has two parts (the lecture, "Metals"; Cook & Torrance 1982):
-//   f = F_conductor(wi.h; eta, k) * specular(wi, wo)  +  directional_diffuse(wi, wo)
+//   f = (1 - a) F_conductor(wi.h; eta, k) specular(wi, wo)  +  directional_diffuse(wi, wo)
 // - specular: an anisotropic Ward, Ashikhmin-Shirley or GGX lobe without colour or Fresnel;
 // - directional diffuse: an optional broad Lafortune lobe coloured by the metal, with Ngan et
-//   al. 2005's normalisation folded in by the host (scale = albedo F0 (n + 2) / (2 pi), C / max|C|).
+//   al. 2005's normalisation folded in by the host (scale = a F0 (n + 2) / (2 pi), C / max|C|),
+//   a its albedo; the (1 - a) on the specular lobe keeps the sum's albedo <= 1.
 // docs/models/metal.md; the RGB eta, k come from measured spectra (docs/metals.md).
 #pragma once
 
@@ -25,6 +26,8 @@ template <typename T> struct MetalT {
   WardLobeT<T> ward;
   AshikhminShirleyLobeT<T> ashikhmin_shirley;
   GGXLobeT<T> ggx;
+  // (1 - directional-diffuse albedo): the energy the directional lobe takes from the specular one.
+  RGBT<T> specular_weight{T(1)};
   bool has_directional_diffuse = false;
   LafortuneLobeT<T> directional_diffuse;
 
@@ -53,7 +56,7 @@ template <typename T> struct MetalT {
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     if (!same_upper_hemisphere(wi, wo)) return RGBT<T>(T(0));
     const Vec3T<T> h = glm::normalize(wi + wo);
-    RGBT<T> out = F_Conductor(glm::dot(wi, h), eta, k) * specular(wi, wo);
+    RGBT<T> out = specular_weight * F_Conductor(glm::dot(wi, h), eta, k) * specular(wi, wo);
     if (has_directional_diffuse) out += directional_diffuse.eval(wi, wo);
     return out;
   }
@@ -61,7 +64,7 @@ template <typename T> struct MetalT {
   // Lobe choice: the specular lobe weighs its Fresnel reflectance seen from wo, the directional
   // diffuse lobe its channel weights (an albedo bound, lafortune.h).
   ANISO_HD T specular_probability(const Vec3T<T>& wo) const {
-    const T s = average(F_Conductor(wo.z, eta, k));
+    const T s = average(specular_weight * F_Conductor(wo.z, eta, k));
     T d = T(0);
     if (has_directional_diffuse)
       for (int c = 0; c < 3; ++c) d += directional_diffuse.channel_weight(wo, c);

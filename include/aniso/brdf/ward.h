@@ -23,11 +23,19 @@ enum class WardNormalization : int { Ward1992 = 0, Duer = 1, Balanced = 2 };
 
 // --- Exponential terms -------------------------------------------------------------------------
 
+// exp(x) for the Gaussian exponents below (x <= 0), with the underflow decided here: exp(x) rounds
+// to 0 below -103.97 in float and -745.13 in double, so the result is the same bit for bit, but
+// glibc's exp no longer takes its underflow path (errno, a floating-point exception) for the far
+// tail, where a narrow lobe puts most random (wi, wo) pairs (docs/benchmarks.md).
+template <typename T> ANISO_INLINE T Ward_Exp(T x) {
+  using std::exp;
+  return x < T(sizeof(T) == sizeof(float) ? -104.0 : -746.0) ? T(0) : exp(x);
+}
+
 // Vector form: exp(-((h.t / ax)^2 + (h.b / ay)^2) / (h.n)^2). h = wi + wo need not be unit: its
 // squared length cancels between numerator and denominator. Requires h.n > 0.
 template <typename T> ANISO_INLINE T E_Ward_Vector(T HoT, T HoB, T HoN, T ax, T ay) {
-  using std::exp;
-  return exp(-(sqr(HoT / ax) + sqr(HoB / ay)) / sqr(HoN));
+  return Ward_Exp(-(sqr(HoT / ax) + sqr(HoB / ay)) / sqr(HoN));
 }
 
 // Angle form (Ward 1992 Eq. 5a, the lecture's first formula):
@@ -36,9 +44,8 @@ template <typename T> ANISO_INLINE T E_Ward_Vector(T HoT, T HoB, T HoN, T ax, T 
 // dot product with the tangent. At h = n the projection has no direction, but tan(theta_h) = 0
 // makes the exponent 0 for every phi_h: take phi_h = 0 there.
 template <typename T> ANISO_INLINE T E_Ward_Angle(T theta_h, T cos_phi_h, T sin_phi_h, T ax, T ay) {
-  using std::exp;
   using std::tan;
-  return exp(-sqr(tan(theta_h)) * (sqr(cos_phi_h / ax) + sqr(sin_phi_h / ay)));
+  return Ward_Exp(-sqr(tan(theta_h)) * (sqr(cos_phi_h / ax) + sqr(sin_phi_h / ay)));
 }
 
 template <typename T>
@@ -59,8 +66,7 @@ ANISO_INLINE void Ward_HalfAngles(const Vec3T<T>& h_unit, T& theta_h, T& cos_phi
 // Ward 1992 Eq. 5b, the cheaper approximation, with h normalised:
 //   exp(-2 ((h.x / ax)^2 + (h.y / ay)^2) / (1 + h.n))
 template <typename T> ANISO_INLINE T E_Ward_Approx(T HoT, T HoB, T HoN, T ax, T ay) {
-  using std::exp;
-  return exp(T(-2) * (sqr(HoT / ax) + sqr(HoB / ay)) / (T(1) + HoN));
+  return Ward_Exp(T(-2) * (sqr(HoT / ax) + sqr(HoB / ay)) / (T(1) + HoN));
 }
 
 // --- Normalisations ----------------------------------------------------------------------------
@@ -137,6 +143,9 @@ template <typename T> struct WardLobeT {
         e = E_Ward_Vector(h.x, h.y, h.z, alpha_x, alpha_y);
         break;
     }
+    // The Gaussian underflowed: f is 0, and the normalisation, which grows without bound towards
+    // the horizon, must not turn that 0 into 0 * inf = NaN.
+    if (!(e > T(0))) return T(0);
     switch (normalization) {
       case WardNormalization::Duer:
         return e * N_Duer(wi.z, wo.z, alpha_x, alpha_y);
