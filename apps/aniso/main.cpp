@@ -137,6 +137,7 @@ int cmd_models(bool markdown, const std::string& only) {
     return 0;
   }
   for (const ModelSpec* m : model_specs()) {
+    if (!only.empty() && m->name != only) continue;
     fmt::print("{} ({}) -- {}\n", m->name, m->title, m->citation);
     for (const ParamSpec* p : m->params()) {
       fmt::print("  {:<20} {:<55} {}{}\n", p->name, describe_range(*p), p->doc, p->required ? " [required]" : "");
