@@ -529,6 +529,14 @@ TEST_F(CliErrors, CommandLineErrorsExitTwo) {
   EXPECT_EQ(run({"sample", "--material", "clay", "--wo", "0", "1"}).code, 2);
 }
 
+TEST_F(CliErrors, UnknownCommandIsNamed) {
+  const Result r = run({"bogus"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(r.err.find("unknown command \"bogus\""), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("eval"), std::string::npos) << r.err;
+}
+
 TEST_F(CliErrors, NoCommand) {
   const Result r = run({});
   EXPECT_NE(r.code, 0);

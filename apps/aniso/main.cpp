@@ -193,6 +193,19 @@ int main(int argc, char** argv) {
   models->add_flag("--markdown", markdown, "print the tables as markdown (as docs/models/*.md quote them)");
   models->add_option("--model", only_model, "only this model");
 
+  // An unknown command would otherwise be reported by CLI11 as "A subcommand is required".
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      names += fmt::format(" {}", sub->get_name());
+      known = known || sub->check_name(argv[1]);
+    }
+    if (!known) {
+      fmt::print(stderr, "aniso: error: unknown command \"{}\"; expected one of{}\n", argv[1], names);
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -98,7 +98,7 @@ constexpr ParamSpec kLafortuneLobe[] = {
      .min = 0.0, .max = kHuge, .default_value = 1.0},
 };
 constexpr std::span<const ParamSpec> kLafortuneLobeParts[] = {kLafortuneLobe};
-constexpr ModelSpec kLafortuneLobeSpec{"lafortune lobe", "Lafortune lobe", "", kLafortuneLobeParts};
+constexpr ModelSpec kLafortuneLobeSpec{"lobes[i]", "Lafortune lobe", "", kLafortuneLobeParts};
 
 constexpr ParamSpec kLafortune[] = {
     reflectance("rho_d", 0.0, "diffuse albedo (rho_d / pi)"),
