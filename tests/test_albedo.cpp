@@ -56,8 +56,7 @@ TEST_P(EnergyTest, AlbedoAtMostOne) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Bounded, EnergyTest, testing::ValuesIn(energy_conserving()),
-                         [](const auto& info) { return info.param.name; });
+INSTANTIATE_TEST_SUITE_P(Bounded, EnergyTest, testing::ValuesIn(energy_conserving()), material_name);
 
 // The importance-sampled albedo (mean of sample weights) agrees with a uniform-sampling estimate
 // that does not use the sampler: an integral check of weight == f cos / pdf over the whole lobe.
@@ -77,8 +76,7 @@ TEST_P(AlbedoAgreementTest, ImportanceAgreesWithUniform) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllModels, AlbedoAgreementTest, testing::ValuesIn(all_model_materials()),
-                         [](const auto& info) { return info.param.name; });
+INSTANTIATE_TEST_SUITE_P(AllModels, AlbedoAgreementTest, testing::ValuesIn(all_model_materials()), material_name);
 
 TEST(Albedo, LambertIsExactlyKd) {
   const MaterialT<double> m = build<double>({{"model", "lambert"}, {"kd", {0.2, 0.5, 0.9}}});

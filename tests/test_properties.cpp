@@ -13,8 +13,6 @@ namespace {
 
 class PropertyTest : public testing::TestWithParam<NamedMaterial> {};
 
-std::string material_name(const testing::TestParamInfo<NamedMaterial>& info) { return info.param.name; }
-
 // Helmholtz reciprocity: f(wi, wo) = f(wo, wi), in double to 1e-12 relative, for random pairs.
 TEST_P(PropertyTest, Reciprocity) {
   const MaterialT<double> m = build<double>(GetParam().json);
@@ -81,8 +79,9 @@ TEST_P(PropertyTest, FiniteAndNonNegativeEverywhere) {
     for (float a : {0.0f, u1})
       for (float b : {0.0f, u1}) {
         const BSDFSampleT<float> s = m.sample(Vec3(0.3f, 0.2f, 0.932738f), uc, Vec2(a, b));
-        if (s.valid)
+        if (s.valid) {
           for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(s.weight[c])) << GetParam().name;
+        }
       }
 }
 

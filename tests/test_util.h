@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "aniso/brdf/material.h"
@@ -49,6 +50,9 @@ inline std::vector<NamedMaterial> all_model_materials() {
                              {"lobe", {{"model", "ggx"}, {"alpha_x", 0.3}, {"alpha_y", 0.1}}}}});
   return v;
 }
+
+// Test names for value-parameterised suites over NamedMaterial.
+inline std::string material_name(const testing::TestParamInfo<NamedMaterial>& info) { return info.param.name; }
 
 template <typename T> MaterialT<T> build(const nlohmann::json& j) {
   return build_material<T>(parse_material(j, "test material"));
