@@ -84,47 +84,49 @@ template <typename T> struct LafortuneT {
   // whose axis is below the horizon but whose tail is not) cosine samples keep the variance bounded.
   static constexpr float kDefensiveShare = 0.1f;
 
-  ANISO_HD T lobe_weights(const Vec3T<T>& wo) const {
-    T w = T(0);
+  // The mixture's weights for one wo, computed once and shared by sample() and its pdf (each
+  // channel weight costs a pow).
+  struct SamplingWeights {
+    T lobe[kLafortuneMaxLobes][3];
+    T lobes_total;
+    T cosine;  // the diffuse albedo plus the defensive share; all of it when nothing else weighs
+  };
+  ANISO_HD SamplingWeights sampling_weights(const Vec3T<T>& wo) const {
+    SamplingWeights w;
+    w.lobes_total = T(0);
     for (int i = 0; i < lobe_count; ++i)
-      for (int c = 0; c < 3; ++c) w += lobes[i].channel_weight(wo, c);
+      for (int c = 0; c < 3; ++c) w.lobes_total += (w.lobe[i][c] = lobes[i].channel_weight(wo, c));
+    const T cos_w = average(rho_d) + T(kDefensiveShare) * w.lobes_total;
+    w.cosine = cos_w > T(0) || w.lobes_total > T(0) ? cos_w : T(1);
     return w;
   }
-  // Weight of cosine sampling: the diffuse albedo plus the defensive share; all of it when nothing
-  // else has weight, so that the pdf is positive wherever f can be.
-  ANISO_HD T cosine_weight(T lobes_total) const {
-    const T w = average(rho_d) + T(kDefensiveShare) * lobes_total;
-    return w > T(0) || lobes_total > T(0) ? w : T(1);
-  }
 
+  ANISO_HD T pdf(const SamplingWeights& w, const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    if (!same_upper_hemisphere(wi, wo)) return T(0);
+    T p = w.cosine * cosine_hemisphere_pdf(wi.z);
+    for (int i = 0; i < lobe_count; ++i)
+      for (int c = 0; c < 3; ++c)
+        if (w.lobe[i][c] > T(0)) p += w.lobe[i][c] * lobes[i].channel_pdf(wi, wo, c);
+    return p / (w.cosine + w.lobes_total);
+  }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     if (!same_upper_hemisphere(wi, wo)) return T(0);
-    const T lobes_total = lobe_weights(wo);
-    const T w_cos = cosine_weight(lobes_total);
-    T p = w_cos * cosine_hemisphere_pdf(wi.z);
-    for (int i = 0; i < lobe_count; ++i)
-      for (int c = 0; c < 3; ++c) {
-        const T w = lobes[i].channel_weight(wo, c);
-        if (w > T(0)) p += w * lobes[i].channel_pdf(wi, wo, c);
-      }
-    return p / (w_cos + lobes_total);
+    return pdf(sampling_weights(wo), wi, wo);
   }
 
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     if (!(wo.z > T(0))) return {};
-    const T lobes_total = lobe_weights(wo);
-    const T w_cos = cosine_weight(lobes_total);
+    const SamplingWeights w = sampling_weights(wo);
     // Walk the cumulative weights with uc: cosine first, then each (lobe, channel). Rounding that
     // leaves target >= 0 after the last lobe picks the last positive-weight candidate.
-    T target = uc * (w_cos + lobes_total) - w_cos;
+    T target = uc * (w.cosine + w.lobes_total) - w.cosine;
     int lobe = -1, channel = 0;
     for (int i = 0; i < lobe_count && !(target < T(0)); ++i)
       for (int c = 0; c < 3 && !(target < T(0)); ++c) {
-        const T w = lobes[i].channel_weight(wo, c);
-        if (!(w > T(0))) continue;
+        if (!(w.lobe[i][c] > T(0))) continue;
         lobe = i;
         channel = c;
-        target -= w;
+        target -= w.lobe[i][c];
       }
     Vec3T<T> wi;
     if (lobe < 0) {
@@ -134,7 +136,7 @@ template <typename T> struct LafortuneT {
       wi = sample_cosine_power(a / std::sqrt(glm::dot(a, a)), lobes[lobe].n[channel], u);
     }
     if (!(wi.z > T(0))) return {};
-    return make_sample(wi, f(wi, wo), pdf(wi, wo));
+    return make_sample(wi, f(wi, wo), pdf(w, wi, wo));
   }
 };
 
