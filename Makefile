@@ -3,7 +3,7 @@ PRESET ?= release
 JOBS   ?= $(shell nproc)
 BIN    := build/$(PRESET)/bin
 
-.PHONY: all deps configure build test bench clean format
+.PHONY: all deps configure build test bench clean format render
 
 all: build
 
@@ -16,6 +16,10 @@ configure: deps
 build: configure
 	@cmake --build --preset $(PRESET) -j $(JOBS)
 	@echo "built $(BIN)/aniso"
+
+# The main job: the built-in gallery -> aniso-gallery.png in the current directory.
+render: build
+	@$(BIN)/aniso render
 
 test: build
 	@ctest --preset $(PRESET) -j $(JOBS)

@@ -12,6 +12,13 @@ packages=(
   libgtest-dev        # unit and statistical tests
   libbenchmark-dev    # benchmarks
   libboost-dev        # boost::math::gamma_q for the chi-square p-values in tests
+  # The renderer (src/render): ray casting, threads, images, meshes, the label font.
+  libembree-dev       # Embree 3 BVH and ray intersection
+  libtbb-dev          # oneTBB: parallel tiles
+  libopenexr-dev      # .exr output and input
+  libstb-dev          # stb_image (PNG, HDR), stb_image_write, stb_truetype
+  libtinyobjloader-dev  # .obj meshes
+  fonts-dejavu-core   # DejaVu Sans, embedded at build time for the gallery's labels
 )
 # Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
 if [[ "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then

@@ -11,9 +11,19 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
 #include "data/metals.h"
 #include "io/materials.h"
 #include "io/presets.h"
+#include "render/gallery.h"
+#include "render/integrator.h"
 #include "stats/albedo.h"
 #include "stats/rng.h"
 
@@ -146,6 +156,155 @@ int cmd_models(bool markdown, const std::string& only) {
   return 0;
 }
 
+// --- render ------------------------------------------------------------------------------
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_sigint(int) {
+  g_interrupted.store(true);
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the program at once
+}
+
+// A progress bar with the time left, on stderr, only when stderr is a terminal; at most 10 updates
+// a second.
+class ProgressBar {
+ public:
+  explicit ProgressBar(std::string what) : what_(std::move(what)), enabled_(isatty(STDERR_FILENO) != 0) {}
+  void update(double f) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (f < 1.0 && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const int width = 30, filled = int(f * width + 0.5);
+    std::string bar(size_t(filled), '#');
+    bar.resize(size_t(width), '-');
+    const std::string left = f > 0.02 ? fmt::format("~{:.0f} s left", elapsed * (1.0 - f) / f) : "estimating";
+    fmt::print(stderr, "\r{} [{}] {:3.0f}%  {:.1f} s, {}   ", what_, bar, 100.0 * f, elapsed, left);
+    std::fflush(stderr);
+    drawn_ = true;
+  }
+  void finish() {
+    if (drawn_) fmt::print(stderr, "\r\033[K");
+  }
+
+ private:
+  std::string what_;
+  bool enabled_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
+};
+
+struct RenderArgs {
+  std::string scene, output, material, strategy, tonemap = "aces";
+  int spp = 0, width = 0, height = 0, threads = 0, max_depth = 0;
+  uint64_t seed = 1;
+  double exposure = 0.0;
+  bool print_scene = false;
+};
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+int cmd_render(RenderArgs a) {
+  using namespace aniso::render;
+  if (!a.scene.empty() && !a.material.empty())
+    throw InputError("give either a scene file or --material (the preview scene), not both");
+  const std::string ext_out = a.output.empty() ? ".png" : lower_extension(a.output);
+  if (ext_out != ".png" && ext_out != ".exr" && ext_out != ".pfm")
+    throw InputError(fmt::format("-o {}: expected a .png, .exr or .pfm file name", a.output));
+  ToneMapOptions tm;
+  tm.exposure_stops = float(a.exposure);
+  tm.curve = a.tonemap == "clamp" ? ToneMap::Clamp : ToneMap::Aces;
+  RenderOptions ro;
+  ro.threads = a.threads;
+  ro.seed = a.seed;
+  ro.cancel = &g_interrupted;
+
+  if (a.scene.empty() && a.material.empty()) {
+    if (a.print_scene) {
+      fmt::print("{}\n", gallery_document().dump(2));
+      return 0;
+    }
+    if (a.output.empty()) a.output = "aniso-gallery.png";
+    if (ext_out != ".png") throw InputError(fmt::format("-o {}: the gallery is a labelled figure: PNG only", a.output));
+    if (!a.strategy.empty() || a.max_depth > 0) throw InputError("--strategy and --max-depth apply to scene files, not to the gallery");
+    GalleryOptions go;
+    go.width = a.width > 0 ? a.width : 1024;
+    go.height = a.height;
+    go.spp = a.spp;
+    go.tonemap = tm;
+    ProgressBar bar("aniso render: gallery");
+    go.render = ro;
+    go.render.progress = [&](double f) { bar.update(f); };
+    std::signal(SIGINT, on_sigint);
+    const GalleryResult r = render_gallery(go);
+    bar.finish();
+    write_png(a.output, r.image);
+    fmt::print("{}wrote {} ({}x{}, {} cells, {} spp) in {:.1f} s: {:.2f} M paths/s, {:.2f} M rays/s\n",
+               r.stats.cancelled ? "interrupted: " : "", a.output, r.image.width, r.image.height, r.cells,
+               r.stats.spp_done, r.stats.seconds, double(r.stats.paths) / r.stats.seconds * 1e-6,
+               double(r.stats.rays) / r.stats.seconds * 1e-6);
+    return r.stats.cancelled ? 130 : 0;
+  }
+
+  nlohmann::json doc;
+  std::string source, base_dir;
+  if (!a.material.empty()) {
+    // A material argument is a preset name, a JSON file, or an inline JSON object.
+    nlohmann::json m = a.material;
+    if (!a.material.empty() && a.material.front() == '{') {
+      try {
+        m = nlohmann::json::parse(a.material);
+      } catch (const nlohmann::json::exception& e) {
+        throw InputError(fmt::format("--material: invalid inline JSON: {}", e.what()));
+      }
+    }
+    doc = preview_scene(m);
+    source = "preview scene";
+    if (a.output.empty()) a.output = "aniso-preview.png";
+  } else {
+    std::error_code ec;
+    if (!std::filesystem::exists(a.scene, ec)) throw InputError(fmt::format("{}: no such file", a.scene));
+    if (std::filesystem::is_directory(a.scene, ec)) throw InputError(fmt::format("{}: is a directory, expected a scene file", a.scene));
+    std::ifstream in(a.scene);
+    if (!in) throw InputError(fmt::format("{}: cannot open for reading", a.scene));
+    try {
+      doc = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(fmt::format("{}: invalid JSON: {}", a.scene, e.what()));
+    }
+    source = a.scene;
+    base_dir = std::filesystem::path(a.scene).parent_path().string();
+    if (a.output.empty()) a.output = std::filesystem::path(a.scene).stem().string() + ".png";
+  }
+  if (a.print_scene) {
+    fmt::print("{}\n", doc.dump(2));
+    return 0;
+  }
+  Scene scene = parse_scene(doc, source, base_dir);
+  if (a.width > 0) scene.film.width = a.width;
+  if (a.height > 0) scene.film.height = a.height;
+  if (a.spp > 0) scene.film.spp = a.spp;
+  if (a.max_depth > 0) scene.integrator.max_depth = a.max_depth;
+  if (!a.strategy.empty())
+    scene.integrator.strategy = a.strategy == "bsdf" ? Strategy::Bsdf : (a.strategy == "light" ? Strategy::Light : Strategy::Mis);
+  ProgressBar bar(fmt::format("aniso render: {}", source));
+  ro.progress = [&](double f) { bar.update(f); };
+  std::signal(SIGINT, on_sigint);
+  RenderStats st;
+  const Image img = aniso::render::render(scene, ro, &st);
+  bar.finish();
+  write_image(a.output, img, tm);
+  fmt::print("{}wrote {} ({}x{}, {} spp) in {:.1f} s: {:.2f} M paths/s, {:.2f} M rays/s\n", st.cancelled ? "interrupted: " : "",
+             a.output, img.width, img.height, st.spp_done, st.seconds, double(st.paths) / st.seconds * 1e-6,
+             double(st.rays) / st.seconds * 1e-6);
+  if (st.nonfinite > 0) fmt::print(stderr, "aniso render: warning: {} samples were NaN or Inf and were dropped\n", st.nonfinite);
+  return st.cancelled ? 130 : 0;
+}
+
 }  // namespace
 }  // namespace aniso
 
@@ -193,6 +352,25 @@ int main(int argc, char** argv) {
   models->add_flag("--markdown", markdown, "print the tables as markdown (as docs/models/*.md quote them)");
   models->add_option("--model", only_model, "only this model");
 
+  RenderArgs ra;
+  auto* render_cmd = app.add_subcommand(
+      "render", "render a scene file, the preview scene of a material (--material), or with neither the built-in gallery");
+  render_cmd->add_option("scene", ra.scene, "scene file (docs/scenes.md); none: the gallery or the material preview");
+  render_cmd->add_option("-o,--output", ra.output,
+                         "output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance); default aniso-gallery.png, "
+                         "aniso-preview.png or <scene>.png");
+  render_cmd->add_option("--material,-m", ra.material, "render the preview scene with this material (preset, JSON file or inline JSON)");
+  render_cmd->add_option("--spp", ra.spp, "samples per pixel (default: the scene's)")->check(CLI::Range(1, 1 << 20));
+  render_cmd->add_option("--width", ra.width, "image width in pixels")->check(CLI::Range(16, 16384));
+  render_cmd->add_option("--height", ra.height, "image height in pixels")->check(CLI::Range(16, 16384));
+  render_cmd->add_option("--threads", ra.threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  render_cmd->add_option("--seed", ra.seed, "random seed (same seed, same image, whatever the thread count)");
+  render_cmd->add_option("--strategy", ra.strategy, "mis (default), bsdf or light")->check(CLI::IsMember({"mis", "bsdf", "light"}));
+  render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")->check(CLI::Range(1, 1024));
+  render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(CLI::Range(-30.0, 30.0));
+  render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp")->check(CLI::IsMember({"aces", "clamp"}));
+  render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
+
   // An unknown command would otherwise be reported by CLI11 as "A subcommand is required".
   if (argc > 1 && argv[1][0] != '-') {
     std::string names;
@@ -220,9 +398,13 @@ int main(int argc, char** argv) {
     if (fresnel->parsed()) return cmd_fresnel(metal, theta, schlick);
     if (presets_cmd->parsed()) return cmd_presets(show);
     if (models->parsed()) return cmd_models(markdown, only_model);
+    if (render_cmd->parsed()) return cmd_render(ra);
   } catch (const InputError& e) {
     fmt::print(stderr, "aniso: error: {}\n", e.what());
     return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "aniso: error: {}\n", e.what());
+    return 1;
   }
   return 1;
 }

@@ -1,0 +1,157 @@
+// render/gallery.cpp: the embedded default gallery and the material preview scene.
+#include "render/gallery.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace aniso::render {
+namespace {
+
+// The default gallery: what the lecture is about, at a glance. Every cell is one object under the
+// same studio lighting: a dim grey gradient environment plus a large warm key light (a sphere light
+// up and to the left) and a small cool rim light behind, so that anisotropic highlights read as
+// streaks. Read by parse_scene() like any user file.
+constexpr const char* kGalleryJson = R"json({
+  "columns": 4,
+  "common": {
+    "camera": {"position": [0, 0.35, 4.3], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 30},
+    "film": {"width": 256, "height": 256, "spp": 48},
+    "integrator": {"max_depth": 6, "strategy": "mis"},
+    "environment": {"type": "sky", "zenith": [0.16, 0.17, 0.19], "horizon": [0.30, 0.30, 0.31],
+                    "ground": [0.05, 0.05, 0.05], "resolution": 256},
+    "lights": [
+      {"type": "sphere", "center": [-3.2, 4.0, 4.5], "radius": 0.9, "radiance": [52, 48, 42]},
+      {"type": "sphere", "center": [3.5, 1.5, -3.5], "radius": 0.5, "radiance": [30, 34, 40]}
+    ]
+  },
+  "cells": [
+    {"label": "Ward, isotropic", "detail": "α = 0.12",
+     "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1,
+                  "material": {"model": "ward", "kd": [0.05, 0.07, 0.12], "ks": 0.35,
+                               "alpha_x": 0.12, "alpha_y": 0.12, "normalization": "balanced"}}]},
+    {"label": "Ward, anisotropic", "detail": "αx = 0.05, αy = 0.35",
+     "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1,
+                  "material": {"model": "ward", "kd": [0.05, 0.07, 0.12], "ks": 0.35,
+                               "alpha_x": 0.05, "alpha_y": 0.35, "normalization": "balanced"}}]},
+    {"label": "Ward, tangent rotated", "detail": "same material, angle_deg = 45",
+     "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "tangent": {"angle_deg": 45},
+                  "material": {"model": "ward", "kd": [0.05, 0.07, 0.12], "ks": 0.35,
+                               "alpha_x": 0.05, "alpha_y": 0.35, "normalization": "balanced"}}]},
+    {"label": "Ashikhmin-Shirley", "detail": "nu = 10, nv = 400",
+     "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1,
+                  "material": {"model": "ashikhmin-shirley", "rd": [0.35, 0.08, 0.06], "rs": 0.12,
+                               "n_u": 10, "n_v": 400}}]},
+    {"label": "Matte steel (Lafortune)", "detail": "the lecture's 3-lobe fit",
+     "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "matte-steel"}]},
+    {"label": "Brushed gold", "detail": "measured n, k; Ward lobe + dir. diffuse",
+     "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "brushed-gold"}]},
+    {"label": "Copper, directional diffuse", "detail": "measured n, k; AS lobe + dir. diffuse",
+     "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1,
+                  "material": {"model": "metal", "metal": "copper",
+                               "lobe": {"model": "ashikhmin-shirley", "n_u": 30, "n_v": 600},
+                               "directional_diffuse": {"albedo": 0.35, "n": 3}}}]},
+    {"label": "Anisotropic GGX", "detail": "αx = 0.05, αy = 0.4 (comparison)",
+     "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1,
+                  "material": {"model": "ggx", "kd": [0.03, 0.05, 0.03], "f0": [0.6, 0.75, 0.6],
+                               "alpha_x": 0.05, "alpha_y": 0.4}}]},
+    {"label": "Disc, concentric tangents", "detail": "lathe-turned aluminium",
+     "camera": {"position": [0, 2.6, 3.4], "look_at": [0, -0.15, 0], "up": [0, 1, 0], "fov_deg": 30},
+     "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.15,
+                  "tangent": {"field": "concentric"}, "material": "brushed-aluminium"}]},
+    {"label": "Disc, radial tangents", "detail": "brushed outwards from the centre",
+     "camera": {"position": [0, 2.6, 3.4], "look_at": [0, -0.15, 0], "up": [0, 1, 0], "fov_deg": 30},
+     "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.15,
+                  "tangent": {"field": "radial"}, "material": "brushed-aluminium"}]},
+    {"label": "Disc, swirl tangents", "detail": "spiral at 45° between the two",
+     "camera": {"position": [0, 2.6, 3.4], "look_at": [0, -0.15, 0], "up": [0, 1, 0], "fov_deg": 30},
+     "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.15,
+                  "tangent": {"field": "swirl", "swirl_deg": 45}, "material": "brushed-silver"}]},
+    {"label": "Torus, mesh tangents", "detail": "brushed along the ring (dp/du)",
+     "camera": {"position": [0, 2.2, 3.6], "look_at": [0, -0.1, 0], "up": [0, 1, 0], "fov_deg": 30},
+     "objects": [{"shape": "torus", "center": [0, 0, 0], "major_radius": 1.0, "minor_radius": 0.38,
+                  "material": "brushed-copper"}]}
+  ]
+})json";
+
+}  // namespace
+
+const nlohmann::json& gallery_document() {
+  static const nlohmann::json doc = nlohmann::json::parse(kGalleryJson);
+  return doc;
+}
+
+nlohmann::json gallery_cell_scene(size_t cell) {
+  const nlohmann::json& doc = gallery_document();
+  nlohmann::json scene = doc.at("common");
+  for (const auto& [k, v] : doc.at("cells").at(cell).items())
+    if (k != "label" && k != "detail") scene[k] = v;
+  scene["name"] = doc.at("cells").at(cell).at("label");
+  return scene;
+}
+
+GalleryResult render_gallery(const GalleryOptions& opt) {
+  const nlohmann::json& doc = gallery_document();
+  const int cells = int(doc.at("cells").size());
+  const int columns = doc.at("columns").get<int>();
+  const int rows = (cells + columns - 1) / columns;
+  // Layout: a margin around the figure and between cells; under each cell a strip with the label
+  // (one line, bold-ish size) and the detail line (smaller). Sizes scale with the cell width.
+  GalleryResult res;
+  res.cells = cells;
+  const int margin = std::max(4, opt.width / 128);
+  const int cell_w = std::max(16, (opt.width - margin * (columns + 1)) / columns);
+  const float label_px = std::max(9.0f, float(cell_w) * 0.07f);
+  const float detail_px = label_px * 0.8f;
+  const int strip = int(label_px * 1.35f + detail_px * 1.35f) + margin;
+  int cell_h = cell_w;
+  if (opt.height > 0) cell_h = std::max(16, (opt.height - margin * (rows + 1)) / rows - strip);
+  const int fig_h = opt.height > 0 ? opt.height : margin + rows * (cell_h + strip + margin);
+  res.cell_width = cell_w;
+  res.cell_height = cell_h;
+  res.image = DisplayImage(opt.width, fig_h, 255);  // white page, like a paper's figure
+
+  for (int c = 0; c < cells; ++c) {
+    nlohmann::json sj = gallery_cell_scene(size_t(c));
+    sj["film"]["width"] = cell_w;
+    sj["film"]["height"] = cell_h;
+    if (opt.spp > 0) sj["film"]["spp"] = opt.spp;
+    const Scene scene = parse_scene(sj, fmt::format("embedded gallery, cell {}", c), "");
+    RenderOptions ro = opt.render;
+    if (opt.render.progress)
+      ro.progress = [&, c](double f) { opt.render.progress((double(c) + f) / double(cells)); };
+    RenderStats st;
+    const Image img = render(scene, ro, &st);
+    res.stats.seconds += st.seconds;
+    res.stats.paths += st.paths;
+    res.stats.rays += st.rays;
+    res.stats.nonfinite += st.nonfinite;
+    res.stats.spp_done = c == 0 ? st.spp_done : std::min(res.stats.spp_done, st.spp_done);
+    res.stats.cancelled = res.stats.cancelled || st.cancelled;
+    const int col = c % columns, row = c / columns;
+    const int x = margin + col * (cell_w + margin), y = margin + row * (cell_h + strip + margin);
+    blit(res.image, tonemap(img, opt.tonemap), x, y);
+    const auto& cell = doc.at("cells").at(size_t(c));
+    draw_text(res.image, x + 2, y + cell_h + int(label_px * 0.25f), cell.at("label").get<std::string>(), label_px,
+              glm::u8vec3(20, 20, 20));
+    draw_text(res.image, x + 2, y + cell_h + int(label_px * 1.45f), cell.at("detail").get<std::string>(), detail_px,
+              glm::u8vec3(90, 90, 90));
+    if (st.cancelled) break;
+  }
+  return res;
+}
+
+nlohmann::json preview_scene(const nlohmann::json& material) {
+  const nlohmann::json& common = gallery_document().at("common");
+  nlohmann::json s = common;
+  s["camera"] = {{"position", {0.0, 1.6, 6.2}}, {"look_at", {0.0, -0.05, 0.0}}, {"up", {0, 1, 0}}, {"fov_deg", 30}};
+  s["film"] = {{"width", 640}, {"height", 360}, {"spp", 64}};
+  s["objects"] = nlohmann::json::array(
+      {{{"shape", "sphere"}, {"center", {-1.25, 0.0, 0.0}}, {"radius", 1.0}, {"material", material}},
+       {{"shape", "torus"}, {"center", {1.35, -0.25, 0.0}}, {"major_radius", 0.95}, {"minor_radius", 0.36},
+        {"rotate_deg", {25, 0, 0}}, {"material", material}}});
+  s["name"] = "material preview";
+  return s;
+}
+
+}  // namespace aniso::render

@@ -1,0 +1,629 @@
+// render/image.cpp: image readers and writers, tone mapping, and the gallery's text.
+//
+// This translation unit owns the stb implementations (stb_image, stb_image_write, stb_truetype):
+// they are compiled here, static to this file, and nowhere else.
+#include "render/image.h"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include <unistd.h>  // getpid, fsync
+
+#include <fmt/format.h>
+
+#include <Iex.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfIO.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+
+#include "io/params.h"
+
+// Third-party single-header libraries: their own code is not held to the project's warning flags.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wall"
+#pragma GCC diagnostic ignored "-Wextra"
+#pragma GCC diagnostic ignored "-Wpedantic"
+#pragma GCC diagnostic ignored "-Wshadow"
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
+#pragma GCC diagnostic ignored "-Wdouble-promotion"
+#pragma GCC diagnostic ignored "-Wconversion"
+#pragma GCC diagnostic ignored "-Wcast-qual"
+#pragma GCC diagnostic ignored "-Wold-style-cast"
+#pragma GCC diagnostic ignored "-Wuseless-cast"
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_NO_STDIO  // every file is read into memory here first, with errors checked
+#include <stb_image.h>
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STBI_WRITE_NO_STDIO  // PNGs are encoded to memory, then written atomically
+#include <stb_image_write.h>
+#define STBTT_STATIC
+#define STB_TRUETYPE_IMPLEMENTATION
+#include <stb_truetype.h>
+#pragma GCC diagnostic pop
+
+// DejaVu Sans, embedded by the build (an .incbin in an assembler file, see CMakeLists.txt).
+extern "C" const unsigned char aniso_label_font_begin[];
+extern "C" const unsigned char aniso_label_font_end[];
+
+namespace aniso::render {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Small helpers
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+// "<where>: <path>: <problem>", or "<path>: <problem>" when there is no `where`.
+[[noreturn]] void input_error(const std::string& where, const std::string& path, const std::string& problem) {
+  if (where.empty()) throw InputError(fmt::format("{}: {}", path, problem));
+  throw InputError(fmt::format("{}: {}: {}", where, path, problem));
+}
+
+[[noreturn]] void write_error(const std::string& path, const std::string& reason) {
+  throw std::runtime_error(fmt::format("cannot write {}: {}", path, reason));
+}
+
+std::string errno_text(int err) { return std::strerror(err); }
+
+// Large enough for a 16k x 16k environment map; a corrupt header claiming more is refused before
+// anything is allocated.
+constexpr int64_t kMaxPixels = int64_t(1) << 28;
+
+void check_size(int64_t w, int64_t h, const std::string& where, const std::string& path) {
+  if (w <= 0 || h <= 0) input_error(where, path, fmt::format("zero-size image ({} x {})", w, h));
+  if (w > kMaxPixels || h > kMaxPixels || w * h > kMaxPixels)
+    input_error(where, path, fmt::format("image too large ({} x {}; at most {} pixels)", w, h, kMaxPixels));
+}
+
+// Reads a whole regular file. Every failure is an InputError that says which one it was.
+std::vector<unsigned char> read_file(const std::string& path, const std::string& where) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) {
+    const int err = ec ? ec.value() : ENOENT;
+    input_error(where, path, fmt::format("cannot open ({})", errno_text(err)));
+  }
+  if (fs::is_directory(st)) input_error(where, path, "is a directory, expected an image file");
+  if (!fs::is_regular_file(st)) input_error(where, path, "not a regular file");
+
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) input_error(where, path, fmt::format("cannot open ({})", errno_text(errno)));
+  std::vector<unsigned char> data;
+  std::array<unsigned char, 1 << 16> chunk;
+  for (;;) {
+    const size_t n = std::fread(chunk.data(), 1, chunk.size(), f.get());
+    data.insert(data.end(), chunk.begin(), chunk.begin() + std::ptrdiff_t(n));
+    if (n < chunk.size()) break;
+  }
+  if (std::ferror(f.get())) input_error(where, path, fmt::format("read error ({})", errno_text(errno)));
+  if (data.empty()) input_error(where, path, "empty file (0 bytes)");
+  // stb_image takes the length as an int.
+  if (data.size() > size_t(std::numeric_limits<int>::max())) input_error(where, path, "file too large (over 2 GiB)");
+  return data;
+}
+
+// Radiance must be finite and non-negative; the first offending pixel is named (row 0 = top).
+void check_values(const Image& img, const std::string& where, const std::string& path) {
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const RGB c = img.at(x, y);
+      for (int k = 0; k < 3; ++k) {
+        const float v = c[k];
+        if (!std::isfinite(v))
+          input_error(where, path, fmt::format("pixel ({}, {}) is not finite ({} {} {})", x, y, c.x, c.y, c.z));
+        if (v < 0.0f)
+          input_error(where, path,
+                      fmt::format("pixel ({}, {}) is negative ({} {} {}); radiance must be >= 0", x, y, c.x, c.y, c.z));
+      }
+    }
+}
+
+// 8-bit sRGB byte -> linear float, one table for all 256 values.
+const std::array<float, 256>& srgb_decode_table() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_decode(float(i) / 255.0f);
+    return t;
+  }();
+  return table;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Readers
+
+Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, const std::string& where,
+               const std::string& path, bool linear_8bit) {
+  const auto* bytes = data.data();
+  const int len = int(data.size());
+  int w = 0, h = 0, comp = 0;
+  if (!stbi_info_from_memory(bytes, len, &w, &h, &comp))
+    input_error(where, path, fmt::format("corrupt or unsupported image ({})", stbi_failure_reason()));
+  check_size(w, h, where, path);
+
+  Image img;
+  auto fail = [&] { input_error(where, path, fmt::format("corrupt or truncated image ({})", stbi_failure_reason())); };
+  if (ext == ".hdr") {
+    // stbi_loadf applies a 2.2 gamma to 8-bit files; a .hdr must really be Radiance RGBE (linear).
+    if (!stbi_is_hdr_from_memory(bytes, len)) input_error(where, path, "not a Radiance HDR (RGBE) file");
+    std::unique_ptr<float, void (*)(void*)> px(stbi_loadf_from_memory(bytes, len, &w, &h, &comp, 3), &stbi_image_free);
+    if (!px) fail();
+    img = Image(w, h);
+    std::copy(px.get(), px.get() + img.rgb.size(), img.rgb.begin());
+  } else if (stbi_is_16_bit_from_memory(bytes, len)) {
+    std::unique_ptr<stbi_us, void (*)(void*)> px(stbi_load_16_from_memory(bytes, len, &w, &h, &comp, 3),
+                                                 &stbi_image_free);
+    if (!px) fail();
+    img = Image(w, h);
+    for (size_t i = 0; i < img.rgb.size(); ++i) {
+      const float v = float(px.get()[i]) / 65535.0f;
+      img.rgb[i] = linear_8bit ? v : srgb_decode(v);
+    }
+  } else {
+    std::unique_ptr<stbi_uc, void (*)(void*)> px(stbi_load_from_memory(bytes, len, &w, &h, &comp, 3), &stbi_image_free);
+    if (!px) fail();
+    img = Image(w, h);
+    const auto& table = srgb_decode_table();
+    for (size_t i = 0; i < img.rgb.size(); ++i) {
+      const stbi_uc v = px.get()[i];
+      img.rgb[i] = linear_8bit ? float(v) / 255.0f : table[v];
+    }
+  }
+  return img;
+}
+
+// PFM (Portable Float Map): "PF" (RGB) or "Pf" (grey), width, height, scale (negative: little
+// endian, positive: big endian), each separated by white space and the scale followed by exactly
+// one white-space byte; then float rows from the BOTTOM row up.
+Image read_pfm(const std::vector<unsigned char>& data, const std::string& where, const std::string& path) {
+  size_t pos = 0;
+  auto is_space = [](unsigned char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
+  auto token = [&](const char* what) {
+    while (pos < data.size() && is_space(data[pos])) ++pos;
+    const size_t start = pos;
+    while (pos < data.size() && !is_space(data[pos]) && pos - start < 64) ++pos;
+    if (pos == start) input_error(where, path, fmt::format("truncated PFM header (no {})", what));
+    return std::string(data.begin() + std::ptrdiff_t(start), data.begin() + std::ptrdiff_t(pos));
+  };
+  const std::string magic = token("\"PF\" or \"Pf\"");
+  if (magic != "PF" && magic != "Pf")
+    input_error(where, path, "not a PFM file (the header must start with \"PF\" or \"Pf\")");
+  const int channels = magic == "PF" ? 3 : 1;
+
+  auto integer = [&](const char* what) -> int64_t {
+    const std::string t = token(what);
+    int64_t v = 0;
+    for (char c : t) {
+      if (c < '0' || c > '9' || v > kMaxPixels) input_error(where, path, fmt::format("bad PFM {} \"{}\"", what, t));
+      v = v * 10 + (c - '0');
+    }
+    return v;
+  };
+  const int64_t w = integer("width");
+  const int64_t h = integer("height");
+  const std::string scale_text = token("scale");
+  char* end = nullptr;
+  const double scale = std::strtod(scale_text.c_str(), &end);
+  if (end != scale_text.c_str() + scale_text.size() || !std::isfinite(scale) || scale == 0.0)
+    input_error(where, path, fmt::format("bad PFM scale \"{}\" (expected a non-zero number)", scale_text));
+  if (pos >= data.size() || !is_space(data[pos])) input_error(where, path, "truncated PFM header");
+  ++pos;  // the single white-space byte before the pixels
+  check_size(w, h, where, path);
+
+  const size_t count = size_t(w) * size_t(h) * size_t(channels);
+  const size_t available = data.size() - pos;
+  if (available < count * 4)
+    input_error(where, path, fmt::format("truncated PFM: {} x {} needs {} bytes of pixels, the file has {}", w, h,
+                                         count * 4, available));
+  const bool file_little = scale < 0.0;
+  const bool swap = file_little != (std::endian::native == std::endian::little);
+
+  Image img(static_cast<int>(w), static_cast<int>(h));
+  const unsigned char* src = data.data() + pos;
+  for (int64_t row = 0; row < h; ++row) {
+    const int y = int(h - 1 - row);  // the file's first row is the image's bottom row
+    for (int64_t x = 0; x < w; ++x) {
+      float v[3];
+      for (int c = 0; c < channels; ++c) {
+        uint32_t bits;
+        std::memcpy(&bits, src, 4);
+        src += 4;
+        if (swap) bits = __builtin_bswap32(bits);
+        std::memcpy(&v[c], &bits, 4);
+      }
+      if (channels == 1) v[1] = v[2] = v[0];
+      img.set(int(x), y, RGB(v[0], v[1], v[2]));
+    }
+  }
+  return img;
+}
+
+// OpenEXR reads from the bytes already in memory: the file is opened once, by read_file().
+class MemoryIStream : public Imf::IStream {
+ public:
+  MemoryIStream(const char* name, const std::vector<unsigned char>& data) : Imf::IStream(name), data_(data) {}
+  bool read(char c[], int n) override {
+    if (n < 0 || uint64_t(n) > data_.size() - std::min<uint64_t>(pos_, data_.size()))
+      throw Iex::InputExc("unexpected end of file");
+    std::memcpy(c, data_.data() + pos_, size_t(n));
+    pos_ += uint64_t(n);
+    return pos_ < data_.size();
+  }
+  uint64_t tellg() override { return pos_; }
+  void seekg(uint64_t pos) override { pos_ = pos; }
+
+ private:
+  const std::vector<unsigned char>& data_;
+  uint64_t pos_ = 0;
+};
+
+Image read_exr(const std::vector<unsigned char>& data, const std::string& where, const std::string& path) {
+  try {
+    MemoryIStream stream(path.c_str(), data);
+    Imf::InputFile file(stream);
+    const Imath::Box2i dw = file.header().dataWindow();
+    const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
+    check_size(w, h, where, path);
+    const Imf::ChannelList& ch = file.header().channels();
+    const bool rgb = ch.findChannel("R") || ch.findChannel("G") || ch.findChannel("B");
+    const bool grey = !rgb && ch.findChannel("Y");
+    if (!rgb && !grey) input_error(where, path, "the EXR file has no R, G, B or Y channel");
+
+    Image img(static_cast<int>(w), static_cast<int>(h));
+    const size_t xs = 3 * sizeof(float), ys = xs * size_t(w);
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(img.rgb.data());
+    if (rgb) {
+      fb.insert("R", Imf::Slice::Make(Imf::FLOAT, base, dw, xs, ys));
+      fb.insert("G", Imf::Slice::Make(Imf::FLOAT, base + sizeof(float), dw, xs, ys));
+      fb.insert("B", Imf::Slice::Make(Imf::FLOAT, base + 2 * sizeof(float), dw, xs, ys));
+    } else {
+      fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, base, dw, xs, ys));
+    }
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    if (grey)
+      for (size_t i = 0; i < img.rgb.size(); i += 3) img.rgb[i + 1] = img.rgb[i + 2] = img.rgb[i];
+    return img;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    input_error(where, path, fmt::format("corrupt or unsupported EXR file ({})", e.what()));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writers: every format is encoded to memory first, then written with write_atomically().
+
+// Writes `bytes` to a temporary file beside `path` (same file system, so the rename is atomic),
+// flushes it to disk, and renames it over `path`. On any failure the temporary file is removed.
+void write_atomically(const std::string& path, const std::vector<unsigned char>& bytes) {
+  static std::atomic<unsigned> counter{0};
+  const std::string tmp = fmt::format("{}.tmp-{}-{}", path, ::getpid(), counter.fetch_add(1));
+  struct RemoveOnFailure {
+    const std::string& tmp;
+    bool done = false;
+    ~RemoveOnFailure() {
+      if (!done) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+      }
+    }
+  };
+
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) write_error(path, fmt::format("cannot create {} ({})", tmp, errno_text(errno)));
+  RemoveOnFailure guard{tmp};
+  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && std::fflush(f) == 0;
+  int err = errno;
+  // fsync before the rename: otherwise a crash can leave an empty file under the final name.
+  // EINVAL: the file system does not support syncing, nothing to wait for.
+  const bool synced = written && (::fsync(::fileno(f)) == 0 || errno == EINVAL);
+  if (written && !synced) err = errno;
+  const bool closed = std::fclose(f) == 0;
+  if (synced && !closed) err = errno;
+  if (!written || !synced || !closed) write_error(path, errno_text(err));
+
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) write_error(path, ec.message());
+  guard.done = true;
+}
+
+class MemoryOStream : public Imf::OStream {
+ public:
+  explicit MemoryOStream(const char* name) : Imf::OStream(name) {}
+  void write(const char c[], int n) override {
+    if (pos_ + uint64_t(n) > bytes.size()) bytes.resize(pos_ + uint64_t(n));
+    std::memcpy(bytes.data() + pos_, c, size_t(n));
+    pos_ += uint64_t(n);
+  }
+  uint64_t tellp() override { return pos_; }
+  void seekp(uint64_t pos) override { pos_ = pos; }
+  std::vector<unsigned char> bytes;
+
+ private:
+  uint64_t pos_ = 0;
+};
+
+std::vector<unsigned char> encode_exr(const std::string& path, const Image& img) {
+  try {
+    MemoryOStream stream(path.c_str());
+    {
+      Imf::Header header(img.width, img.height);
+      header.compression() = Imf::ZIP_COMPRESSION;  // lossless
+      for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+      Imf::FrameBuffer fb;
+      // OutputFile only reads the slices; Slice wants a non-const pointer.
+      char* base = const_cast<char*>(reinterpret_cast<const char*>(img.rgb.data()));
+      const size_t xs = 3 * sizeof(float), ys = xs * size_t(img.width);
+      fb.insert("R", Imf::Slice(Imf::FLOAT, base, xs, ys));
+      fb.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xs, ys));
+      fb.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
+      Imf::OutputFile file(stream, header);
+      file.setFrameBuffer(fb);
+      file.writePixels(img.height);
+    }  // the OutputFile's destructor writes the line offset table
+    return std::move(stream.bytes);
+  } catch (const std::exception& e) {
+    write_error(path, fmt::format("OpenEXR: {}", e.what()));
+  }
+}
+
+// PF, scale -1 (little endian), rows from the bottom up.
+std::vector<unsigned char> encode_pfm(const Image& img) {
+  const std::string header = fmt::format("PF\n{} {}\n-1.0\n", img.width, img.height);
+  std::vector<unsigned char> out(header.begin(), header.end());
+  out.reserve(header.size() + img.rgb.size() * 4);
+  const size_t row_floats = size_t(img.width) * 3;
+  for (int y = img.height - 1; y >= 0; --y)
+    for (size_t i = 0; i < row_floats; ++i) {
+      uint32_t bits;
+      std::memcpy(&bits, &img.rgb[size_t(y) * row_floats + i], 4);
+      if constexpr (std::endian::native == std::endian::big) bits = __builtin_bswap32(bits);
+      unsigned char b[4];
+      std::memcpy(b, &bits, 4);
+      out.insert(out.end(), b, b + 4);
+    }
+  return out;
+}
+
+void check_writable(const std::string& path, int w, int h, size_t size) {
+  if (w <= 0 || h <= 0) write_error(path, fmt::format("invalid image size {} x {}", w, h));
+  if (size != size_t(w) * size_t(h) * 3)
+    write_error(path, fmt::format("the pixel buffer holds {} values, {} x {} x 3 expected", size, w, h));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Text
+
+struct LabelFont {
+  stbtt_fontinfo info{};
+  int ascent = 0;  // font units
+};
+
+// Parsed once, on first use; C++ guarantees the initialisation of a function-local static is
+// thread-safe. stb_truetype only reads `info` afterwards, so concurrent drawing is fine too.
+const LabelFont& label_font() {
+  static const LabelFont font = [] {
+    LabelFont f;
+    const unsigned char* data = aniso_label_font_begin;
+    if (aniso_label_font_end <= data || !stbtt_InitFont(&f.info, data, stbtt_GetFontOffsetForIndex(data, 0)))
+      throw std::runtime_error("the embedded label font (DejaVu Sans) cannot be parsed");
+    int descent = 0, line_gap = 0;
+    stbtt_GetFontVMetrics(&f.info, &f.ascent, &descent, &line_gap);
+    return f;
+  }();
+  return font;
+}
+
+// UTF-8 -> code points; a malformed sequence (stray continuation byte, overlong form, surrogate,
+// truncated sequence) becomes U+FFFD and decoding resumes at the next byte.
+std::vector<uint32_t> decode_utf8(std::string_view s) {
+  std::vector<uint32_t> out;
+  out.reserve(s.size());
+  size_t i = 0;
+  while (i < s.size()) {
+    const auto b0 = uint8_t(s[i]);
+    int len = 0;
+    uint32_t cp = 0, min = 0;
+    if (b0 < 0x80) len = 1, cp = b0;
+    else if ((b0 & 0xE0) == 0xC0) len = 2, cp = b0 & 0x1Fu, min = 0x80;
+    else if ((b0 & 0xF0) == 0xE0) len = 3, cp = b0 & 0x0Fu, min = 0x800;
+    else if ((b0 & 0xF8) == 0xF0) len = 4, cp = b0 & 0x07u, min = 0x10000;
+    bool ok = len > 0 && i + size_t(len) <= s.size();
+    for (int k = 1; ok && k < len; ++k) {
+      const auto b = uint8_t(s[i + size_t(k)]);
+      ok = (b & 0xC0) == 0x80;
+      cp = (cp << 6) | (b & 0x3Fu);
+    }
+    ok = ok && cp >= min && cp <= 0x10FFFF && !(cp >= 0xD800 && cp <= 0xDFFF);
+    out.push_back(ok ? cp : 0xFFFD);
+    i += ok ? size_t(len) : 1;
+  }
+  return out;
+}
+
+// Lays the text out on one line and calls draw(glyph, pen_x) for each glyph, pen_x being the
+// origin of the glyph relative to the start of the text. Returns the advance width in pixels.
+template <typename Draw>
+double layout_text(const LabelFont& font, std::string_view text, float scale, Draw&& draw) {
+  double pen = 0.0;
+  int prev = 0;
+  for (const uint32_t cp : decode_utf8(text)) {
+    if (cp < 0x20 || cp == 0x7F) continue;  // control characters: one line of text, nothing to draw
+    const int glyph = stbtt_FindGlyphIndex(&font.info, int(cp));
+    if (prev) pen += double(stbtt_GetGlyphKernAdvance(&font.info, prev, glyph)) * scale;
+    draw(glyph, pen);
+    int advance = 0, lsb = 0;
+    stbtt_GetGlyphHMetrics(&font.info, glyph, &advance, &lsb);
+    pen += double(advance) * scale;
+    prev = glyph;
+  }
+  return pen;
+}
+
+bool valid_pixel_height(float pixel_height) { return std::isfinite(pixel_height) && pixel_height > 0.0f; }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+// IEC 61966-2-1 (sRGB), with the knee at 0.0031308 (linear) / 0.04045 (encoded).
+float srgb_encode(float linear) {
+  if (!(linear > 0.0f)) return 0.0f;  // also NaN
+  if (linear >= 1.0f) return 1.0f;
+  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgb_decode(float encoded) {
+  if (!(encoded > 0.0f)) return 0.0f;
+  if (encoded >= 1.0f) return 1.0f;
+  return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
+}
+
+DisplayImage tonemap(const Image& img, const ToneMapOptions& opt) {
+  DisplayImage out(img.width, img.height);
+  const float gain = std::exp2(opt.exposure_stops);
+  const size_t n = std::min(out.rgb.size(), img.rgb.size());
+  for (size_t i = 0; i < n; ++i) {
+    float v = img.rgb[i] * gain;
+    if (!(v > 0.0f)) v = 0.0f;  // NaN and negative radiance show as black
+    if (opt.curve == ToneMap::Aces) {
+      // Narkowicz 2015, "ACES Filmic Tone Mapping Curve". The curve reaches 1 near v = 7.24;
+      // capping v far above that keeps v * v finite (inf / inf would be NaN).
+      v = std::min(v, 1e4f);
+      v = v * (2.51f * v + 0.03f) / (v * (2.43f * v + 0.59f) + 0.14f);
+    }
+    v = std::clamp(v, 0.0f, 1.0f);
+    out.rgb[i] = uint8_t(srgb_encode(v) * 255.0f + 0.5f);  // in [0.5, 255.5): never out of range
+  }
+  return out;
+}
+
+Image read_image(const std::string& path, const std::string& where, bool linear_8bit) {
+  const std::string ext = lower_extension(path);
+  const bool known = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".hdr" || ext == ".exr" || ext == ".pfm";
+  if (!known)
+    input_error(where, path,
+                fmt::format("unknown image extension \"{}\" (expected .png, .jpg, .jpeg, .hdr, .exr or .pfm)", ext));
+  const std::vector<unsigned char> data = read_file(path, where);
+  Image img;
+  if (ext == ".pfm") img = read_pfm(data, where, path);
+  else if (ext == ".exr") img = read_exr(data, where, path);
+  else img = read_stb(data, ext, where, path, linear_8bit);
+  check_values(img, where, path);
+  return img;
+}
+
+void write_image(const std::string& path, const Image& img, const ToneMapOptions& tm) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".png" && ext != ".exr" && ext != ".pfm")
+    throw InputError(
+        fmt::format("cannot write {}: unknown image extension \"{}\" (expected .png, .exr or .pfm)", path, ext));
+  check_writable(path, img.width, img.height, img.rgb.size());
+  if (ext == ".png") write_png(path, tonemap(img, tm));
+  else write_atomically(path, ext == ".exr" ? encode_exr(path, img) : encode_pfm(img));
+}
+
+void write_png(const std::string& path, const DisplayImage& img) {
+  check_writable(path, img.width, img.height, img.rgb.size());
+  if (int64_t(img.width) * 3 > std::numeric_limits<int>::max()) write_error(path, "image too wide for PNG");
+  std::vector<unsigned char> bytes;
+  auto append = [](void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<unsigned char>*>(context);
+    const auto* p = static_cast<const unsigned char*>(data);
+    out->insert(out->end(), p, p + size);
+  };
+  if (!stbi_write_png_to_func(append, &bytes, img.width, img.height, 3, img.rgb.data(), img.width * 3))
+    write_error(path, "PNG encoding failed");
+  write_atomically(path, bytes);
+}
+
+int text_width(std::string_view text, float pixel_height) {
+  if (!valid_pixel_height(pixel_height)) return 0;
+  const LabelFont& font = label_font();
+  const float scale = stbtt_ScaleForPixelHeight(&font.info, pixel_height);
+  return int(std::ceil(layout_text(font, text, scale, [](int, double) {})));
+}
+
+// Coverage is alpha-blended into the 8-bit values as they are, in sRGB space (what most UI text
+// renderers do; blending in linear light would make dark-on-light text look thinner).
+int draw_text(DisplayImage& img, int x, int y, std::string_view text, float pixel_height, const glm::u8vec3& color) {
+  if (!valid_pixel_height(pixel_height)) return 0;
+  const LabelFont& font = label_font();
+  const float scale = stbtt_ScaleForPixelHeight(&font.info, pixel_height);
+  const int64_t baseline = int64_t(y) + std::lround(double(font.ascent) * scale);
+  std::vector<unsigned char> bitmap;
+  const double width = layout_text(font, text, scale, [&](int glyph, double pen) {
+    const double origin = double(x) + pen;
+    const double origin_floor = std::floor(origin);
+    const float shift = float(origin - origin_floor);  // sub-pixel position of the glyph
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    stbtt_GetGlyphBitmapBoxSubpixel(&font.info, glyph, scale, scale, shift, 0.0f, &x0, &y0, &x1, &y1);
+    const int gw = x1 - x0, gh = y1 - y0;
+    if (gw <= 0 || gh <= 0) return;  // a space
+    const int64_t left = int64_t(origin_floor) + x0, top = baseline + y0;
+    // Clip to the image; a glyph wholly outside is not even rasterised.
+    const int64_t cx0 = std::max<int64_t>(left, 0), cx1 = std::min<int64_t>(left + gw, img.width);
+    const int64_t cy0 = std::max<int64_t>(top, 0), cy1 = std::min<int64_t>(top + gh, img.height);
+    if (cx0 >= cx1 || cy0 >= cy1) return;
+    bitmap.assign(size_t(gw) * size_t(gh), 0);
+    stbtt_MakeGlyphBitmapSubpixel(&font.info, bitmap.data(), gw, gh, gw, scale, scale, shift, 0.0f, glyph);
+    for (int64_t py = cy0; py < cy1; ++py)
+      for (int64_t px = cx0; px < cx1; ++px) {
+        const unsigned a = bitmap[size_t(py - top) * size_t(gw) + size_t(px - left)];
+        if (a == 0) continue;
+        uint8_t* d = &img.rgb[(size_t(py) * size_t(img.width) + size_t(px)) * 3];
+        for (int c = 0; c < 3; ++c) d[c] = uint8_t((d[c] * (255u - a) + unsigned(color[c]) * a + 127u) / 255u);
+      }
+  });
+  return int(std::ceil(width));
+}
+
+void fill_rect(DisplayImage& img, int x, int y, int w, int h, const glm::u8vec3& color) {
+  const int64_t x0 = std::max<int64_t>(x, 0), x1 = std::min<int64_t>(int64_t(x) + w, img.width);
+  const int64_t y0 = std::max<int64_t>(y, 0), y1 = std::min<int64_t>(int64_t(y) + h, img.height);
+  for (int64_t py = y0; py < y1; ++py)
+    for (int64_t px = x0; px < x1; ++px) {
+      uint8_t* d = &img.rgb[(size_t(py) * size_t(img.width) + size_t(px)) * 3];
+      d[0] = color.x, d[1] = color.y, d[2] = color.z;
+    }
+}
+
+void blit(DisplayImage& dst, const DisplayImage& src, int x, int y) {
+  const int64_t x0 = std::max<int64_t>(x, 0), x1 = std::min<int64_t>(int64_t(x) + src.width, dst.width);
+  const int64_t y0 = std::max<int64_t>(y, 0), y1 = std::min<int64_t>(int64_t(y) + src.height, dst.height);
+  if (x0 >= x1) return;
+  for (int64_t py = y0; py < y1; ++py) {
+    const uint8_t* s = &src.rgb[(size_t(py - y) * size_t(src.width) + size_t(x0 - x)) * 3];
+    uint8_t* d = &dst.rgb[(size_t(py) * size_t(dst.width) + size_t(x0)) * 3];
+    std::copy(s, s + (x1 - x0) * 3, d);
+  }
+}
+
+}  // namespace aniso::render

@@ -1,0 +1,303 @@
+// render/integrator.cpp: path tracing with next-event estimation and MIS (see integrator.h).
+#include "render/integrator.h"
+
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace aniso::render {
+namespace {
+
+uint64_t splitmix64(uint64_t& x) {
+  uint64_t z = (x += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+// Power heuristic with beta = 2 (Veach 1997, Eq. 9.13), for one sample of each technique.
+float power_heuristic(float pdf_a, float pdf_b) {
+  const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  if (!(a > 0.0f)) return 0.0f;
+  if (std::isinf(a)) return 1.0f;
+  return a / (a + b);
+}
+
+struct LightSample {
+  Vec3 wi{0.0f};      // towards the light
+  RGB li{0.0f};       // radiance (area lights) or irradiance-like term (delta lights), before the BRDF
+  float pdf = 0.0f;   // solid angle; 1 for delta lights
+  float dist = 0.0f;  // to the sampled point (infinity for directional lights)
+  bool delta = false;
+};
+
+// Sphere seen from p: the cone of directions it subtends. sin^2 theta_max below sin^2(1.5 deg) uses
+// the Taylor expansion 1 - cos theta_max ~ sin^2 / 2, since 1 - cos cancels catastrophically in
+// float there (pbrt-v4 Sphere::Sample).
+struct SphereCone {
+  float sin2_max = 0.0f, cos_max = 1.0f, one_minus_cos_max = 0.0f;
+  bool valid = false;
+};
+SphereCone sphere_cone(const Light& l, const Vec3& p) {
+  SphereCone c;
+  const float d2 = glm::dot(p - l.position, p - l.position);
+  const float r2 = l.radius * l.radius;
+  if (!(d2 > r2)) return c;  // inside the light: it is not sampled (and not visible from inside)
+  c.sin2_max = r2 / d2;
+  c.cos_max = safe_sqrt(1.0f - c.sin2_max);
+  c.one_minus_cos_max = c.sin2_max < 0.00068523f ? 0.5f * c.sin2_max : 1.0f - c.cos_max;
+  c.valid = c.one_minus_cos_max > 0.0f;
+  return c;
+}
+
+bool sample_light(const Light& l, const Vec3& p, const Vec2& u, LightSample* s) {
+  switch (l.kind) {
+    case LightKind::Point: {
+      const Vec3 d = l.position - p;
+      const float d2 = glm::dot(d, d);
+      if (!(d2 > 0.0f)) return false;
+      s->dist = std::sqrt(d2);
+      s->wi = d / s->dist;
+      s->li = l.power / d2;  // I / d^2 (docs/scenes.md: units)
+      s->pdf = 1.0f;
+      s->delta = true;
+      return true;
+    }
+    case LightKind::Directional:
+      s->wi = l.to_light;
+      s->li = l.power;  // irradiance E perpendicular to to_light
+      s->dist = INFINITY;
+      s->pdf = 1.0f;
+      s->delta = true;
+      return true;
+    case LightKind::Sphere: {
+      // Uniform in the cone of directions the sphere subtends (pbrt-v4 Sphere::Sample).
+      const SphereCone c = sphere_cone(l, p);
+      if (!c.valid) return false;
+      float cos_t = (c.cos_max - 1.0f) * u.x + 1.0f, sin2_t = 1.0f - cos_t * cos_t;
+      if (c.sin2_max < 0.00068523f) {
+        sin2_t = c.sin2_max * u.x;
+        cos_t = std::sqrt(1.0f - sin2_t);
+      }
+      const float dc = glm::length(p - l.position);
+      const float sin_max = std::sqrt(c.sin2_max);
+      // Angle alpha at the centre between (p - c) and the sampled point on the sphere.
+      const float cos_a = sin2_t / sin_max + cos_t * safe_sqrt(1.0f - sin2_t / c.sin2_max);
+      const float sin_a = safe_sqrt(1.0f - cos_a * cos_a);
+      const float phi = 2.0f * kPi<float> * u.y;
+      const Vec3 axis = (p - l.position) / dc;
+      Vec3 t, b;
+      orthonormal_basis(axis, t, b);
+      const Vec3 n = sin_a * std::cos(phi) * t + sin_a * std::sin(phi) * b + cos_a * axis;
+      const Vec3 q = l.position + l.radius * n;
+      const Vec3 d = q - p;
+      s->dist = glm::length(d);
+      if (!(s->dist > 0.0f)) return false;
+      s->wi = d / s->dist;
+      s->li = l.power;
+      s->pdf = 1.0f / (2.0f * kPi<float> * c.one_minus_cos_max);
+      s->delta = false;
+      return true;
+    }
+  }
+  return false;
+}
+
+float sphere_light_pdf(const Light& l, const Vec3& p) {
+  const SphereCone c = sphere_cone(l, p);
+  return c.valid ? 1.0f / (2.0f * kPi<float> * c.one_minus_cos_max) : 0.0f;
+}
+
+}  // namespace
+
+Sampler::Sampler(uint64_t seed, uint64_t pixel, uint64_t sample) {
+  uint64_t x = seed;
+  x ^= splitmix64(x) + pixel;
+  x ^= splitmix64(x) + sample;
+  const uint64_t s = splitmix64(x);
+  inc_ = (splitmix64(x) << 1u) | 1u;
+  state_ = 0;
+  next_u32();
+  state_ += s;
+  next_u32();
+}
+
+uint32_t Sampler::next_u32() {
+  const uint64_t old = state_;
+  state_ = old * 6364136223846793005ull + inc_;
+  const uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
+  const uint32_t rot = uint32_t(old >> 59u);
+  return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
+}
+
+Ray PathTracer::camera_ray(float px, float py) const {
+  const Camera& c = scene_.camera;
+  const Vec3 fwd = glm::normalize(c.look_at - c.position);
+  const Vec3 right = glm::normalize(glm::cross(fwd, c.up));
+  const Vec3 up = glm::cross(right, fwd);
+  const float tan_half = std::tan(glm::radians(c.fov_deg) * 0.5f);
+  const float aspect = float(scene_.film.width) / float(scene_.film.height);
+  const float sx = (2.0f * px / float(scene_.film.width) - 1.0f) * tan_half * aspect;
+  const float sy = (1.0f - 2.0f * py / float(scene_.film.height)) * tan_half;
+  return Ray{c.position, glm::normalize(fwd + sx * right + sy * up)};
+}
+
+RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays) const {
+  const Strategy strategy = scene_.integrator.strategy;
+  const bool use_nee = strategy != Strategy::Bsdf;
+  const Environment& env = scene_.environment;
+  RGB L(0.0f), beta(1.0f);
+  float prev_pdf = 0.0f;  // solid-angle pdf of the BRDF sample that made `ray` (0: camera ray)
+  Vec3 prev_p(0.0f);
+  for (int bounces = 0;; ++bounces) {
+    // Emission found by this ray counts fully on the camera ray and for the bsdf strategy, with
+    // the MIS weight for mis, and not at all for light (next-event estimation already has it).
+    const auto emitted_weight = [&](float light_pdf) {
+      if (prev_pdf == 0.0f || strategy == Strategy::Bsdf) return 1.0f;
+      if (strategy == Strategy::Light) return 0.0f;
+      return power_heuristic(prev_pdf, light_pdf);
+    };
+    SurfaceHit hit;
+    ++*rays;
+    if (!geo_.intersect(ray, INFINITY, &hit)) {
+      if (!env.is_black()) {
+        const float w = emitted_weight(prev_pdf > 0.0f ? env.pdf(ray.d) : 0.0f);
+        if (w > 0.0f) L += beta * env.eval(ray.d) * w;
+      }
+      break;
+    }
+    if (hit.light >= 0) {
+      const Light& l = scene_.lights[size_t(hit.light)];
+      const float w = emitted_weight(prev_pdf > 0.0f ? sphere_light_pdf(l, prev_p) : 0.0f);
+      if (w > 0.0f) L += beta * l.power * w;
+      break;
+    }
+    if (bounces >= scene_.integrator.max_depth) break;
+
+    const Object& obj = scene_.objects[size_t(hit.object)];
+    const Material& m = obj.material;
+    const Frame& frame = hit.frame;
+    const Vec3 wo = frame.to_local(-ray.d);
+    if (!(wo.z > 0.0f)) break;  // seen from behind its shading normal: no reflection defined
+
+    if (use_nee) {
+      const auto add_direct = [&](const Vec3& wi_world, const RGB& li, float light_pdf, bool delta, float dist) {
+        // Light through the surface is blocked: wi must leave on the side of the geometric normal.
+        if (!(glm::dot(wi_world, hit.ng) > 0.0f)) return;
+        const Vec3 wi = frame.to_local(wi_world);
+        if (!(wi.z > 0.0f)) return;
+        const RGB f = m.f(wi, wo);
+        if (f == RGB(0.0f)) return;
+        const Vec3 o = SceneGeometry::offset_origin(hit.p, hit.ng, wi_world);
+        ++*rays;
+        // Stop short of the light's surface: 1e-3 relative keeps the light's own sphere out of
+        // the shadow test (its intersection is as inexact as any other).
+        if (geo_.occluded(Ray{o, wi_world}, std::isinf(dist) ? INFINITY : dist * (1.0f - 1e-3f))) return;
+        const float w = (delta || strategy == Strategy::Light) ? 1.0f : power_heuristic(light_pdf, m.pdf(wi, wo));
+        L += beta * f * li * (wi.z * w / light_pdf);
+      };
+      for (const Light& l : scene_.lights) {
+        LightSample ls;
+        if (sample_light(l, hit.p, rng.uniform2(), &ls)) add_direct(ls.wi, ls.li, ls.pdf, ls.delta, ls.dist);
+      }
+      if (!env.is_black()) {
+        const EnvSample es = env.sample(rng.uniform2());
+        if (es.pdf > 0.0f) add_direct(es.w, es.radiance, es.pdf, false, INFINITY);
+      }
+    }
+
+    // Continue the path by sampling the BRDF.
+    const float uc = rng.uniform();
+    const BSDFSampleT<float> s = m.sample(wo, uc, rng.uniform2());
+    if (!s.valid) break;
+    const Vec3 wi_world = frame.to_world(s.wi);
+    if (!(glm::dot(wi_world, hit.ng) > 0.0f)) break;
+    beta *= s.weight;
+    prev_pdf = s.pdf;
+    prev_p = hit.p;
+    // Russian roulette from the fourth vertex on (pbrt-v4: survival probability = throughput,
+    // capped at 0.95 so that no path is certain to continue).
+    if (bounces >= 3) {
+      const float q = std::min(0.95f, max_component(beta));
+      if (!(rng.uniform() < q)) break;
+      beta /= q;
+    }
+    ray = Ray{SceneGeometry::offset_origin(hit.p, hit.ng, wi_world), wi_world};
+  }
+  return L;
+}
+
+Image render(const Scene& scene, const RenderOptions& opt, RenderStats* stats_out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SceneGeometry geometry(scene);
+  PathTracer tracer(scene, geometry);
+  const int W = scene.film.width, H = scene.film.height;
+  const int spp = opt.spp > 0 ? opt.spp : scene.film.spp;
+  constexpr int kTile = 16;
+  const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile, tiles = tiles_x * tiles_y;
+  // Passes of samples over the whole image: a cancelled render is still a whole picture.
+  const int passes = std::min(spp, 16);
+  std::vector<double> sum(size_t(W) * size_t(H) * 3, 0.0);
+  std::vector<int> count(size_t(W) * size_t(H), 0);
+  std::atomic<uint64_t> rays{0}, paths{0}, nonfinite{0}, tiles_done{0};
+  std::mutex progress_mutex;
+  const uint64_t total_work = uint64_t(tiles) * uint64_t(passes);
+  RenderStats stats;
+
+  tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
+  for (int pass = 0; pass < passes; ++pass) {
+    const int s_begin = int(int64_t(spp) * pass / passes), s_end = int(int64_t(spp) * (pass + 1) / passes);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& r) {
+        for (int tile = r.begin(); tile != r.end(); ++tile) {
+          if (opt.cancel && opt.cancel->load(std::memory_order_relaxed)) return;
+          const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
+          uint64_t local_rays = 0, local_bad = 0;
+          for (int y = y0; y < std::min(y0 + kTile, H); ++y)
+            for (int x = x0; x < std::min(x0 + kTile, W); ++x) {
+              const size_t pix = size_t(y) * size_t(W) + size_t(x);
+              RGB acc(0.0f);
+              for (int s = s_begin; s < s_end; ++s) {
+                Sampler rng(opt.seed, pix, uint64_t(s));
+                const Vec2 j = rng.uniform2();
+                const RGB l = tracer.li(tracer.camera_ray(float(x) + j.x, float(y) + j.y), rng, &local_rays);
+                if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) acc += l;
+                else ++local_bad;
+              }
+              sum[3 * pix] += acc.x, sum[3 * pix + 1] += acc.y, sum[3 * pix + 2] += acc.z;
+              count[pix] += s_end - s_begin;
+            }
+          rays += local_rays;
+          nonfinite += local_bad;
+          paths += uint64_t(std::min(y0 + kTile, H) - y0) * uint64_t(std::min(x0 + kTile, W) - x0) * uint64_t(s_end - s_begin);
+          const uint64_t done = ++tiles_done;
+          if (opt.progress && progress_mutex.try_lock()) {
+            opt.progress(double(done) / double(total_work));
+            progress_mutex.unlock();
+          }
+        }
+      });
+    });
+    if (opt.cancel && opt.cancel->load()) {
+      stats.cancelled = true;
+      break;
+    }
+    stats.spp_done = s_end;
+  }
+  Image img(W, H);
+  for (size_t i = 0; i < count.size(); ++i)
+    if (count[i] > 0)
+      for (int c = 0; c < 3; ++c) img.rgb[3 * i + size_t(c)] = float(sum[3 * i + size_t(c)] / count[i]);
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  stats.paths = paths;
+  stats.rays = rays;
+  stats.nonfinite = nonfinite;
+  if (stats_out) *stats_out = stats;
+  return img;
+}
+
+}  // namespace aniso::render

@@ -1,0 +1,212 @@
+// tests/test_render_cli.cpp: `aniso render` as a user runs it: a small scene renders and writes its
+// image; every kind of bad scene exits 2 with a message naming the file, the JSON path of the key
+// and what was expected, and writes no image at all (not even a partial or temporary one).
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace aniso {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct CliRun {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class RenderCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("aniso_render_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  CliRun run(const std::string& args) {
+    const std::string cmd = std::string("cd ") + dir_.string() + " && " + ANISO_CLI + " " + args + " >stdout.txt 2>stderr.txt";
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(dir_ / "stdout.txt");
+    r.err = slurp(dir_ / "stderr.txt");
+    fs::remove(dir_ / "stdout.txt");
+    fs::remove(dir_ / "stderr.txt");
+    return r;
+  }
+  void write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name, std::ios::binary) << text;
+  }
+  // The output image out.png and anything derived from its name (temporary files).
+  std::vector<std::string> images() const {
+    std::vector<std::string> v;
+    for (const auto& e : fs::directory_iterator(dir_)) {
+      const std::string n = e.path().filename().string();
+      if (n.rfind("out", 0) == 0) v.push_back(n);
+    }
+    return v;
+  }
+
+  static json good_scene() {
+    return {{"camera", {{"position", {0, 0, 4}}, {"look_at", {0, 0, 0}}, {"fov_deg", 30}}},
+            {"film", {{"width", 24}, {"height", 16}, {"spp", 2}}},
+            {"environment", {{"type", "uniform"}, {"radiance", 0.5}}},
+            {"lights", json::array({{{"type", "point"}, {"position", {2, 2, 2}}, {"intensity", 5}}})},
+            {"objects", json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "brushed-gold"}},
+                                     {{"shape", "disc"}, {"center", {0, -1, 0}}, {"normal", {0, 1, 0}}, {"radius", 3},
+                                      {"material", {{"model", "lambert"}, {"kd", 0.5}}}, {"tangent", {{"field", "concentric"}}}}})}};
+  }
+
+  // A bad scene: exit 2, the message names the file and the JSON path and says what was expected;
+  // no image written.
+  void expect_rejected(const json& scene, const std::string& path_in_message, const std::string& expected_words) {
+    write("scene.json", scene.dump());
+    const CliRun r = run("render scene.json -o out.png");
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("scene.json"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(path_in_message), std::string::npos) << "expected \"" << path_in_message << "\" in: " << r.err;
+    EXPECT_NE(r.err.find(expected_words), std::string::npos) << "expected \"" << expected_words << "\" in: " << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_TRUE(images().empty()) << "left behind: " << images().front();
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(RenderCli, RendersAScenePngExrAndPfm) {
+  write("scene.json", good_scene().dump());
+  for (const char* name : {"out.png", "out.exr", "out.pfm"}) {
+    const CliRun r = run(std::string("render scene.json --threads 2 -o ") + name);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find(std::string("wrote ") + name), std::string::npos) << r.out;
+    EXPECT_GT(fs::file_size(dir_ / name), 100u);
+  }
+  // Default name: the scene's stem.
+  EXPECT_EQ(run("render scene.json --spp 1").code, 0);
+  EXPECT_TRUE(fs::exists(dir_ / "scene.png"));
+}
+
+TEST_F(RenderCli, MaterialPreview) {
+  const CliRun r = run("render --material brushed-copper --width 64 --height 36 --spp 2 -o p.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "p.png"));
+  const CliRun inline_json = run("render --material '{\"model\": \"ward\", \"alpha_x\": 0.1, \"alpha_y\": 0.3}' --width 32 --height 18 --spp 1 -o q.png");
+  EXPECT_EQ(inline_json.code, 0) << inline_json.err;
+  const CliRun bad = run("render --material no-such-preset --width 32 --height 18 --spp 1 -o r.png");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("no-such-preset"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir_ / "r.png"));
+}
+
+TEST_F(RenderCli, MissingUnreadableAndInvalidFiles) {
+  CliRun r = run("render nothing-here.json -o out.png");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("nothing-here.json"), std::string::npos) << r.err;
+  fs::create_directories(dir_ / "adir.json");
+  r = run("render adir.json -o out.png");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("directory"), std::string::npos) << r.err;
+  fs::remove_all(dir_ / "adir.json");
+  write("scene.json", "{\"camera\": ");
+  r = run("render scene.json -o out.png");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("invalid JSON"), std::string::npos) << r.err;
+  EXPECT_TRUE(images().empty());
+  r = run("render scene.json -o out.tiff");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find(".png, .exr or .pfm"), std::string::npos) << r.err;
+}
+
+TEST_F(RenderCli, UnknownKeyWrongTypeZeroVector) {
+  json s = good_scene();
+  s["objects"][1]["tangent"]["feild"] = "radial";
+  expect_rejected(s, "objects[1].tangent.feild", "unknown key");
+  s = good_scene();
+  s["objects"][1]["tangent"]["field"] = "spiral";
+  expect_rejected(s, "objects[1].tangent.field", "expected one of");
+  s = good_scene();
+  s["camera"]["fov_deg"] = "wide";
+  expect_rejected(s, "camera.fov_deg", "expected a number");
+  s = good_scene();
+  s["objects"][1]["normal"] = {0, 0, 0};
+  expect_rejected(s, "objects[1].normal", "non-zero direction");
+  s = good_scene();
+  s["objects"][0]["center"] = {0, "x", 0};
+  expect_rejected(s, "objects[0].center[1]", "finite number");
+  s = good_scene();
+  s["lights"][0]["intensity"] = -1;
+  expect_rejected(s, "lights[0].intensity", "colour");
+  s = good_scene();
+  s["film"]["width"] = 0;
+  expect_rejected(s, "film.width", "integer");
+  s = good_scene();
+  s.erase("camera");
+  expect_rejected(s, "camera", "missing");
+  s = good_scene();
+  s["objects"][0]["shape"] = "cube";
+  expect_rejected(s, "objects[0].shape", "expected one of");
+}
+
+TEST_F(RenderCli, UnknownMaterialAndBadMaterialKey) {
+  json s = good_scene();
+  s["objects"][0]["material"] = "unobtainium";
+  expect_rejected(s, "objects[0].material", "unobtainium");
+  s = good_scene();
+  s["objects"][0]["material"] = {{"model", "ward"}, {"alpha_x", 7}};
+  expect_rejected(s, "objects[0].material", "alpha_x");
+}
+
+TEST_F(RenderCli, MeshesAndTheirTangents) {
+  // A quad without normals or UVs: fine as a mesh, an error when UV tangents are asked for.
+  write("quad.obj", "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nf 1 2 3 4\n");
+  json s = good_scene();
+  s["objects"][1] = {{"shape", "mesh"}, {"file", "quad.obj"}, {"material", "clay"}};
+  write("scene.json", s.dump());
+  CliRun r = run("render scene.json -o ok.png");
+  EXPECT_EQ(r.code, 0) << r.err;
+  fs::remove(dir_ / "ok.png");
+  s["objects"][1]["tangent"] = {{"field", "uv"}};
+  expect_rejected(s, "objects[1].tangent.field", "normals and UVs");
+  s["objects"][1]["file"] = "missing.obj";
+  s["objects"][1].erase("tangent");
+  expect_rejected(s, "objects[1].file", "missing.obj");
+  write("broken.obj", "v 1 2\nf 1 2 3\n");
+  s["objects"][1]["file"] = "broken.obj";
+  expect_rejected(s, "objects[1].file", "broken.obj");
+}
+
+TEST_F(RenderCli, BadTangentMapsAndImages) {
+  // An xy tangent map whose texels are (0.5, 0.5): zero-length tangents. PFM, 2 x 1.
+  std::string pfm = "PF\n2 1\n-1.0\n";
+  for (float v : {0.5f, 0.5f, 0.0f, 0.5f, 0.5f, 0.0f}) pfm.append(reinterpret_cast<const char*>(&v), 4);
+  write("zero_map.pfm", pfm);
+  json s = good_scene();
+  s["objects"][1]["tangent"] = {{"map", "zero_map.pfm"}, {"encoding", "xy"}};
+  expect_rejected(s, "objects[1].tangent.map", "zero-length");
+  write("bad.png", "this is not a PNG");
+  s["objects"][1]["tangent"] = {{"map", "bad.png"}};
+  expect_rejected(s, "objects[1].tangent.map", "bad.png");
+  s = good_scene();
+  s["environment"] = {{"type", "map"}, {"file", "bad.png"}};
+  expect_rejected(s, "environment.file", "bad.png");
+}
+
+}  // namespace
+}  // namespace aniso
