@@ -345,3 +345,20 @@ TEST(RenderCancel, CancelledRenderIsAWholeImageWithFewerSamples) {
 
 }  // namespace
 }  // namespace aniso::render
+
+namespace aniso::render {
+namespace {
+
+// Every shipped example scene is valid (the reader accepts it and its meshes and maps load).
+TEST(RenderExamples, EveryExampleSceneLoads) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(ANISO_SOURCE_DIR) / "examples")) {
+    if (e.path().extension() != ".json") continue;
+    EXPECT_NO_THROW(load_scene(e.path().string())) << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 4);
+}
+
+}  // namespace
+}  // namespace aniso::render
