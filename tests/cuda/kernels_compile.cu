@@ -2,6 +2,7 @@
 // __host__ __device__ under nvcc). CI has no GPU, so this translation unit is compiled, not run.
 #include "aniso/brdf/material.h"
 #include "aniso/core/frame.h"
+#include "aniso/tangent/fields.h"
 
 namespace aniso {
 
@@ -15,6 +16,15 @@ __global__ void eval_kernel(const Material* materials, const Vec3* wi, const Vec
   f[i] = m.f(li, lo);
   pdf[i] = m.pdf(li, lo);
   samples[i] = m.sample(lo, 0.5f, Vec2(0.25f, 0.75f));
+}
+
+// The tangent fields the renderer uses, on the GPU.
+__global__ void tangent_kernel(const TangentFieldT<float>* fields, const SurfacePointT<float>* points, Frame* frames, int n) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  frames[i] = tangent_frame(fields[i], points[i]);
+  const Vec2 d = TangentMap_FromDoubled(TangentMap_ToDoubled(TangentMap_DecodeXY(0.2f, 0.9f)));
+  frames[i].t += Vec3(d.x, d.y, TangentMap_DecodeAngle(0.3f).x) * 0.0f;
 }
 
 }  // namespace aniso
