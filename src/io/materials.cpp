@@ -11,11 +11,8 @@
 #include "io/presets.h"
 
 namespace aniso {
-namespace {
 
-using nlohmann::json;
-
-std::string type_name(const json& v) {
+std::string json_type_name(const nlohmann::json& v) {
   if (v.is_number()) return fmt::format("the number {}", v.dump());
   if (v.is_string()) return fmt::format("the string {}", v.dump());
   if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
@@ -23,6 +20,10 @@ std::string type_name(const json& v) {
   if (v.is_object()) return "an object";
   return "null";
 }
+
+namespace {
+
+using nlohmann::json;
 
 bool in_range(const ParamSpec& p, double x) {
   if (!std::isfinite(x)) return false;
@@ -35,7 +36,7 @@ bool in_range(const ParamSpec& p, double x) {
 }
 
 ParamValue read_value(const json& v, const ParamSpec& p, const std::string& where) {
-  const auto expected = [&] { return fmt::format("expected {}, got {}", describe_range(p), type_name(v)); };
+  const auto expected = [&] { return fmt::format("expected {}, got {}", describe_range(p), json_type_name(v)); };
   switch (p.kind) {
     case ParamKind::Scalar:
       if (!v.is_number() || !in_range(p, v.get<double>())) fail(where, p.name, expected());
@@ -49,7 +50,7 @@ ParamValue read_value(const json& v, const ParamSpec& p, const std::string& wher
       glm::dvec3 c;
       for (int i = 0; i < 3; ++i) {
         if (!v[i].is_number() || !in_range(p, v[i].get<double>()))
-          fail(where, p.name, fmt::format("element {}: expected {}, got {}", i, describe_range(p), type_name(v[i])));
+          fail(where, p.name, fmt::format("element {}: expected {}, got {}", i, describe_range(p), json_type_name(v[i])));
         c[i] = v[i].get<double>();
       }
       return c;
@@ -89,7 +90,7 @@ ParamValue read_value(const json& v, const ParamSpec& p, const std::string& wher
       if (!v.is_array() || v.empty() || static_cast<int>(v.size()) > p.max_items) fail(where, p.name, expected());
       std::vector<ParamValues> items;
       for (size_t i = 0; i < v.size(); ++i) {
-        if (!v[i].is_object()) fail(where, fmt::format("{}[{}]", p.name, i), fmt::format("expected an object, got {}", type_name(v[i])));
+        if (!v[i].is_object()) fail(where, fmt::format("{}[{}]", p.name, i), fmt::format("expected an object, got {}", json_type_name(v[i])));
         items.push_back(read_params(v[i], *p.sub, fmt::format("{}: {}[{}]", where, p.name, i)));
       }
       return items;
@@ -118,7 +119,7 @@ void resolve_cxy(ParamValues& pv, const json& obj) {
 ParamValues read_params(const json& obj, const ModelSpec& spec, const std::string& where) {
   ParamValues pv;
   pv.where = where;
-  if (!obj.is_object()) throw InputError(fmt::format("{}: expected a JSON object, got {}", where, type_name(obj)));
+  if (!obj.is_object()) throw InputError(fmt::format("{}: expected a JSON object, got {}", where, json_type_name(obj)));
   for (const auto& [key, value] : obj.items()) {
     if (!spec.find(key))
       throw InputError(fmt::format("{}: unknown key \"{}\" for {}; allowed keys: {}", where, key, spec.name,
@@ -148,13 +149,13 @@ ParamValues read_params(const json& obj, const ModelSpec& spec, const std::strin
 }
 
 MaterialDesc parse_material(const json& obj, const std::string& where) {
-  if (!obj.is_object()) throw InputError(fmt::format("{}: expected a JSON object, got {}", where, type_name(obj)));
+  if (!obj.is_object()) throw InputError(fmt::format("{}: expected a JSON object, got {}", where, json_type_name(obj)));
   const auto it = obj.find("model");
   std::string models;
   for (const ModelSpec* m : model_specs()) models += fmt::format("{}\"{}\"", models.empty() ? "" : ", ", m->name);
   if (it == obj.end()) throw InputError(fmt::format("{}: key \"model\": missing; expected one of {}", where, models));
   if (!it->is_string() || !find_model_spec(it->get<std::string>()))
-    throw InputError(fmt::format("{}: key \"model\": expected one of {}, got {}", where, models, type_name(*it)));
+    throw InputError(fmt::format("{}: key \"model\": expected one of {}, got {}", where, models, json_type_name(*it)));
   MaterialDesc d;
   d.model = it->get<std::string>();
   json rest = obj;

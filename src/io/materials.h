@@ -20,6 +20,9 @@ struct MaterialDesc {
   nlohmann::json json;  // the object it was read from
 };
 
+// "the number 3", "the string \"x\"", "an array of 2 elements", ...: what a message says it got.
+std::string json_type_name(const nlohmann::json& v);
+
 // Validates obj against spec; `where` prefixes error messages ("gold.json", "preset clay").
 ParamValues read_params(const nlohmann::json& obj, const ModelSpec& spec, const std::string& where);
 

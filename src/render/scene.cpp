@@ -21,21 +21,12 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-std::string describe(const json& v) {
-  if (v.is_number()) return fmt::format("the number {}", v.dump());
-  if (v.is_string()) return fmt::format("the string {}", v.dump());
-  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
-  if (v.is_array()) return fmt::format("an array of {} elements", v.size());
-  if (v.is_object()) return "an object";
-  return "null";
-}
-
 // One JSON object being read, with its path ("objects[2].tangent") for messages. Every key read is
 // remembered; finish() rejects the keys nobody asked for.
 class Node {
  public:
   Node(const json& obj, std::string source, std::string path) : obj_(obj), source_(std::move(source)), path_(std::move(path)) {
-    if (!obj_.is_object()) fail_at(path_, fmt::format("expected an object, got {}", describe(obj_)));
+    if (!obj_.is_object()) fail_at(path_, fmt::format("expected an object, got {}", json_type_name(obj_)));
   }
 
   std::string key_path(std::string_view key) const { return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key); }
@@ -61,14 +52,14 @@ class Node {
     const json& v = obj_.at(std::string(key));
     const double x = v.is_number() ? v.get<double>() : NAN;
     const bool ok = v.is_number() && std::isfinite(x) && (lo_exclusive ? x > lo : x >= lo) && x <= hi;
-    if (!ok) fail(key, fmt::format("expected a number in {}{}, {}], got {}", lo_exclusive ? "(" : "[", lo, hi, describe(v)));
+    if (!ok) fail(key, fmt::format("expected a number in {}{}, {}], got {}", lo_exclusive ? "(" : "[", lo, hi, json_type_name(v)));
     return float(x);
   }
   int integer(std::string_view key, int def, int lo, int hi) {
     if (!has(key)) return def;
     const json& v = obj_.at(std::string(key));
     if (!v.is_number_integer() || v.get<int64_t>() < lo || v.get<int64_t>() > hi)
-      fail(key, fmt::format("expected an integer in [{}, {}], got {}", lo, hi, describe(v)));
+      fail(key, fmt::format("expected an integer in [{}, {}], got {}", lo, hi, json_type_name(v)));
     return int(v.get<int64_t>());
   }
   Vec3 vec3(std::string_view key, const Vec3& def, bool required = false) {
@@ -77,11 +68,11 @@ class Node {
       return def;
     }
     const json& v = obj_.at(std::string(key));
-    if (!v.is_array() || v.size() != 3) fail(key, fmt::format("expected [x, y, z] (3 finite numbers), got {}", describe(v)));
+    if (!v.is_array() || v.size() != 3) fail(key, fmt::format("expected [x, y, z] (3 finite numbers), got {}", json_type_name(v)));
     Vec3 r;
     for (int i = 0; i < 3; ++i) {
       if (!v[i].is_number() || !std::isfinite(v[i].get<double>()) || std::fabs(v[i].get<double>()) > 1e30)
-        fail_at(fmt::format("{}[{}]", key_path(key), i), fmt::format("expected a finite number, got {}", describe(v[i])));
+        fail_at(fmt::format("{}[{}]", key_path(key), i), fmt::format("expected a finite number, got {}", json_type_name(v[i])));
       r[i] = float(v[i].get<double>());
     }
     return r;
@@ -105,10 +96,10 @@ class Node {
     const json& v = obj_.at(std::string(key));
     const auto ok = [](const json& x) { return x.is_number() && std::isfinite(x.get<double>()) && x.get<double>() >= 0.0 && x.get<double>() < 1e30; };
     if (ok(v)) return RGB(float(v.get<double>()));
-    if (!v.is_array() || v.size() != 3) fail(key, fmt::format("expected a colour (a number >= 0 or [r, g, b]), got {}", describe(v)));
+    if (!v.is_array() || v.size() != 3) fail(key, fmt::format("expected a colour (a number >= 0 or [r, g, b]), got {}", json_type_name(v)));
     RGB c;
     for (int i = 0; i < 3; ++i) {
-      if (!ok(v[i])) fail_at(fmt::format("{}[{}]", key_path(key), i), fmt::format("expected a finite number >= 0, got {}", describe(v[i])));
+      if (!ok(v[i])) fail_at(fmt::format("{}[{}]", key_path(key), i), fmt::format("expected a finite number >= 0, got {}", json_type_name(v[i])));
       c[i] = float(v[i].get<double>());
     }
     return c;
@@ -122,7 +113,7 @@ class Node {
     if (v.is_string())
       for (auto a : allowed)
         if (v.get<std::string>() == a) return std::string(a);
-    fail(key, fmt::format("expected one of {}, got {}", list(allowed), describe(v)));
+    fail(key, fmt::format("expected one of {}, got {}", list(allowed), json_type_name(v)));
   }
   std::string string(std::string_view key, bool required = true) {
     if (!has(key)) {
@@ -130,7 +121,7 @@ class Node {
       return {};
     }
     const json& v = obj_.at(std::string(key));
-    if (!v.is_string() || v.get<std::string>().empty()) fail(key, fmt::format("expected a non-empty string, got {}", describe(v)));
+    if (!v.is_string() || v.get<std::string>().empty()) fail(key, fmt::format("expected a non-empty string, got {}", json_type_name(v)));
     return v.get<std::string>();
   }
 
@@ -410,7 +401,7 @@ Object read_object(Node n, const std::string& base_dir) {
     const json& s = n.get("size");
     if (!s.is_array() || s.size() != 2 || !s[0].is_number() || !s[1].is_number() || !(s[0].get<double>() > 0) ||
         !(s[1].get<double>() > 0) || !std::isfinite(s[0].get<double>()) || !std::isfinite(s[1].get<double>()))
-      n.fail("size", fmt::format("expected [width, height], two finite numbers > 0, got {}", describe(s)));
+      n.fail("size", fmt::format("expected [width, height], two finite numbers > 0, got {}", json_type_name(s)));
     o.size = Vec2(float(s[0].get<double>()), float(s[1].get<double>()));
   } else if (shape == "torus") {
     o.shape = ShapeKind::Mesh;
@@ -460,7 +451,7 @@ Material resolve_material(const json& m, const std::string& where, const std::st
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", where, e.what()));
   }
-  throw InputError(fmt::format("{}: expected a preset name, a JSON file name or a material object, got {}", where, describe(m)));
+  throw InputError(fmt::format("{}: expected a preset name, a JSON file name or a material object, got {}", where, json_type_name(m)));
 }
 
 Vec2 TangentMap::lookup(const Vec2& uv) const {
@@ -521,11 +512,11 @@ Scene parse_scene(const json& doc, const std::string& source, const std::string&
   if (top.has("environment")) s.environment = read_environment(Node(top.get("environment"), source, "environment"), base_dir);
   if (top.has("lights")) {
     const json& ls = top.get("lights");
-    if (!ls.is_array()) top.fail("lights", fmt::format("expected an array, got {}", describe(ls)));
+    if (!ls.is_array()) top.fail("lights", fmt::format("expected an array, got {}", json_type_name(ls)));
     for (size_t i = 0; i < ls.size(); ++i) s.lights.push_back(read_light(Node(ls[i], source, fmt::format("lights[{}]", i))));
   }
   const json& objs = top.get("objects");
-  if (!objs.is_array()) top.fail("objects", fmt::format("expected an array, got {}", describe(objs)));
+  if (!objs.is_array()) top.fail("objects", fmt::format("expected an array, got {}", json_type_name(objs)));
   for (size_t i = 0; i < objs.size(); ++i) s.objects.push_back(read_object(Node(objs[i], source, fmt::format("objects[{}]", i)), base_dir));
   top.has("name");
   top.has("description");
