@@ -1,0 +1,117 @@
+// aniso/batch/batch.h: f, pdf and sample for N direction pairs at once (issue 8).
+//
+// Structure of arrays in and out: each coordinate and each colour channel is its own contiguous
+// array, so that the SIMD code loads 8 (AVX2) or 16 (AVX-512) lanes of one quantity at a time.
+// Every model, form and normalisation goes through MaterialT (its converting constructors take any
+// model struct: `batch::evaluate(MaterialT<float>(ward), ...)`), float or double.
+//
+// The numbers are the scalar kernels' (include/aniso/brdf) within 1e-5 relative (tests/test_batch.cpp):
+// evaluate and pdf run Google Highway twins of the scalar terms (src/batch/kernels-inl.h, one
+// binary, the instruction set chosen at run time: AVX2, AVX-512, ...); sample runs the scalar
+// sampler on each element. Threads::All splits the N elements into fixed blocks that oneTBB runs
+// on all cores; every element's result depends only on its inputs, so the output is the same bit
+// for bit whatever the thread count and the block order.
+//
+// Host-only (not under nvcc); implemented in src/batch/batch.cpp (library aniso_batch).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "aniso/brdf/material.h"
+
+namespace aniso::batch {
+
+enum class Threads : int { One = 0, All = 1 };
+
+// n unit directions in the local shading frame, one array per coordinate.
+template <typename T> struct Directions {
+  const T* x = nullptr;
+  const T* y = nullptr;
+  const T* z = nullptr;
+};
+
+// n RGB values, one array per channel.
+template <typename T> struct Colors {
+  T* r = nullptr;
+  T* g = nullptr;
+  T* b = nullptr;
+};
+
+// sample()'s output, the SoA form of BSDFSampleT: "no sample" is valid = 0 with every field 0.
+template <typename T> struct Samples {
+  T* wi_x = nullptr;
+  T* wi_y = nullptr;
+  T* wi_z = nullptr;
+  T* weight_r = nullptr;
+  T* weight_g = nullptr;
+  T* weight_b = nullptr;
+  T* pdf = nullptr;
+  uint8_t* valid = nullptr;
+};
+
+// f[i] = m.f(wi[i], wo[i]) for i < n.
+template <typename T>
+void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f,
+              Threads threads = Threads::All);
+
+// pdf[i] = m.pdf(wi[i], wo[i]).
+template <typename T>
+void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* pdf, Threads threads = Threads::All);
+
+// out[i] = m.sample(wo[i], uc[i], (u0[i], u1[i])).
+template <typename T>
+void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
+            Threads threads = Threads::All);
+
+// The Highway target the dispatcher picked on this machine ("AVX3", "AVX2", ...).
+const char* simd_target();
+// Lanes of one float / double vector on that target.
+size_t simd_lanes_float();
+size_t simd_lanes_double();
+
+// Owning SoA buffers for callers that start from arrays of Vec3 (the CLI, the albedo code, tests).
+template <typename T> struct DirectionArray {
+  std::vector<T> x, y, z;
+  DirectionArray() = default;
+  explicit DirectionArray(size_t n) : x(n), y(n), z(n) {}
+  void resize(size_t n) { x.resize(n), y.resize(n), z.resize(n); }
+  size_t size() const { return x.size(); }
+  void set(size_t i, const Vec3T<T>& w) { x[i] = w.x, y[i] = w.y, z[i] = w.z; }
+  Vec3T<T> get(size_t i) const { return Vec3T<T>(x[i], y[i], z[i]); }
+  Directions<T> view() const { return {x.data(), y.data(), z.data()}; }
+};
+
+template <typename T> struct ColorArray {
+  std::vector<T> r, g, b;
+  ColorArray() = default;
+  explicit ColorArray(size_t n) : r(n), g(n), b(n) {}
+  void resize(size_t n) { r.resize(n), g.resize(n), b.resize(n); }
+  RGBT<T> get(size_t i) const { return RGBT<T>(r[i], g[i], b[i]); }
+  Colors<T> view() { return {r.data(), g.data(), b.data()}; }
+};
+
+template <typename T> struct SampleArray {
+  DirectionArray<T> wi;
+  ColorArray<T> weight;
+  std::vector<T> pdf;
+  std::vector<uint8_t> valid;
+  SampleArray() = default;
+  explicit SampleArray(size_t n) : wi(n), weight(n), pdf(n), valid(n) {}
+  void resize(size_t n) { wi.resize(n), weight.resize(n), pdf.resize(n), valid.resize(n); }
+  BSDFSampleT<T> get(size_t i) const {
+    BSDFSampleT<T> s;
+    s.wi = wi.get(i);
+    s.weight = weight.get(i);
+    s.pdf = pdf[i];
+    s.valid = valid[i] != 0;
+    return s;
+  }
+  Samples<T> view() {
+    return {wi.x.data(), wi.y.data(), wi.z.data(), weight.r.data(), weight.g.data(), weight.b.data(),
+            pdf.data(), valid.data()};
+  }
+};
+
+}  // namespace aniso::batch

@@ -1,0 +1,125 @@
+// batch/batch.cpp: the batch API (include/aniso/batch/batch.h). Highway compiles kernels-inl.h once
+// per x86 target (SSE4, AVX2, AVX-512, ...; hwy/foreach_target.h) and HWY_DYNAMIC_DISPATCH picks
+// the best one the running CPU has, once, at the first call. oneTBB spreads fixed blocks of
+// elements over the cores.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "batch/batch.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+#include "batch/kernels-inl.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace aniso::batch::HWY_NAMESPACE {
+
+void EvalFloat(const MaterialT<float>& m, const EvalArgs<float>& a, size_t begin, size_t end, bool want_pdf) {
+  RunMaterial(m, a, begin, end, want_pdf);
+}
+void EvalDouble(const MaterialT<double>& m, const EvalArgs<double>& a, size_t begin, size_t end, bool want_pdf) {
+  RunMaterial(m, a, begin, end, want_pdf);
+}
+size_t LanesFloat() { return hn::Lanes(hn::ScalableTag<float>()); }
+size_t LanesDouble() { return hn::Lanes(hn::ScalableTag<double>()); }
+const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
+
+}  // namespace aniso::batch::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "aniso/batch/batch.h"
+
+namespace aniso::batch {
+
+HWY_EXPORT(EvalFloat);
+HWY_EXPORT(EvalDouble);
+HWY_EXPORT(LanesFloat);
+HWY_EXPORT(LanesDouble);
+HWY_EXPORT(TargetName);
+
+namespace {
+
+// Elements per task: large enough that a task (tens of microseconds for the cheapest model)
+// outweighs TBB's scheduling, small enough that 2 to 64 cores all get work for N ~ 1e5. A multiple
+// of every vector length, so that only the last block has a partial vector.
+constexpr size_t kBlock = 4096;
+
+// Calls fn(begin, end) over [0, n) in blocks of kBlock: in order on this thread, or on all cores.
+// The blocks are fixed (simple_partitioner, grain 1 block), so each element is computed by the
+// same code whatever the scheduling: the results do not depend on the thread count.
+template <typename Fn> void for_blocks(size_t n, Threads threads, Fn&& fn) {
+  const size_t blocks = (n + kBlock - 1) / kBlock;
+  const auto run = [&](size_t b) { fn(b * kBlock, std::min(n, (b + 1) * kBlock)); };
+  if (threads == Threads::One || blocks <= 1) {
+    for (size_t b = 0; b < blocks; ++b) run(b);
+    return;
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, blocks, 1),
+      [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t b = r.begin(); b != r.end(); ++b) run(b);
+      },
+      tbb::simple_partitioner());
+}
+
+template <typename T> void dispatch(const MaterialT<T>& m, const EvalArgs<T>& a, size_t b, size_t e, bool want_pdf) {
+  if constexpr (sizeof(T) == sizeof(float)) {
+    HWY_DYNAMIC_DISPATCH(EvalFloat)(m, a, b, e, want_pdf);
+  } else {
+    HWY_DYNAMIC_DISPATCH(EvalDouble)(m, a, b, e, want_pdf);
+  }
+}
+
+}  // namespace
+
+template <typename T>
+void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f, Threads threads) {
+  const EvalArgs<T> a{wi, wo, f, nullptr};
+  for_blocks(n, threads, [&](size_t b, size_t e) { dispatch(m, a, b, e, false); });
+}
+
+template <typename T>
+void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads) {
+  const EvalArgs<T> a{wi, wo, {}, out};
+  for_blocks(n, threads, [&](size_t b, size_t e) { dispatch(m, a, b, e, true); });
+}
+
+// The scalar sampler on each element (no SIMD twin yet: the samplers' branches pick different
+// lobes per lane, and their atan / tan / pow chains would need their own SIMD versions).
+template <typename T>
+void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
+            Threads threads) {
+  for_blocks(n, threads, [&](size_t b, size_t e) {
+    m.visit([&](const auto& model) {
+      for (size_t i = b; i < e; ++i) {
+        const BSDFSampleT<T> s = model.sample(Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]), uc[i], Vec2T<T>(u0[i], u1[i]));
+        out.wi_x[i] = s.wi.x, out.wi_y[i] = s.wi.y, out.wi_z[i] = s.wi.z;
+        out.weight_r[i] = s.weight.x, out.weight_g[i] = s.weight.y, out.weight_b[i] = s.weight.z;
+        out.pdf[i] = s.pdf;
+        out.valid[i] = s.valid ? 1 : 0;
+      }
+    });
+  });
+}
+
+const char* simd_target() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
+size_t simd_lanes_float() { return HWY_DYNAMIC_DISPATCH(LanesFloat)(); }
+size_t simd_lanes_double() { return HWY_DYNAMIC_DISPATCH(LanesDouble)(); }
+
+template void evaluate<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, Colors<float>, Threads);
+template void evaluate<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, Colors<double>,
+                               Threads);
+template void pdf<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, float*, Threads);
+template void pdf<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, double*, Threads);
+template void sample<float>(const MaterialT<float>&, Directions<float>, const float*, const float*, const float*, size_t,
+                            Samples<float>, Threads);
+template void sample<double>(const MaterialT<double>&, Directions<double>, const double*, const double*, const double*,
+                             size_t, Samples<double>, Threads);
+
+}  // namespace aniso::batch
+
+#endif  // HWY_ONCE

@@ -1,0 +1,646 @@
+// batch/kernels-inl.h: Google Highway twins of the scalar kernels in include/aniso/brdf, compiled
+// once per SIMD target (src/batch/batch.cpp includes this through hwy/foreach_target.h).
+//
+// Every function here names its scalar twin and repeats its arithmetic in the same order (same
+// operations, same association, no fused multiply-adds the scalar code does not have), so that the
+// two differ only where a function of the C library is replaced by its Highway version:
+//   exp, log, acos, sin, cos    hwy/contrib/math (1 to 4 ulp; glibc's are correctly rounded or 1 ulp)
+//   pow(x, y), x > 0            exp(y log x): the error of log x is multiplied by |y log x|, which
+//                               is what the tests' 1e-5 relative tolerance is sized by (test_batch.cpp)
+//   tan                         sin / cos (Highway 1.0 has no Tan)
+// Branches become masks: both sides are computed for every lane and the mask picks one. Lanes
+// whose inputs are outside a term's domain (below the horizon) compute garbage, NaN included, that
+// the caller's mask discards; no floating-point exception is observed, so that is harmless.
+//
+// The argument block every target's loop takes (one type for all targets: the dispatch table
+// holds one function pointer type).
+#ifndef ANISO_BATCH_KERNELS_ARGS_H_
+#define ANISO_BATCH_KERNELS_ARGS_H_
+#include "aniso/batch/batch.h"
+namespace aniso::batch {
+template <typename T> struct EvalArgs {
+  Directions<T> wi, wo;
+  Colors<T> f;
+  T* pdf;
+};
+}  // namespace aniso::batch
+#endif
+
+// Per-target include guard, the pattern Highway documents for -inl.h files.
+#if defined(ANISO_BATCH_KERNELS_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef ANISO_BATCH_KERNELS_INL_H_
+#undef ANISO_BATCH_KERNELS_INL_H_
+#else
+#define ANISO_BATCH_KERNELS_INL_H_
+#endif
+
+#include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
+
+#include "aniso/brdf/material.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace aniso::batch::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+template <class D> using V = hn::Vec<D>;
+template <class D> using M = hn::Mask<D>;
+
+template <class D> struct V3 {
+  V<D> x, y, z;
+};
+
+template <class D> HWY_INLINE V<D> K(D d, hn::TFromD<D> c) { return hn::Set(d, c); }
+
+// --- core/math.h twins -----------------------------------------------------------------------
+
+template <class D> HWY_INLINE V<D> Sqr(V<D> x) { return hn::Mul(x, x); }
+// glm::dot: (a.x b.x + a.y b.y) + a.z b.z.
+template <class D> HWY_INLINE V<D> Dot(const V3<D>& a, const V3<D>& b) {
+  return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
+}
+template <class D> HWY_INLINE V3<D> Add3(const V3<D>& a, const V3<D>& b) {
+  return {hn::Add(a.x, b.x), hn::Add(a.y, b.y), hn::Add(a.z, b.z)};
+}
+// glm::normalize: v * (1 / sqrt(v . v)) (glm's inversesqrt is 1 / sqrt).
+template <class D> HWY_INLINE V3<D> Normalize(D d, const V3<D>& v) {
+  const V<D> inv = hn::Div(K(d, 1), hn::Sqrt(Dot(v, v)));
+  return {hn::Mul(v.x, inv), hn::Mul(v.y, inv), hn::Mul(v.z, inv)};
+}
+// safe_sqrt: sqrt(max(x, 0)) (the max as in math.h: a NaN argument becomes 0 there and here).
+template <class D> HWY_INLINE V<D> SafeSqrt(D d, V<D> x) { return hn::Sqrt(hn::IfThenElseZero(hn::Gt(x, hn::Zero(d)), x)); }
+// clamp01.
+template <class D> HWY_INLINE V<D> Clamp01(D d, V<D> x) { return hn::Min(hn::Max(x, hn::Zero(d)), K(d, 1)); }
+// same_upper_hemisphere.
+template <class D> HWY_INLINE M<D> UpperBoth(D d, const V3<D>& wi, const V3<D>& wo) {
+  return hn::And(hn::Gt(wi.z, hn::Zero(d)), hn::Gt(wo.z, hn::Zero(d)));
+}
+// average(c) = (c.x + c.y + c.z) / 3.
+template <class D> HWY_INLINE V<D> Average(D d, V<D> r, V<D> g, V<D> b) {
+  return hn::Div(hn::Add(hn::Add(r, g), b), K(d, 3));
+}
+// pow(x, y) for x > 0 as exp(y log x). Own SIMD version: Highway has exp and log, not pow.
+// The error of log x is multiplied by |y log x|, which reaches 50 to 500 for the exponents of the
+// fitted materials (Ashikhmin-Shirley n up to 10^4): in float that is 1e-5 to 1e-4 relative, where
+// glibc's powf is correctly rounded. So float lanes are promoted to double for log and exp
+// (exp(y log x) in double, then rounded once to float: within 1 ulp of powf); double lanes stay.
+template <class D> HWY_INLINE V<D> PowPositiveSameType(D d, V<D> x, V<D> y) {
+  return hn::Exp(d, hn::Mul(y, hn::Log(d, x)));
+}
+template <class D> HWY_INLINE V<D> PowPositive(D d, V<D> x, V<D> y) {
+#if HWY_TARGET == HWY_SCALAR
+  return PowPositiveSameType(d, x, y);
+#else
+  if constexpr (sizeof(hn::TFromD<D>) == sizeof(double)) {
+    return PowPositiveSameType(d, x, y);
+  } else {
+    const hn::Half<D> dh;
+    const hn::Repartition<double, D> dd;  // half as many lanes, each twice as wide
+    const auto lo = PowPositiveSameType(dd, hn::PromoteTo(dd, hn::LowerHalf(dh, x)), hn::PromoteTo(dd, hn::LowerHalf(dh, y)));
+    const auto hi = PowPositiveSameType(dd, hn::PromoteTo(dd, hn::UpperHalf(dh, x)), hn::PromoteTo(dd, hn::UpperHalf(dh, y)));
+    return hn::Combine(d, hn::DemoteTo(dh, hi), hn::DemoteTo(dh, lo));
+  }
+#endif
+}
+
+// --- core/sampling.h twins -------------------------------------------------------------------
+
+// cosine_hemisphere_pdf.
+template <class D> HWY_INLINE V<D> CosineHemispherePdf(D d, V<D> c) {
+  return hn::IfThenElseZero(hn::Gt(c, hn::Zero(d)), hn::Mul(c, K(d, kInvPi<hn::TFromD<D>>)));
+}
+// cosine_power_pdf: (n + 1) / (2 pi) c^n for c > 0.
+template <class D> HWY_INLINE V<D> CosinePowerPdf(D d, V<D> c, V<D> n) {
+  using T = hn::TFromD<D>;
+  const M<D> pos = hn::Gt(c, hn::Zero(d));
+  const V<D> safe_c = hn::IfThenElse(pos, c, K(d, 1));
+  return hn::IfThenElseZero(pos, hn::Mul(hn::Mul(hn::Add(n, K(d, 1)), K(d, kInv2Pi<T>)), PowPositive(d, safe_c, n)));
+}
+
+// --- brdf/fresnel.h twins --------------------------------------------------------------------
+
+// F_Schlick(f0, c) = f0 + (1 - f0)(1 - clamp01(c))^5.
+template <class D> HWY_INLINE V<D> FSchlick(D d, hn::TFromD<D> f0, V<D> cos_theta) {
+  const V<D> m = hn::Sub(K(d, 1), Clamp01(d, cos_theta));
+  const V<D> m2 = hn::Mul(m, m);
+  return hn::Add(K(d, f0), hn::Mul(K(d, hn::TFromD<D>(1) - f0), hn::Mul(hn::Mul(m2, m2), m)));
+}
+
+// F_Conductor(c, eta, k): the same real-arithmetic Fresnel equations, operation for operation.
+template <class D> HWY_INLINE V<D> FConductor(D d, V<D> cos_theta, hn::TFromD<D> eta, hn::TFromD<D> k) {
+  using T = hn::TFromD<D>;
+  const V<D> c = Clamp01(d, cos_theta);
+  const V<D> cos2 = hn::Mul(c, c);
+  const V<D> sin2 = hn::Sub(K(d, 1), cos2);
+  const T eta2 = eta * eta, k2 = k * k;
+  const V<D> t0 = hn::Sub(K(d, eta2 - k2), sin2);
+  const V<D> a2_plus_b2 = hn::Sqrt(hn::Add(hn::Mul(t0, t0), K(d, T(4) * eta2 * k2)));
+  const V<D> t1 = hn::Add(a2_plus_b2, cos2);
+  const V<D> a = SafeSqrt(d, hn::Mul(K(d, T(0.5)), hn::Add(a2_plus_b2, t0)));
+  const V<D> t2 = hn::Mul(hn::Mul(K(d, T(2)), c), a);
+  const V<D> rs = hn::Div(hn::Sub(t1, t2), hn::Add(t1, t2));
+  const V<D> t3 = hn::Add(hn::Mul(cos2, a2_plus_b2), hn::Mul(sin2, sin2));
+  const V<D> t4 = hn::Mul(t2, sin2);
+  const V<D> rp = hn::Div(hn::Mul(rs, hn::Sub(t3, t4)), hn::Add(t3, t4));
+  return hn::Mul(K(d, T(0.5)), hn::Add(rp, rs));
+}
+
+// --- lobe_mixture.h twins --------------------------------------------------------------------
+
+// specular_share(dw, sw) = sw / (dw + sw), 0 when nothing weighs.
+template <class D> HWY_INLINE V<D> SpecularShare(D d, V<D> dw, V<D> sw) {
+  const V<D> total = hn::Add(dw, sw);
+  return hn::IfThenElseZero(hn::Gt(total, hn::Zero(d)), hn::Div(sw, total));
+}
+// pdf_diffuse_specular inside the upper hemisphere: (1 - p) cos_pdf(wi.z) + p lobe_pdf.
+template <class D> HWY_INLINE V<D> MixturePdf(D d, V<D> p_spec, V<D> wi_z, V<D> lobe_pdf) {
+  return hn::Add(hn::Mul(hn::Sub(K(d, 1), p_spec), CosineHemispherePdf(d, wi_z)), hn::Mul(p_spec, lobe_pdf));
+}
+
+template <class D> struct RGBV {
+  V<D> c[3];
+};
+
+// --- ward.h twins ------------------------------------------------------------------------------
+
+// Ward_Exp: exp(x) with the underflow decided at the same bound as the scalar code.
+template <class D> HWY_INLINE V<D> WardExp(D d, V<D> x) {
+  using T = hn::TFromD<D>;
+  return hn::IfThenZeroElse(hn::Lt(x, K(d, T(sizeof(T) == sizeof(float) ? -104.0 : -746.0))), hn::Exp(d, x));
+}
+// E_Ward_Vector.
+template <class D> HWY_INLINE V<D> EWardVector(D d, V<D> hx, V<D> hy, V<D> hz, V<D> ax, V<D> ay) {
+  return WardExp(d, hn::Div(hn::Neg(hn::Add(Sqr<D>(hn::Div(hx, ax)), Sqr<D>(hn::Div(hy, ay)))), Sqr<D>(hz)));
+}
+
+template <typename T> struct WardLobeK {
+  T ax, ay, axay;
+  WardForm form;
+  WardNormalization normalization;
+  explicit WardLobeK(const WardLobeT<T>& l)
+      : ax(l.alpha_x), ay(l.alpha_y), axay(l.alpha_x * l.alpha_y), form(l.form), normalization(l.normalization) {}
+
+  // WardLobeT::eval (lanes with both directions above the horizon are meaningful).
+  template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V<D> vax = K(d, ax), vay = K(d, ay);
+    const V3<D> h = Add3(wi, wo);
+    V<D> e;
+    switch (form) {
+      case WardForm::Angle: {
+        // Ward_HalfAngles + E_Ward_Angle; tan(theta) as sin / cos (own SIMD version: no Tan).
+        const V3<D> hn_ = Normalize(d, h);
+        const V<D> theta = hn::Acos(d, Clamp01(d, hn_.z));
+        const V<D> proj_len = hn::Sqrt(hn::Add(Sqr<D>(hn_.x), Sqr<D>(hn_.y)));
+        const M<D> has_dir = hn::Gt(proj_len, hn::Zero(d));
+        const V<D> cos_phi = hn::IfThenElse(has_dir, hn::Div(hn_.x, proj_len), K(d, 1));
+        const V<D> sin_phi = hn::IfThenElseZero(has_dir, hn::Div(hn_.y, proj_len));
+        const V<D> tan_t = hn::Div(hn::Sin(d, theta), hn::Cos(d, theta));
+        e = WardExp(d, hn::Mul(hn::Neg(Sqr<D>(tan_t)),
+                               hn::Add(Sqr<D>(hn::Div(cos_phi, vax)), Sqr<D>(hn::Div(sin_phi, vay)))));
+        break;
+      }
+      case WardForm::Approx: {
+        const V3<D> hn_ = Normalize(d, h);  // E_Ward_Approx
+        e = WardExp(d, hn::Div(hn::Mul(K(d, T(-2)), hn::Add(Sqr<D>(hn::Div(hn_.x, vax)), Sqr<D>(hn::Div(hn_.y, vay)))),
+                               hn::Add(K(d, 1), hn_.z)));
+        break;
+      }
+      default:
+        e = EWardVector(d, h.x, h.y, h.z, vax, vay);
+        break;
+    }
+    V<D> norm;
+    switch (normalization) {
+      case WardNormalization::Duer:  // N_Duer
+        norm = hn::Div(K(d, kInv4Pi<T>), hn::Mul(hn::Mul(K(d, axay), wi.z), wo.z));
+        break;
+      case WardNormalization::Balanced:  // N_Balanced
+        norm = hn::Div(hn::Mul(Dot(h, h), K(d, kInvPi<T>)), hn::Mul(K(d, axay), Sqr<D>(Sqr<D>(h.z))));
+        break;
+      default:  // N_Ward1992
+        norm = hn::Div(K(d, kInv4Pi<T>), hn::Mul(K(d, axay), hn::Sqrt(hn::Mul(wi.z, wo.z))));
+        break;
+    }
+    // The Gaussian underflowed: 0, never 0 * inf.
+    return hn::IfThenElseZero(hn::Gt(e, hn::Zero(d)), hn::Mul(e, norm));
+  }
+
+  // WardLobeT::pdf with Ward_PdfHalf.
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V3<D> h = Normalize(d, Add3(wi, wo));
+    const V<D> woh = Dot(wo, h);
+    const V<D> e = EWardVector(d, h.x, h.y, h.z, K(d, ax), K(d, ay));
+    const V<D> ph = hn::Div(hn::Mul(e, K(d, kInvPi<T>)), hn::Mul(hn::Mul(hn::Mul(K(d, axay), h.z), h.z), h.z));
+    const M<D> ok = hn::And(hn::Gt(woh, hn::Zero(d)), hn::Gt(h.z, hn::Zero(d)));
+    return hn::IfThenElseZero(ok, hn::Div(ph, hn::Mul(K(d, T(4)), woh)));
+  }
+};
+
+// --- phong.h twins -----------------------------------------------------------------------------
+
+template <typename T> struct PhongLobeK {
+  T exponent, normalization;
+  bool normalized;
+  explicit PhongLobeK(const PhongLobeT<T>& l)
+      : exponent(l.exponent), normalization(Phong_Normalization(l.exponent)), normalized(l.normalized) {}
+  // (M wi) . wo with M = diag(-1, -1, 1).
+  template <class D> HWY_INLINE static V<D> MirrorDot(const V3<D>& a, const V3<D>& b) {
+    return hn::Add(hn::Add(hn::Mul(hn::Neg(a.x), b.x), hn::Mul(hn::Neg(a.y), b.y)), hn::Mul(a.z, b.z));
+  }
+  template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V<D> rov = MirrorDot(wi, wo);
+    const M<D> pos = hn::Gt(rov, hn::Zero(d));  // Phong_Lobe
+    const V<D> lobe = hn::IfThenElseZero(pos, PowPositive(d, hn::IfThenElse(pos, rov, K(d, 1)), K(d, exponent)));
+    return normalized ? hn::Mul(lobe, K(d, normalization)) : lobe;
+  }
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    return CosinePowerPdf(d, MirrorDot(wo, wi), K(d, exponent));
+  }
+};
+
+// LambertPlusLobeT: kd / pi + ks lobe, the lobe chosen with a constant probability.
+template <typename T, typename LobeK> struct LambertPlusLobeK {
+  T kd_pi[3], ks[3], p_spec;
+  LobeK lobe;
+  template <typename Lobe>
+  explicit LambertPlusLobeK(const LambertPlusLobeT<T, Lobe>& m)
+      : kd_pi{m.kd.x * kInvPi<T>, m.kd.y * kInvPi<T>, m.kd.z * kInvPi<T>},
+        ks{m.ks.x, m.ks.y, m.ks.z},
+        p_spec(m.specular_probability(Vec3T<T>(T(0), T(0), T(1)))),
+        lobe(m.lobe) {}
+  template <class D> HWY_INLINE RGBV<D> F(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const M<D> upper = UpperBoth(d, wi, wo);
+    const V<D> l = lobe.Eval(d, wi, wo);
+    RGBV<D> out;
+    for (int c = 0; c < 3; ++c) out.c[c] = hn::IfThenElseZero(upper, hn::Add(K(d, kd_pi[c]), hn::Mul(K(d, ks[c]), l)));
+    return out;
+  }
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    return hn::IfThenElseZero(UpperBoth(d, wi, wo), MixturePdf(d, K(d, p_spec), wi.z, lobe.Pdf(d, wi, wo)));
+  }
+};
+
+// --- lambert.h twin ----------------------------------------------------------------------------
+
+template <typename T> struct LambertK {
+  T kd_pi[3];
+  explicit LambertK(const LambertT<T>& m) : kd_pi{m.kd.x * Fd_Lambert<T>(), m.kd.y * Fd_Lambert<T>(), m.kd.z * Fd_Lambert<T>()} {}
+  template <class D> HWY_INLINE RGBV<D> F(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const M<D> upper = UpperBoth(d, wi, wo);
+    RGBV<D> out;
+    for (int c = 0; c < 3; ++c) out.c[c] = hn::IfThenElseZero(upper, K(d, kd_pi[c]));
+    return out;
+  }
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    return hn::IfThenElseZero(UpperBoth(d, wi, wo), CosineHemispherePdf(d, wi.z));
+  }
+};
+
+// --- ashikhmin_shirley.h twins -----------------------------------------------------------------
+
+template <typename T> struct ASLobeK {
+  T nu, nv, spec_norm, half_norm;
+  explicit ASLobeK(const AshikhminShirleyLobeT<T>& l)
+      : nu(l.n_u),
+        nv(l.n_v),
+        spec_norm(std::sqrt((l.n_u + T(1)) * (l.n_v + T(1))) / (T(8) * kPi<T>)),
+        half_norm(std::sqrt((l.n_u + T(1)) * (l.n_v + T(1))) * kInv2Pi<T>) {}
+  // AS_Exponent.
+  template <class D> HWY_INLINE V<D> Exponent(D d, V<D> hot, V<D> hob) const {
+    const V<D> s2 = hn::Add(hn::Mul(hot, hot), hn::Mul(hob, hob));
+    const V<D> e = hn::Div(hn::Add(hn::Mul(hn::Mul(K(d, nu), hot), hot), hn::Mul(hn::Mul(K(d, nv), hob), hob)), s2);
+    return hn::IfThenElse(hn::Gt(s2, hn::Zero(d)), e, K(d, nu));
+  }
+  // AS_Specular for a unit h (h.z > 0 above the horizon).
+  template <class D> HWY_INLINE V<D> Specular(D d, const V3<D>& h, V<D> hol, V<D> nol, V<D> nov) const {
+    const V<D> p = PowPositive(d, h.z, Exponent(d, h.x, h.y));
+    return hn::Div(hn::Mul(K(d, spec_norm), p), hn::Mul(hol, hn::Max(nol, nov)));
+  }
+  template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V3<D> h = Normalize(d, Add3(wi, wo));
+    return Specular(d, h, Dot(h, wi), wi.z, wo.z);
+  }
+  // AshikhminShirleyLobeT::pdf with AS_PdfHalf.
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V3<D> h = Normalize(d, Add3(wi, wo));
+    const V<D> woh = Dot(wo, h);
+    const M<D> hz_pos = hn::Gt(h.z, hn::Zero(d));
+    const V<D> ph = hn::IfThenElseZero(
+        hz_pos, hn::Mul(K(d, half_norm), PowPositive(d, hn::IfThenElse(hz_pos, h.z, K(d, 1)), Exponent(d, h.x, h.y))));
+    return hn::IfThenElseZero(hn::Gt(woh, hn::Zero(d)), hn::Div(ph, hn::Mul(K(d, T(4)), woh)));
+  }
+};
+
+// AS_Diffuse.
+template <class D> HWY_INLINE V<D> ASDiffuse(D d, V<D> nol, V<D> nov) {
+  using T = hn::TFromD<D>;
+  const V<D> a = hn::Sub(K(d, 1), hn::Mul(nol, K(d, T(0.5)))), b = hn::Sub(K(d, 1), hn::Mul(nov, K(d, T(0.5))));
+  const V<D> a5 = hn::Mul(hn::Mul(hn::Mul(hn::Mul(a, a), a), a), a);
+  const V<D> b5 = hn::Mul(hn::Mul(hn::Mul(hn::Mul(b, b), b), b), b);
+  return hn::Mul(hn::Mul(K(d, T(28) / (T(23) * kPi<T>)), hn::Sub(K(d, 1), a5)), hn::Sub(K(d, 1), b5));
+}
+
+template <typename T> struct AshikhminShirleyK {
+  T rs[3], ks[3], diffuse[3], kd_pi[3], diffuse_weight;
+  ASLobeK<T> lobe;
+  explicit AshikhminShirleyK(const AshikhminShirleyT<T>& m) : lobe(m.lobe) {
+    for (int c = 0; c < 3; ++c) {
+      rs[c] = m.rs[c];
+      ks[c] = m.ks_scale[c];
+      diffuse[c] = m.rd[c] * (T(1) - m.rs[c]);
+      kd_pi[c] = m.kd[c] * kInvPi<T>;
+    }
+    diffuse_weight = average(m.rd * (RGBT<T>(T(1)) - m.rs)) + average(m.kd);
+  }
+  template <class D> HWY_INLINE RGBV<D> F(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const M<D> upper = UpperBoth(d, wi, wo);
+    const V3<D> h = Normalize(d, Add3(wi, wo));
+    const V<D> woh_i = Dot(wi, h);
+    const V<D> spec = lobe.Specular(d, h, Dot(h, wi), wi.z, wo.z);
+    const V<D> diff = ASDiffuse(d, wi.z, wo.z);
+    RGBV<D> out;
+    for (int c = 0; c < 3; ++c) {
+      const V<D> f = hn::Add(hn::Add(hn::Mul(hn::Mul(K(d, ks[c]), FSchlick(d, rs[c], woh_i)), spec),
+                                     hn::Mul(K(d, diffuse[c]), diff)),
+                             K(d, kd_pi[c]));
+      out.c[c] = hn::IfThenElseZero(upper, f);
+    }
+    return out;
+  }
+  // specular_probability(wo): Schlick at wo.z, averaged over the channels.
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V<D> sw = Average(d, hn::Mul(K(d, ks[0]), FSchlick(d, rs[0], wo.z)), hn::Mul(K(d, ks[1]), FSchlick(d, rs[1], wo.z)),
+                            hn::Mul(K(d, ks[2]), FSchlick(d, rs[2], wo.z)));
+    const V<D> p_spec = SpecularShare(d, K(d, diffuse_weight), sw);
+    return hn::IfThenElseZero(UpperBoth(d, wi, wo), MixturePdf(d, p_spec, wi.z, lobe.Pdf(d, wi, wo)));
+  }
+};
+
+// --- ggx.h twins -------------------------------------------------------------------------------
+
+template <typename T> struct GGXLobeK {
+  T ax, ay, axay;
+  explicit GGXLobeK(const GGXLobeT<T>& l) : ax(l.alpha_x), ay(l.alpha_y), axay(l.alpha_x * l.alpha_y) {}
+  // D_GGX_Aniso.
+  template <class D> HWY_INLINE V<D> Dist(D d, const V3<D>& h) const {
+    const V<D> s = hn::Add(hn::Add(Sqr<D>(hn::Div(h.x, K(d, ax))), Sqr<D>(hn::Div(h.y, K(d, ay)))), Sqr<D>(h.z));
+    return hn::Div(K(d, kInvPi<T>), hn::Mul(hn::Mul(K(d, axay), s), s));
+  }
+  // Lambda_GGX_Aniso.
+  template <class D> HWY_INLINE V<D> Lambda(D d, const V3<D>& w) const {
+    const V<D> tan2 = hn::Div(hn::Add(Sqr<D>(hn::Mul(K(d, ax), w.x)), Sqr<D>(hn::Mul(K(d, ay), w.y))), Sqr<D>(w.z));
+    return hn::Mul(hn::Sub(hn::Sqrt(hn::Add(K(d, 1), tan2)), K(d, 1)), K(d, T(0.5)));
+  }
+  template <class D> HWY_INLINE V<D> EvalH(D d, const V3<D>& h, const V3<D>& wi, const V3<D>& wo) const {
+    const V<D> g2 = hn::Div(K(d, 1), hn::Add(hn::Add(K(d, 1), Lambda(d, wi)), Lambda(d, wo)));
+    return hn::Div(hn::Mul(Dist(d, h), g2), hn::Mul(hn::Mul(K(d, T(4)), wi.z), wo.z));
+  }
+  template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& wi, const V3<D>& wo) const {
+    return EvalH(d, Normalize(d, Add3(wi, wo)), wi, wo);
+  }
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V3<D> h = Normalize(d, Add3(wi, wo));
+    const M<D> ok = hn::And(hn::Gt(Dot(wo, h), hn::Zero(d)), hn::Gt(h.z, hn::Zero(d)));
+    const V<D> g1 = hn::Div(K(d, 1), hn::Add(K(d, 1), Lambda(d, wo)));
+    return hn::IfThenElseZero(ok, hn::Div(hn::Mul(g1, Dist(d, h)), hn::Mul(K(d, T(4)), wo.z)));
+  }
+};
+
+template <typename T> struct GGXK {
+  T f0[3], kd_pi[3], diffuse_weight;
+  GGXLobeK<T> lobe;
+  explicit GGXK(const GGXT<T>& m) : lobe(m.lobe) {
+    for (int c = 0; c < 3; ++c) f0[c] = m.f0[c], kd_pi[c] = m.kd[c] * kInvPi<T>;
+    diffuse_weight = average(m.kd);
+  }
+  template <class D> HWY_INLINE RGBV<D> F(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const M<D> upper = UpperBoth(d, wi, wo);
+    const V3<D> h = Normalize(d, Add3(wi, wo));
+    const V<D> l = lobe.EvalH(d, h, wi, wo);
+    const V<D> cos_ih = Dot(wi, h);
+    RGBV<D> out;
+    for (int c = 0; c < 3; ++c)
+      out.c[c] = hn::IfThenElseZero(upper, hn::Add(hn::Mul(FSchlick(d, f0[c], cos_ih), l), K(d, kd_pi[c])));
+    return out;
+  }
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V<D> sw = Average(d, FSchlick(d, f0[0], wo.z), FSchlick(d, f0[1], wo.z), FSchlick(d, f0[2], wo.z));
+    const V<D> p_spec = SpecularShare(d, K(d, diffuse_weight), sw);
+    return hn::IfThenElseZero(UpperBoth(d, wi, wo), MixturePdf(d, p_spec, wi.z, lobe.Pdf(d, wi, wo)));
+  }
+};
+
+// --- lafortune.h twins -------------------------------------------------------------------------
+
+template <typename T> struct LafortuneLobeK {
+  T cx[3], cy[3], cz[3], n[3], scale[3];
+  LafortuneLobeK() = default;
+  explicit LafortuneLobeK(const LafortuneLobeT<T>& l) {
+    for (int c = 0; c < 3; ++c) cx[c] = l.cx[c], cy[c] = l.cy[c], cz[c] = l.cz[c], n[c] = l.n[c], scale[c] = l.scale[c];
+  }
+  // LafortuneLobeT::eval, channel c: scale max(Cx p.x + Cy p.y + Cz p.z, 0)^n, p = wi * wo.
+  template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& p, int c) const {
+    const V<D> base = hn::Add(hn::Add(hn::Mul(K(d, cx[c]), p.x), hn::Mul(K(d, cy[c]), p.y)), hn::Mul(K(d, cz[c]), p.z));
+    const M<D> pos = hn::Gt(base, hn::Zero(d));  // Lafortune_Lobe
+    const V<D> lobe = hn::IfThenElseZero(pos, PowPositive(d, hn::IfThenElse(pos, base, K(d, 1)), K(d, n[c])));
+    return hn::Mul(K(d, scale[c]), lobe);
+  }
+  template <class D> HWY_INLINE V3<D> Axis(D d, const V3<D>& wo, int c) const {
+    return {hn::Mul(K(d, cx[c]), wo.x), hn::Mul(K(d, cy[c]), wo.y), hn::Mul(K(d, cz[c]), wo.z)};
+  }
+  // channel_weight.
+  template <class D> HWY_INLINE V<D> ChannelWeight(D d, const V3<D>& wo, int c) const {
+    if (!(scale[c] > T(0))) return hn::Zero(d);
+    const V3<D> a = Axis(d, wo, c);
+    const V<D> len = hn::Sqrt(Dot(a, a));
+    const M<D> ok = hn::And(hn::Gt(len, hn::Zero(d)), hn::Gt(a.z, hn::Zero(d)));
+    const V<D> safe_len = hn::IfThenElse(ok, len, K(d, 1));
+    const V<D> w = hn::Div(hn::Mul(hn::Mul(hn::Mul(hn::Mul(K(d, scale[c]), PowPositive(d, safe_len, K(d, n[c]))),
+                                                   hn::Div(a.z, safe_len)),
+                                           K(d, T(2))),
+                                   K(d, kPi<T>)),
+                           K(d, (n[c] + T(1)) * T(3)));
+    return hn::IfThenElseZero(ok, w);
+  }
+  // channel_pdf.
+  template <class D> HWY_INLINE V<D> ChannelPdf(D d, const V3<D>& wi, const V3<D>& wo, int c) const {
+    const V3<D> a = Axis(d, wo, c);
+    const V<D> len2 = Dot(a, a);
+    const M<D> ok = hn::Gt(len2, hn::Zero(d));
+    const V<D> cos_axis = hn::Div(Dot(a, wi), hn::Sqrt(hn::IfThenElse(ok, len2, K(d, 1))));
+    return hn::IfThenElseZero(ok, CosinePowerPdf(d, cos_axis, K(d, n[c])));
+  }
+};
+
+template <typename T> struct LafortuneK {
+  T rho_pi[3], rho_avg;
+  int lobe_count;
+  LafortuneLobeK<T> lobes[kLafortuneMaxLobes];
+  explicit LafortuneK(const LafortuneT<T>& m) : lobe_count(m.lobe_count) {
+    for (int c = 0; c < 3; ++c) rho_pi[c] = m.rho_d[c] * kInvPi<T>;
+    rho_avg = average(m.rho_d);
+    for (int i = 0; i < lobe_count; ++i) lobes[i] = LafortuneLobeK<T>(m.lobes[i]);
+  }
+  template <class D> HWY_INLINE RGBV<D> F(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const M<D> upper = UpperBoth(d, wi, wo);
+    const V3<D> p{hn::Mul(wi.x, wo.x), hn::Mul(wi.y, wo.y), hn::Mul(wi.z, wo.z)};
+    RGBV<D> out;
+    for (int c = 0; c < 3; ++c) {
+      V<D> f = K(d, rho_pi[c]);
+      for (int i = 0; i < lobe_count; ++i) f = hn::Add(f, lobes[i].Eval(d, p, c));
+      out.c[c] = hn::IfThenElseZero(upper, f);
+    }
+    return out;
+  }
+  // pdf(sampling_weights(wo), wi, wo).
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    V<D> w[kLafortuneMaxLobes][3];
+    V<D> total = hn::Zero(d);
+    for (int i = 0; i < lobe_count; ++i)
+      for (int c = 0; c < 3; ++c) total = hn::Add(total, w[i][c] = lobes[i].ChannelWeight(d, wo, c));
+    const V<D> cos_w = hn::Add(K(d, rho_avg), hn::Mul(K(d, T(LafortuneT<T>::kDefensiveShare)), total));
+    const V<D> cosine =
+        hn::IfThenElse(hn::Or(hn::Gt(cos_w, hn::Zero(d)), hn::Gt(total, hn::Zero(d))), cos_w, K(d, 1));
+    V<D> p = hn::Mul(cosine, CosineHemispherePdf(d, wi.z));
+    for (int i = 0; i < lobe_count; ++i)
+      for (int c = 0; c < 3; ++c)
+        p = hn::Add(p, hn::IfThenElseZero(hn::Gt(w[i][c], hn::Zero(d)), hn::Mul(w[i][c], lobes[i].ChannelPdf(d, wi, wo, c))));
+    return hn::IfThenElseZero(UpperBoth(d, wi, wo), hn::Div(p, hn::Add(cosine, total)));
+  }
+};
+
+// --- metal.h twins -----------------------------------------------------------------------------
+
+template <typename T> struct MetalK {
+  T eta[3], k[3], specular_weight[3];
+  SpecularLobeKind kind;
+  WardLobeK<T> ward;
+  ASLobeK<T> as;
+  GGXLobeK<T> ggx;
+  bool has_dd;
+  LafortuneLobeK<T> dd;
+  explicit MetalK(const MetalT<T>& m)
+      : kind(m.lobe_kind), ward(m.ward), as(m.ashikhmin_shirley), ggx(m.ggx), has_dd(m.has_directional_diffuse),
+        dd(m.directional_diffuse) {
+    for (int c = 0; c < 3; ++c) eta[c] = m.eta[c], k[c] = m.k[c], specular_weight[c] = m.specular_weight[c];
+  }
+  template <class D> HWY_INLINE V<D> Specular(D d, const V3<D>& wi, const V3<D>& wo) const {
+    switch (kind) {
+      case SpecularLobeKind::Ward: return ward.Eval(d, wi, wo);
+      case SpecularLobeKind::AshikhminShirley: return as.Eval(d, wi, wo);
+      default: return ggx.Eval(d, wi, wo);
+    }
+  }
+  template <class D> HWY_INLINE V<D> SpecularPdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    switch (kind) {
+      case SpecularLobeKind::Ward: return ward.Pdf(d, wi, wo);
+      case SpecularLobeKind::AshikhminShirley: return as.Pdf(d, wi, wo);
+      default: return ggx.Pdf(d, wi, wo);
+    }
+  }
+  template <class D> HWY_INLINE RGBV<D> F(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const M<D> upper = UpperBoth(d, wi, wo);
+    const V3<D> h = Normalize(d, Add3(wi, wo));
+    const V<D> cos_ih = Dot(wi, h);
+    const V<D> s = Specular(d, wi, wo);
+    const V3<D> p{hn::Mul(wi.x, wo.x), hn::Mul(wi.y, wo.y), hn::Mul(wi.z, wo.z)};
+    RGBV<D> out;
+    for (int c = 0; c < 3; ++c) {
+      V<D> f = hn::Mul(hn::Mul(K(d, specular_weight[c]), FConductor(d, cos_ih, eta[c], k[c])), s);
+      if (has_dd) f = hn::Add(f, dd.Eval(d, p, c));
+      out.c[c] = hn::IfThenElseZero(upper, f);
+    }
+    return out;
+  }
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    // specular_probability(wo)
+    V<D> fw[3];
+    for (int c = 0; c < 3; ++c) fw[c] = hn::Mul(K(d, specular_weight[c]), FConductor(d, wo.z, eta[c], k[c]));
+    const V<D> s = Average(d, fw[0], fw[1], fw[2]);
+    V<D> dsum = hn::Zero(d), ws[3];
+    if (has_dd)
+      for (int c = 0; c < 3; ++c) dsum = hn::Add(dsum, ws[c] = dd.ChannelWeight(d, wo, c));
+    const V<D> sd = hn::Add(s, dsum);
+    const V<D> ps = hn::IfThenElse(hn::Gt(sd, hn::Zero(d)), hn::Div(s, sd), K(d, 1));
+    V<D> p = hn::Mul(ps, SpecularPdf(d, wi, wo));
+    if (has_dd) {
+      // directional_diffuse_pdf
+      V<D> wsum = hn::Zero(d), pd = hn::Zero(d);
+      for (int c = 0; c < 3; ++c) {
+        const M<D> pos = hn::Gt(ws[c], hn::Zero(d));
+        wsum = hn::Add(wsum, hn::IfThenElseZero(pos, ws[c]));
+        pd = hn::Add(pd, hn::IfThenElseZero(pos, hn::Mul(ws[c], dd.ChannelPdf(d, wi, wo, c))));
+      }
+      const M<D> wpos = hn::Gt(wsum, hn::Zero(d));
+      const V<D> ddp = hn::IfThenElseZero(wpos, hn::Div(pd, hn::IfThenElse(wpos, wsum, K(d, 1))));
+      p = hn::Add(p, hn::IfThenElseZero(hn::Lt(ps, K(d, 1)), hn::Mul(hn::Sub(K(d, 1), ps), ddp)));
+    }
+    return hn::IfThenElseZero(UpperBoth(d, wi, wo), p);
+  }
+};
+
+// --- The loops ---------------------------------------------------------------------------------
+
+// One vector at a time over [begin, end); the last partial vector goes through a padded copy
+// (padding: wi = wo = n, a valid input, so no lane of the padding computes anything odd).
+template <class D, class Kernel, typename T>
+HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
+  const size_t N = hn::Lanes(d);
+  const auto one = [&](const T* wix, const T* wiy, const T* wiz, const T* wox, const T* woy, const T* woz, T* r, T* g,
+                       T* b, T* p) {
+    const V3<D> wi{hn::LoadU(d, wix), hn::LoadU(d, wiy), hn::LoadU(d, wiz)};
+    const V3<D> wo{hn::LoadU(d, wox), hn::LoadU(d, woy), hn::LoadU(d, woz)};
+    if (want_pdf) {
+      hn::StoreU(k.Pdf(d, wi, wo), d, p);
+    } else {
+      const RGBV<D> f = k.F(d, wi, wo);
+      hn::StoreU(f.c[0], d, r);
+      hn::StoreU(f.c[1], d, g);
+      hn::StoreU(f.c[2], d, b);
+    }
+  };
+  size_t i = begin;
+  for (; i + N <= end; i += N) {
+    one(a.wi.x + i, a.wi.y + i, a.wi.z + i, a.wo.x + i, a.wo.y + i, a.wo.z + i, want_pdf ? nullptr : a.f.r + i,
+        want_pdf ? nullptr : a.f.g + i, want_pdf ? nullptr : a.f.b + i, want_pdf ? a.pdf + i : nullptr);
+  }
+  if (i < end) {
+    constexpr size_t kMax = hn::MaxLanes(D());
+    HWY_ALIGN T buf[10][kMax];
+    for (size_t j = 0; j < kMax; ++j) {
+      for (int q = 0; q < 6; ++q) buf[q][j] = (q == 2 || q == 5) ? T(1) : T(0);
+    }
+    const size_t rest = end - i;
+    for (size_t j = 0; j < rest; ++j) {
+      buf[0][j] = a.wi.x[i + j], buf[1][j] = a.wi.y[i + j], buf[2][j] = a.wi.z[i + j];
+      buf[3][j] = a.wo.x[i + j], buf[4][j] = a.wo.y[i + j], buf[5][j] = a.wo.z[i + j];
+    }
+    one(buf[0], buf[1], buf[2], buf[3], buf[4], buf[5], buf[6], buf[7], buf[8], buf[9]);
+    for (size_t j = 0; j < rest; ++j) {
+      if (want_pdf) {
+        a.pdf[i + j] = buf[9][j];
+      } else {
+        a.f.r[i + j] = buf[6][j], a.f.g[i + j] = buf[7][j], a.f.b[i + j] = buf[8][j];
+      }
+    }
+  }
+}
+
+template <typename T> void RunMaterial(const MaterialT<T>& m, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
+  const hn::ScalableTag<T> d;
+  switch (m.kind) {
+    case ModelKind::Phong: return RunRange(d, LambertPlusLobeK<T, PhongLobeK<T>>(m.phong), a, begin, end, want_pdf);
+    case ModelKind::Ward: return RunRange(d, LambertPlusLobeK<T, WardLobeK<T>>(m.ward), a, begin, end, want_pdf);
+    case ModelKind::AshikhminShirley:
+      return RunRange(d, AshikhminShirleyK<T>(m.ashikhmin_shirley), a, begin, end, want_pdf);
+    case ModelKind::Lafortune: return RunRange(d, LafortuneK<T>(m.lafortune), a, begin, end, want_pdf);
+    case ModelKind::GGX: return RunRange(d, GGXK<T>(m.ggx), a, begin, end, want_pdf);
+    case ModelKind::Metal: return RunRange(d, MetalK<T>(m.metal), a, begin, end, want_pdf);
+    default: return RunRange(d, LambertK<T>(m.lambert), a, begin, end, want_pdf);
+  }
+}
+
+}  // namespace aniso::batch::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#endif  // include guard

@@ -1,0 +1,241 @@
+// tests/test_batch.cpp: the batch path (include/aniso/batch/batch.h) against the scalar kernels,
+// which are its reference: f and pdf for every model, form and normalisation and several presets,
+// on random, grazing, h = n and below-horizon direction pairs, float and double; determinism over
+// thread counts; the batch sampler against the scalar sampler, and a chi-square test of it.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "aniso/batch/batch.h"
+#include "chi2.h"
+#include "io/presets.h"
+#include "test_util.h"
+
+namespace aniso::test {
+namespace {
+
+// The test materials of test_util.h plus presets that exercise the fitted tables and the metals.
+std::vector<NamedMaterial> batch_materials() {
+  std::vector<NamedMaterial> v = all_model_materials();
+  for (const char* name : {"matte-steel", "gold", "brushed-gold", "copper"}) {
+    const auto j = find_preset(name);
+    if (j) v.push_back({std::string("preset_") + name, *j});
+  }
+  // A pbrt-v1 Lafortune fit and an Ngan fit, if the tables have them (first of each kind).
+  for (const PresetInfo& p : presets()) {
+    if (p.name.rfind("pbrt", 0) == 0 || p.name.rfind("ngan/ashikhmin", 0) == 0 || p.name.rfind("ngan/ward", 0) == 0) {
+      std::string key = p.name;
+      std::replace(key.begin(), key.end(), '/', '_');
+      std::replace(key.begin(), key.end(), '-', '_');
+      v.push_back({"preset_" + key, p.json});
+      if (v.size() > all_model_materials().size() + 12) break;
+    }
+  }
+  for (auto& m : v) std::replace(m.name.begin(), m.name.end(), '-', '_');
+  return v;
+}
+
+// The direction pairs: random pairs on the upper hemisphere, grazing ones (either cosine in
+// [1e-4, 1e-2]), h = n (wi the mirror of wo), and pairs with a direction on or below the horizon.
+// An odd count, so that the last SIMD vector is partial.
+template <typename T> void make_pairs(batch::DirectionArray<T>& wi, batch::DirectionArray<T>& wo) {
+  Rng rng(424242);
+  std::vector<Vec3T<T>> vi, vo;
+  const auto grazing = [&](double cos_lo, double cos_hi) {
+    const double z = cos_lo + (cos_hi - cos_lo) * rng.uniform();
+    const double r = std::sqrt(1.0 - z * z), phi = 2.0 * M_PI * rng.uniform();
+    return Vec3T<T>(T(r * std::cos(phi)), T(r * std::sin(phi)), T(z));
+  };
+  for (int i = 0; i < 1500; ++i) vi.push_back(random_upper<T>(rng)), vo.push_back(random_upper<T>(rng));
+  for (int i = 0; i < 300; ++i) vi.push_back(grazing(1e-4, 1e-2)), vo.push_back(random_upper<T>(rng));
+  for (int i = 0; i < 300; ++i) vi.push_back(random_upper<T>(rng)), vo.push_back(grazing(1e-4, 1e-2));
+  for (int i = 0; i < 100; ++i) vi.push_back(grazing(1e-4, 1e-2)), vo.push_back(grazing(1e-4, 1e-2));
+  for (int i = 0; i < 300; ++i) {
+    const Vec3T<T> o = random_upper<T>(rng);
+    vi.push_back(reflect_about_normal(o)), vo.push_back(o);  // h = wi + wo along n
+  }
+  vi.push_back(Vec3T<T>(0, 0, 1)), vo.push_back(Vec3T<T>(0, 0, 1));  // both along n
+  for (int i = 0; i < 100; ++i) {
+    Vec3T<T> i_dir = random_upper<T>(rng), o_dir = random_upper<T>(rng);
+    if (i % 2) i_dir.z = -i_dir.z; else o_dir.z = -o_dir.z;
+    vi.push_back(i_dir), vo.push_back(o_dir);
+  }
+  vi.push_back(Vec3T<T>(1, 0, 0)), vo.push_back(Vec3T<T>(0, 0, 1));  // on the horizon
+  wi.resize(vi.size());
+  wo.resize(vo.size());
+  for (size_t i = 0; i < vi.size(); ++i) wi.set(i, vi[i]), wo.set(i, vo[i]);
+}
+
+// The batch path may differ from the scalar path by 1e-5 relative, plus twice the scalar float
+// path's own rounding error (measured at the same inputs against the scalar double path): where
+// float itself cannot hold 1e-5 (the angle form's tan near theta_h = 90 degrees, a Gaussian exponent
+// of -50 whose 1-ulp error becomes 50 ulp of the result) two correct float evaluations may differ by
+// that much. Values below 1e-12 of the channel's largest value over the pairs are compared
+// absolutely (a renderer or a fit cannot see them). In double the float slack is 0.
+template <typename T> bool close_to_scalar(T batch, T scalar, double scalar_double, T peak, double& worst) {
+  const double b = batch, s = scalar;
+  if (b == s) return true;
+  const double own_error = sizeof(T) == sizeof(float) ? std::abs(s - scalar_double) : 0.0;
+  const double scale = std::max(std::abs(s), 1e-12 * double(peak));
+  const double excess = (std::abs(b - s) - 2.0 * own_error) / scale;
+  worst = std::max(worst, excess);
+  return excess <= 1e-5;
+}
+
+class BatchTest : public testing::TestWithParam<NamedMaterial> {};
+
+template <typename T> void check_against_scalar(const NamedMaterial& nm) {
+  const MaterialT<T> m = build<T>(nm.json);
+  const MaterialD md = build<double>(nm.json);
+  batch::DirectionArray<T> wi, wo;
+  make_pairs(wi, wo);
+  const size_t n = wi.size();
+  batch::ColorArray<T> f(n);
+  std::vector<T> p(n);
+  batch::evaluate(m, wi.view(), wo.view(), n, f.view());
+  batch::pdf(m, wi.view(), wo.view(), n, p.data());
+  std::vector<RGBT<T>> fs(n);
+  std::vector<T> ps(n);
+  std::vector<glm::dvec3> fd(n);
+  std::vector<double> pd(n);
+  T peak_f[3] = {0, 0, 0}, peak_p = 0;
+  for (size_t i = 0; i < n; ++i) {
+    fs[i] = m.f(wi.get(i), wo.get(i));
+    ps[i] = m.pdf(wi.get(i), wo.get(i));
+    fd[i] = md.f(Vec3d(wi.get(i)), Vec3d(wo.get(i)));
+    pd[i] = md.pdf(Vec3d(wi.get(i)), Vec3d(wo.get(i)));
+    for (int c = 0; c < 3; ++c) peak_f[c] = std::max(peak_f[c], fs[i][c]);
+    peak_p = std::max(peak_p, ps[i]);
+  }
+  double worst_f = 0, worst_p = 0;
+  const auto show = [&](size_t i) {
+    return "pair " + std::to_string(i) + " wi (" + std::to_string(wi.x[i]) + ", " + std::to_string(wi.y[i]) + ", " +
+           std::to_string(wi.z[i]) + ") wo (" + std::to_string(wo.x[i]) + ", " + std::to_string(wo.y[i]) + ", " +
+           std::to_string(wo.z[i]) + ")";
+  };
+  const char* type = sizeof(T) == 4 ? " float" : " double";
+  int reported = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const RGBT<T> b = f.get(i);
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_TRUE(std::isfinite(b[c])) << nm.name << " pair " << i;
+      if (!close_to_scalar(b[c], fs[i][c], fd[i][c], peak_f[c], worst_f) && reported++ < 3)
+        ADD_FAILURE() << nm.name << type << " f[" << c << "]: " << show(i) << " batch " << b[c] << " scalar "
+                      << fs[i][c] << " double " << fd[i][c];
+    }
+    ASSERT_TRUE(std::isfinite(p[i])) << nm.name << " pair " << i;
+    if (!close_to_scalar(p[i], ps[i], pd[i], peak_p, worst_p) && reported++ < 3)
+      ADD_FAILURE() << nm.name << type << " pdf: " << show(i) << " batch " << p[i] << " scalar " << ps[i]
+                    << " double " << pd[i];
+  }
+  testing::Test::RecordProperty("worst_f_excess", std::to_string(worst_f));
+  testing::Test::RecordProperty("worst_pdf_excess", std::to_string(worst_p));
+}
+
+TEST_P(BatchTest, EvaluateAndPdfMatchScalarFloat) { check_against_scalar<float>(GetParam()); }
+TEST_P(BatchTest, EvaluateAndPdfMatchScalarDouble) { check_against_scalar<double>(GetParam()); }
+
+// The batch sampler fed the same uniforms gives the scalar sampler's records, bit for bit.
+TEST_P(BatchTest, SampleMatchesScalar) {
+  const MaterialT<float> m = build<float>(GetParam().json);
+  Rng rng(99);
+  const size_t n = 3001;
+  batch::DirectionArray<float> wo(n);
+  std::vector<float> uc(n), u0(n), u1(n);
+  for (size_t i = 0; i < n; ++i) {
+    Vec3 o = random_upper<float>(rng);
+    if (i % 97 == 0) o.z = -o.z;  // a few below the horizon: "no sample"
+    wo.set(i, o);
+    uc[i] = rng.uniform_as<float>(), u0[i] = rng.uniform_as<float>(), u1[i] = rng.uniform_as<float>();
+  }
+  batch::SampleArray<float> s(n);
+  batch::sample(m, wo.view(), uc.data(), u0.data(), u1.data(), n, s.view());
+  for (size_t i = 0; i < n; ++i) {
+    const BSDFSampleT<float> ref = m.sample(wo.get(i), uc[i], Vec2(u0[i], u1[i]));
+    const BSDFSampleT<float> got = s.get(i);
+    ASSERT_EQ(got.valid, ref.valid) << i;
+    ASSERT_EQ(std::memcmp(&got.wi, &ref.wi, sizeof(Vec3)), 0) << i;
+    ASSERT_EQ(std::memcmp(&got.weight, &ref.weight, sizeof(RGB)), 0) << i;
+    ASSERT_EQ(got.pdf, ref.pdf) << i;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, BatchTest, testing::ValuesIn(batch_materials()), material_name);
+
+// One thread or all: the same bits (fixed blocks, each element computed alone).
+TEST(Batch, ThreadCountDoesNotChangeResults) {
+  const MaterialT<float> m = build<float>(
+      {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.1}, {"alpha_y", 0.25}, {"form", "vector"}});
+  Rng rng(5);
+  const size_t n = 100003;
+  batch::DirectionArray<float> wi(n), wo(n);
+  for (size_t i = 0; i < n; ++i) wi.set(i, random_upper<float>(rng)), wo.set(i, random_upper<float>(rng));
+  batch::ColorArray<float> a(n), b(n);
+  std::vector<float> pa(n), pb(n);
+  batch::evaluate(m, wi.view(), wo.view(), n, a.view(), batch::Threads::One);
+  batch::evaluate(m, wi.view(), wo.view(), n, b.view(), batch::Threads::All);
+  batch::pdf(m, wi.view(), wo.view(), n, pa.data(), batch::Threads::One);
+  batch::pdf(m, wi.view(), wo.view(), n, pb.data(), batch::Threads::All);
+  EXPECT_EQ(std::memcmp(a.r.data(), b.r.data(), n * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(a.b.data(), b.b.data(), n * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(pa.data(), pb.data(), n * sizeof(float)), 0);
+  // A sub-range evaluated alone gives the same values as inside the whole (alignment-independent).
+  batch::ColorArray<float> c(n);
+  const size_t off = 7;
+  batch::evaluate(m, {wi.x.data() + off, wi.y.data() + off, wi.z.data() + off},
+                  {wo.x.data() + off, wo.y.data() + off, wo.z.data() + off}, 1000,
+                  {c.r.data(), c.g.data(), c.b.data()});
+  EXPECT_EQ(std::memcmp(a.r.data() + off, c.r.data(), 1000 * sizeof(float)), 0);
+}
+
+TEST(Batch, ReportsItsTarget) {
+  EXPECT_NE(std::string(batch::simd_target()), "");
+  EXPECT_GE(batch::simd_lanes_float(), 1u);
+  EXPECT_EQ(batch::simd_lanes_float(), 2 * batch::simd_lanes_double());
+}
+
+// Chi-square test of the batch sampler (the samples drawn in one batch call with the uniforms the
+// harness draws, in its order) against the batch pdf.
+TEST(Batch, SamplerPassesChiSquare) {
+  constexpr int64_t kSamples = 400'000;
+  const char* const names[] = {"ward_vector_ward", "as_aniso", "lafortune_aniso", "ggx_aniso", "metal_ward"};
+  const double significance = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(std::size(names)));
+  for (const NamedMaterial& nm : all_model_materials()) {
+    if (std::find_if(std::begin(names), std::end(names), [&](const char* s) { return nm.name == s; }) == std::end(names))
+      continue;
+    const MaterialT<float> m = build<float>(nm.json);
+    const MaterialT<double> md = build<double>(nm.json);
+    const Vec3d wod = spherical(50.0, 20.0);
+    const Vec3 wo = Vec3(wod);
+    // The harness's uniforms, in its order (uc, u.x, u.y per sample, one Rng with its seed).
+    const uint64_t seed = 17;
+    Rng rng(seed);
+    batch::DirectionArray<float> wos(kSamples);
+    std::vector<float> uc(kSamples), u0(kSamples), u1(kSamples);
+    for (int64_t i = 0; i < kSamples; ++i) {
+      wos.set(size_t(i), wo);
+      uc[i] = rng.uniform_as<float>(), u0[i] = rng.uniform_as<float>(), u1[i] = rng.uniform_as<float>();
+    }
+    batch::SampleArray<float> s(kSamples);
+    batch::sample(m, wos.view(), uc.data(), u0.data(), u1.data(), kSamples, s.view());
+    int64_t next = 0;
+    const Chi2Result r = chi2_test(
+        [&](float, Vec2) { return s.get(size_t(next++)); },
+        [&](const Vec3d& wi) {
+          double p = 0.0;
+          batch::pdf(md, {&wi.x, &wi.y, &wi.z}, {&wod.x, &wod.y, &wod.z}, 1, &p, batch::Threads::One);
+          return p;
+        },
+        kSamples, seed, 20, 40, 6);
+    ASSERT_TRUE(r.message.empty()) << nm.name << ": " << r.message;
+    EXPECT_GT(r.p_value, significance) << nm.name << ": chi2 " << r.chi2 << " dof " << r.dof;
+    EXPECT_NEAR(r.pdf_integral, r.accepted_fraction, 5e-3) << nm.name;
+  }
+}
+
+}  // namespace
+}  // namespace aniso::test
