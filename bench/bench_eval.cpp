@@ -32,6 +32,8 @@ std::span<const Vec3> bench_wo();
 const Material& bench_material(const std::string& key);
 void register_sample_benchmarks();
 int check_sample();
+void register_batch_benchmarks();  // bench_batch.cpp
+int check_batch();
 
 namespace {
 
@@ -236,12 +238,13 @@ int main(int argc, char** argv) {
   }
   argc = kept;
   if (check) {
-    const int failures = check_eval() + check_sample();
+    const int failures = check_eval() + check_sample() + check_batch();
     std::printf("%s: %d failure(s)\n", failures ? "FAILED" : "aniso_bench --check passed", failures);
     return failures ? 1 : 0;
   }
   register_eval_benchmarks();
   register_sample_benchmarks();
+  register_batch_benchmarks();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
