@@ -106,18 +106,35 @@ template <typename T> void dispatch(const MaterialT<T>& m, const EvalArgs<T>& a,
 }  // namespace
 
 template <typename T>
-void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f, Threads threads) {
+void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f, Threads threads,
+              Kernels kernels) {
   const EvalArgs<T> a{wi, wo, f, nullptr};
   for_blocks(n, threads, [&](size_t b, size_t e) {
+    if (kernels == Kernels::Scalar) {
+      m.visit([&](const auto& model) {
+        for (size_t i = b; i < e; ++i) {
+          const RGBT<T> v = model.f(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i]), Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
+          f.r[i] = v.x, f.g[i] = v.y, f.b[i] = v.z;
+        }
+      });
+      return;
+    }
     const FlushSubnormals ftz;
     dispatch(m, a, b, e, false);
   });
 }
 
 template <typename T>
-void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads) {
+void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads, Kernels kernels) {
   const EvalArgs<T> a{wi, wo, {}, out};
   for_blocks(n, threads, [&](size_t b, size_t e) {
+    if (kernels == Kernels::Scalar) {
+      m.visit([&](const auto& model) {
+        for (size_t i = b; i < e; ++i)
+          out[i] = model.pdf(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i]), Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
+      });
+      return;
+    }
     const FlushSubnormals ftz;
     dispatch(m, a, b, e, true);
   });
@@ -145,11 +162,13 @@ const char* simd_target() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
 size_t simd_lanes_float() { return HWY_DYNAMIC_DISPATCH(LanesFloat)(); }
 size_t simd_lanes_double() { return HWY_DYNAMIC_DISPATCH(LanesDouble)(); }
 
-template void evaluate<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, Colors<float>, Threads);
+template void evaluate<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, Colors<float>, Threads,
+                              Kernels);
 template void evaluate<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, Colors<double>,
-                               Threads);
-template void pdf<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, float*, Threads);
-template void pdf<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, double*, Threads);
+                               Threads, Kernels);
+template void pdf<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, float*, Threads, Kernels);
+template void pdf<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, double*, Threads,
+                          Kernels);
 template void sample<float>(const MaterialT<float>&, Directions<float>, const float*, const float*, const float*, size_t,
                             Samples<float>, Threads);
 template void sample<double>(const MaterialT<double>&, Directions<double>, const double*, const double*, const double*,

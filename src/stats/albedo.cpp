@@ -1,6 +1,9 @@
 #include "stats/albedo.h"
 
 #include <cmath>
+#include <vector>
+
+#include "aniso/batch/batch.h"
 
 #include "stats/rng.h"
 
@@ -45,27 +48,65 @@ template <typename T, typename Fn> void for_each_stratified(int64_t samples, uin
 
 }  // namespace
 
+// Both estimators draw their uniforms in the order for_each_stratified gives them, a chunk at a
+// time, hand the chunk to the batch path (include/aniso/batch: all cores, SIMD for f) and add the
+// results up in the same order: the estimate does not depend on the chunk size or the thread count.
+constexpr size_t kChunk = 1 << 16;
+
 template <typename T>
 AlbedoEstimate albedo_importance(const MaterialT<T>& m, const Vec3T<T>& wo, int64_t samples, uint64_t seed) {
   Accumulator acc;
-  for_each_stratified<T>(samples, seed, [&](T uc, const Vec2T<T>& u) {
-    const BSDFSampleT<T> s = m.sample(wo, uc, u);
-    acc.add(s.valid ? glm::dvec3(s.weight) : glm::dvec3(0.0));
+  batch::DirectionArray<T> wos;
+  std::vector<T> uc, u0, u1;
+  batch::SampleArray<T> out;
+  const auto flush = [&] {
+    const size_t n = uc.size();
+    wos.resize(n);
+    for (size_t i = 0; i < n; ++i) wos.set(i, wo);
+    out.resize(n);
+    batch::sample(m, wos.view(), uc.data(), u0.data(), u1.data(), n, out.view());
+    for (size_t i = 0; i < n; ++i)
+      acc.add(out.valid[i] ? glm::dvec3(out.weight.r[i], out.weight.g[i], out.weight.b[i]) : glm::dvec3(0.0));
+    uc.clear(), u0.clear(), u1.clear();
+  };
+  for_each_stratified<T>(samples, seed, [&](T c, const Vec2T<T>& u) {
+    uc.push_back(c), u0.push_back(u.x), u1.push_back(u.y);
+    if (uc.size() == kChunk) flush();
   });
+  if (!uc.empty()) flush();
   return acc.result();
 }
 
 template <typename T>
 AlbedoEstimate albedo_uniform(const MaterialT<T>& m, const Vec3T<T>& wo, int64_t samples, uint64_t seed) {
   Accumulator acc;
+  batch::DirectionArray<T> wis, wos;
+  batch::ColorArray<T> f;
+  size_t n = 0;
+  const auto flush = [&] {
+    wos.resize(n);
+    for (size_t i = 0; i < n; ++i) wos.set(i, wo);
+    f.resize(n);
+    batch::evaluate(m, wis.view(), wos.view(), n, f.view());
+    for (size_t i = 0; i < n; ++i) acc.add(glm::dvec3(f.get(i)) * double(wis.z[i]) * 2.0 * M_PI);
+    n = 0;
+  };
+  wis.resize(kChunk);
   for_each_stratified<T>(samples, seed, [&](T, const Vec2T<T>& u) {
     // Uniform hemisphere: z = u.x, density 1 / (2 pi).
     const T z = T(1) - u.x;
     const T r = safe_sqrt(T(1) - z * z);
     const T phi = T(2) * kPi<T> * u.y;
-    const Vec3T<T> wi(r * std::cos(phi), r * std::sin(phi), z);
-    acc.add(glm::dvec3(m.f(wi, wo)) * double(z) * 2.0 * M_PI);
+    wis.set(n++, Vec3T<T>(r * std::cos(phi), r * std::sin(phi), z));
+    if (n == kChunk) {
+      flush();
+      wis.resize(kChunk);
+    }
   });
+  if (n > 0) {
+    wis.resize(n);
+    flush();
+  }
   return acc.result();
 }
 

@@ -25,6 +25,11 @@ namespace aniso::batch {
 
 enum class Threads : int { One = 0, All = 1 };
 
+// Which code computes each element: the SIMD twins (default), or the scalar kernels themselves,
+// element by element on the same blocks and threads, bit for bit what MaterialT::f / pdf return
+// (for callers whose output must not depend on the input's size, such as `aniso eval`).
+enum class Kernels : int { Simd = 0, Scalar = 1 };
+
 // n unit directions in the local shading frame, one array per coordinate.
 template <typename T> struct Directions {
   const T* x = nullptr;
@@ -54,11 +59,12 @@ template <typename T> struct Samples {
 // f[i] = m.f(wi[i], wo[i]) for i < n.
 template <typename T>
 void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f,
-              Threads threads = Threads::All);
+              Threads threads = Threads::All, Kernels kernels = Kernels::Simd);
 
 // pdf[i] = m.pdf(wi[i], wo[i]).
 template <typename T>
-void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* pdf, Threads threads = Threads::All);
+void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* pdf, Threads threads = Threads::All,
+         Kernels kernels = Kernels::Simd);
 
 // out[i] = m.sample(wo[i], uc[i], (u0[i], u1[i])).
 template <typename T>
