@@ -142,9 +142,17 @@ template <typename T> void check_against_scalar(const NamedMaterial& nm) {
 TEST_P(BatchTest, EvaluateAndPdfMatchScalarFloat) { check_against_scalar<float>(GetParam()); }
 TEST_P(BatchTest, EvaluateAndPdfMatchScalarDouble) { check_against_scalar<double>(GetParam()); }
 
-// The batch sampler fed the same uniforms gives the scalar sampler's records, bit for bit.
+// The batch sampler fed the same uniforms gives the scalar sampler's records. Lafortune and the
+// metal run the scalar sampler itself: bit for bit. The SIMD samplers (Lambert, Phong, Ward,
+// Ashikhmin-Shirley, GGX) compute the same directions with other sin / cos / atan / log
+// implementations: the same validity, wi within 1e-4, and a record whose pdf and weight are the
+// scalar pdf and f cos / pdf at the batch's own wi (the comparison of the main test). Where a
+// uniform sits on a branch boundary (the lobe choice uc = p_spec, the concentric map's diagonals)
+// an ulp can change the branch: at most 1 in 1000 elements may differ in validity or wi.
 TEST_P(BatchTest, SampleMatchesScalar) {
   const MaterialT<float> m = build<float>(GetParam().json);
+  const MaterialD md = build<double>(GetParam().json);
+  const bool bitwise = m.kind == ModelKind::Lafortune || m.kind == ModelKind::Metal;
   Rng rng(99);
   const size_t n = 3001;
   batch::DirectionArray<float> wo(n);
@@ -157,14 +165,45 @@ TEST_P(BatchTest, SampleMatchesScalar) {
   }
   batch::SampleArray<float> s(n);
   batch::sample(m, wo.view(), uc.data(), u0.data(), u1.data(), n, s.view());
+  size_t branch_differs = 0, valid = 0;
+  double worst_wi = 0.0, worst = 0.0;
   for (size_t i = 0; i < n; ++i) {
     const BSDFSampleT<float> ref = m.sample(wo.get(i), uc[i], Vec2(u0[i], u1[i]));
     const BSDFSampleT<float> got = s.get(i);
-    ASSERT_EQ(got.valid, ref.valid) << i;
-    ASSERT_EQ(std::memcmp(&got.wi, &ref.wi, sizeof(Vec3)), 0) << i;
-    ASSERT_EQ(std::memcmp(&got.weight, &ref.weight, sizeof(RGB)), 0) << i;
-    ASSERT_EQ(got.pdf, ref.pdf) << i;
+    if (bitwise) {
+      ASSERT_EQ(got.valid, ref.valid) << i;
+      ASSERT_EQ(std::memcmp(&got.wi, &ref.wi, sizeof(Vec3)), 0) << i;
+      ASSERT_EQ(std::memcmp(&got.weight, &ref.weight, sizeof(RGB)), 0) << i;
+      ASSERT_EQ(got.pdf, ref.pdf) << i;
+      continue;
+    }
+    if (!got.valid) {
+      ASSERT_EQ(got.pdf, 0.0f);
+      ASSERT_EQ(got.weight, RGB(0.0f));
+    }
+    const double dwi = glm::length(glm::dvec3(got.wi) - glm::dvec3(ref.wi));
+    if (got.valid != ref.valid || dwi > 1e-4) {
+      ++branch_differs;
+      continue;
+    }
+    worst_wi = std::max(worst_wi, dwi);
+    if (!got.valid) continue;
+    ++valid;
+    // The record at its own wi: pdf and weight from the scalar kernels.
+    const float p = m.pdf(got.wi, wo.get(i));
+    const double pd = md.pdf(Vec3d(got.wi), Vec3d(wo.get(i)));
+    EXPECT_TRUE(close_to_scalar(got.pdf, p, pd, p, worst)) << i << ": pdf " << got.pdf << " scalar " << p;
+    const RGB f = m.f(got.wi, wo.get(i));
+    const glm::dvec3 fd = md.f(Vec3d(got.wi), Vec3d(wo.get(i)));
+    for (int c = 0; c < 3; ++c) {
+      const float w = f[c] * (got.wi.z / p);
+      const double wd = fd[c] * (double(got.wi.z) / pd);
+      EXPECT_TRUE(close_to_scalar(got.weight[c], w, wd, w, worst)) << i << ": weight " << got.weight[c] << " scalar " << w;
+    }
   }
+  EXPECT_LE(branch_differs, n / 1000) << GetParam().name;
+  if (!bitwise) EXPECT_GT(valid, n / 2) << GetParam().name;
+  testing::Test::RecordProperty("worst_wi_distance", std::to_string(worst_wi));
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, BatchTest, testing::ValuesIn(batch_materials()), material_name);
@@ -205,7 +244,8 @@ TEST(Batch, ReportsItsTarget) {
 // harness draws, in its order) against the batch pdf.
 TEST(Batch, SamplerPassesChiSquare) {
   constexpr int64_t kSamples = 400'000;
-  const char* const names[] = {"ward_vector_ward", "as_aniso", "lafortune_aniso", "ggx_aniso", "metal_ward"};
+  const char* const names[] = {"lambert", "phong", "ward_vector_ward", "as_aniso", "lafortune_aniso", "ggx_aniso",
+                               "metal_ward"};
   const double significance = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(std::size(names)));
   for (const NamedMaterial& nm : all_model_materials()) {
     if (std::find_if(std::begin(names), std::end(names), [&](const char* s) { return nm.name == s; }) == std::end(names))

@@ -19,6 +19,12 @@ void EvalFloat(const MaterialT<float>& m, const EvalArgs<float>& a, size_t begin
 void EvalDouble(const MaterialT<double>& m, const EvalArgs<double>& a, size_t begin, size_t end, bool want_pdf) {
   RunMaterial(m, a, begin, end, want_pdf);
 }
+bool SampleFloat(const MaterialT<float>& m, const SampleArgs<float>& a, size_t begin, size_t end) {
+  return SampleMaterial(m, a, begin, end);
+}
+bool SampleDouble(const MaterialT<double>& m, const SampleArgs<double>& a, size_t begin, size_t end) {
+  return SampleMaterial(m, a, begin, end);
+}
 size_t LanesFloat() { return hn::Lanes(hn::ScalableTag<float>()); }
 size_t LanesDouble() { return hn::Lanes(hn::ScalableTag<double>()); }
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
@@ -41,6 +47,8 @@ namespace aniso::batch {
 
 HWY_EXPORT(EvalFloat);
 HWY_EXPORT(EvalDouble);
+HWY_EXPORT(SampleFloat);
+HWY_EXPORT(SampleDouble);
 HWY_EXPORT(LanesFloat);
 HWY_EXPORT(LanesDouble);
 HWY_EXPORT(TargetName);
@@ -140,12 +148,24 @@ void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T*
   });
 }
 
-// The scalar sampler on each element (no SIMD twin yet: the samplers' branches pick different
-// lobes per lane, and their atan / tan / pow chains would need their own SIMD versions).
+// Lambert, Phong, Ward, Ashikhmin-Shirley and GGX: the SIMD samplers (kernels-inl.h). Lafortune
+// and the metal: the scalar sampler on each element (their lobe choice walks up to 25 weighted
+// candidates per element; no SIMD twin yet).
 template <typename T>
 void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
             Threads threads) {
+  const SampleArgs<T> a{wo, uc, u0, u1, out};
   for_blocks(n, threads, [&](size_t b, size_t e) {
+    {
+      const FlushSubnormals ftz;
+      bool done;
+      if constexpr (sizeof(T) == sizeof(float)) {
+        done = HWY_DYNAMIC_DISPATCH(SampleFloat)(m, a, b, e);
+      } else {
+        done = HWY_DYNAMIC_DISPATCH(SampleDouble)(m, a, b, e);
+      }
+      if (done) return;
+    }
     m.visit([&](const auto& model) {
       for (size_t i = b; i < e; ++i) {
         const BSDFSampleT<T> s = model.sample(Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]), uc[i], Vec2T<T>(u0[i], u1[i]));

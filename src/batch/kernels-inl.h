@@ -15,12 +15,18 @@
 // holds one function pointer type).
 #ifndef ANISO_BATCH_KERNELS_ARGS_H_
 #define ANISO_BATCH_KERNELS_ARGS_H_
+#include <algorithm>
 #include "aniso/batch/batch.h"
 namespace aniso::batch {
 template <typename T> struct EvalArgs {
   Directions<T> wi, wo;
   Colors<T> f;
   T* pdf;
+};
+template <typename T> struct SampleArgs {
+  Directions<T> wo;
+  const T *uc, *u0, *u1;
+  Samples<T> out;
 };
 }  // namespace aniso::batch
 #endif
@@ -97,6 +103,48 @@ template <class D> HWY_INLINE V<D> CosinePowerPdf(D d, V<D> c, V<D> n) {
   const M<D> pos = hn::Gt(c, hn::Zero(d));
   const V<D> safe_c = hn::IfThenElse(pos, c, K(d, 1));
   return hn::IfThenElseZero(pos, hn::Mul(hn::Mul(hn::Add(n, K(d, 1)), K(d, kInv2Pi<T>)), PowPositive(d, safe_c, n)));
+}
+
+// sample_uniform_disk_concentric (Shirley & Chiu 1997): the branch on |ox| > |oy| becomes a mask.
+template <class D> HWY_INLINE void ConcentricDisk(D d, V<D> u0, V<D> u1, V<D>& dx, V<D>& dy) {
+  using T = hn::TFromD<D>;
+  const V<D> ox = hn::Sub(hn::Mul(K(d, T(2)), u0), K(d, 1)), oy = hn::Sub(hn::Mul(K(d, T(2)), u1), K(d, 1));
+  const M<D> centre = hn::And(hn::Eq(ox, hn::Zero(d)), hn::Eq(oy, hn::Zero(d)));
+  const M<D> x_major = hn::Gt(hn::Abs(ox), hn::Abs(oy));
+  const V<D> r = hn::IfThenElse(x_major, ox, oy);
+  const V<D> quarter_pi = K(d, kPi<T> / T(4));
+  const V<D> theta = hn::IfThenElse(x_major, hn::Mul(quarter_pi, hn::Div(oy, ox)),
+                                    hn::Sub(K(d, kPiOver2<T>), hn::Mul(quarter_pi, hn::Div(ox, oy))));
+  dx = hn::IfThenZeroElse(centre, hn::Mul(r, hn::Cos(d, theta)));
+  dy = hn::IfThenZeroElse(centre, hn::Mul(r, hn::Sin(d, theta)));
+}
+// sample_cosine_hemisphere.
+template <class D> HWY_INLINE V3<D> CosineHemisphere(D d, V<D> u0, V<D> u1) {
+  V<D> dx, dy;
+  ConcentricDisk(d, u0, u1, dx, dy);
+  return {dx, dy, SafeSqrt(d, hn::Sub(hn::Sub(K(d, 1), hn::Mul(dx, dx)), hn::Mul(dy, dy)))};
+}
+// reflect_about(w, h) = 2 (w.h) h - w.
+template <class D> HWY_INLINE V3<D> ReflectAbout(D d, const V3<D>& w, const V3<D>& h) {
+  const V<D> k = hn::Mul(K(d, 2), Dot(w, h));
+  return {hn::Sub(hn::Mul(k, h.x), w.x), hn::Sub(hn::Mul(k, h.y), w.y), hn::Sub(hn::Mul(k, h.z), w.z)};
+}
+// sample_cosine_power about the unit axis a, with orthonormal_basis (Duff et al. 2017).
+template <class D> HWY_INLINE V3<D> CosinePowerSample(D d, const V3<D>& a, V<D> n, V<D> u0, V<D> u1) {
+  using T = hn::TFromD<D>;
+  const V<D> one = K(d, 1);
+  const V<D> cos_t = PowPositive(d, hn::Sub(one, u0), hn::Div(one, hn::Add(n, one)));
+  const V<D> sin_t = SafeSqrt(d, hn::Sub(one, hn::Mul(cos_t, cos_t)));
+  const V<D> phi = hn::Mul(K(d, T(2) * kPi<T>), u1);
+  const V<D> sign = hn::CopySign(one, a.z);
+  const V<D> k = hn::Div(K(d, -1), hn::Add(sign, a.z));
+  const V<D> m = hn::Mul(hn::Mul(a.x, a.y), k);
+  const V3<D> t{hn::Add(one, hn::Mul(hn::Mul(hn::Mul(sign, a.x), a.x), k)), hn::Mul(sign, m), hn::Neg(hn::Mul(sign, a.x))};
+  const V3<D> b{m, hn::Add(sign, hn::Mul(hn::Mul(a.y, a.y), k)), hn::Neg(a.y)};
+  const V<D> ct = hn::Mul(sin_t, hn::Cos(d, phi)), st = hn::Mul(sin_t, hn::Sin(d, phi));
+  return {hn::Add(hn::Add(hn::Mul(ct, t.x), hn::Mul(st, b.x)), hn::Mul(cos_t, a.x)),
+          hn::Add(hn::Add(hn::Mul(ct, t.y), hn::Mul(st, b.y)), hn::Mul(cos_t, a.y)),
+          hn::Add(hn::Add(hn::Mul(ct, t.z), hn::Mul(st, b.z)), hn::Mul(cos_t, a.z))};
 }
 
 // --- brdf/fresnel.h twins --------------------------------------------------------------------
@@ -207,6 +255,22 @@ template <typename T> struct WardLobeK {
     return hn::IfThenElseZero(hn::Gt(e, hn::Zero(d)), hn::Mul(e, norm));
   }
 
+  // WardLobeT::sample with Ward_SampleHalf (Walter 2005 Eqs. 8-9). Own SIMD version of the angles:
+  // Highway 1.0 has no atan2, so (cos phi, sin phi) = (ax cos 2 pi u, ay sin 2 pi u) / length, which
+  // is what atan2 followed by cos and sin computes, and sin / cos of theta = atan(t) are
+  // t / sqrt(1 + t^2) and 1 / sqrt(1 + t^2).
+  template <class D> HWY_INLINE V3<D> Sample(D d, const V3<D>& wo, V<D> u0, V<D> u1) const {
+    const V<D> two_pi_u = hn::Mul(K(d, T(2) * kPi<T>), u1);
+    const V<D> px = hn::Mul(K(d, ax), hn::Cos(d, two_pi_u)), py = hn::Mul(K(d, ay), hn::Sin(d, two_pi_u));
+    const V<D> len = hn::Sqrt(hn::Add(hn::Mul(px, px), hn::Mul(py, py)));
+    const V<D> c = hn::Div(px, len), s = hn::Div(py, len);
+    const V<D> t2 = hn::Div(hn::Neg(hn::Log(d, hn::Sub(K(d, 1), u0))),
+                            hn::Add(Sqr<D>(hn::Div(c, K(d, ax))), Sqr<D>(hn::Div(s, K(d, ay)))));
+    const V<D> inv = hn::Div(K(d, 1), hn::Sqrt(hn::Add(K(d, 1), t2)));
+    const V<D> st = hn::Mul(hn::Sqrt(t2), inv);
+    return ReflectAbout(d, wo, V3<D>{hn::Mul(st, c), hn::Mul(st, s), inv});
+  }
+
   // WardLobeT::pdf with Ward_PdfHalf.
   template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
     const V3<D> h = Normalize(d, Add3(wi, wo));
@@ -238,6 +302,9 @@ template <typename T> struct PhongLobeK {
   template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
     return CosinePowerPdf(d, MirrorDot(wo, wi), K(d, exponent));
   }
+  template <class D> HWY_INLINE V3<D> Sample(D d, const V3<D>& wo, V<D> u0, V<D> u1) const {
+    return CosinePowerSample(d, V3<D>{hn::Neg(wo.x), hn::Neg(wo.y), wo.z}, K(d, exponent), u0, u1);
+  }
 };
 
 // LambertPlusLobeT: kd / pi + ks lobe, the lobe chosen with a constant probability.
@@ -260,6 +327,7 @@ template <typename T, typename LobeK> struct LambertPlusLobeK {
   template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
     return hn::IfThenElseZero(UpperBoth(d, wi, wo), MixturePdf(d, K(d, p_spec), wi.z, lobe.Pdf(d, wi, wo)));
   }
+  template <class D> HWY_INLINE V<D> SpecularProbability(D d, const V3<D>&) const { return K(d, p_spec); }
 };
 
 // --- lambert.h twin ----------------------------------------------------------------------------
@@ -301,6 +369,27 @@ template <typename T> struct ASLobeK {
   template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& wi, const V3<D>& wo) const {
     const V3<D> h = Normalize(d, Add3(wi, wo));
     return Specular(d, h, Dot(h, wi), wi.z, wo.z);
+  }
+  // AshikhminShirleyLobeT::sample with AS_SampleHalf (Eqs. 9-10): the four quarters of u.x become
+  // masks over one atan; tan(x) as sin / cos (own SIMD version: Highway 1.0 has no Tan).
+  template <class D> HWY_INLINE V3<D> Sample(D d, const V3<D>& wo, V<D> u0, V<D> u1) const {
+    const V<D> one = K(d, 1), two = K(d, 2);
+    const V<D> ratio = K(d, std::sqrt((nu + T(1)) / (nv + T(1))));
+    const V<D> q = hn::Mul(K(d, T(4)), u0);
+    const M<D> q1 = hn::Lt(q, one), q2 = hn::Lt(q, two), q3 = hn::Lt(q, K(d, 3));
+    // The argument of tan(pi / 2 x) in each quarter: q, 2 - q, q - 2, 4 - q.
+    const V<D> x = hn::IfThenElse(q1, q, hn::IfThenElse(q2, hn::Sub(two, q), hn::IfThenElse(q3, hn::Sub(q, two), hn::Sub(K(d, 4), q))));
+    const V<D> arg = hn::Mul(K(d, kPiOver2<T>), x);
+    const V<D> base = hn::Atan(d, hn::Mul(ratio, hn::Div(hn::Sin(d, arg), hn::Cos(d, arg))));
+    const V<D> phi = hn::IfThenElse(
+        q1, base,
+        hn::IfThenElse(q2, hn::Sub(K(d, kPi<T>), base),
+                       hn::IfThenElse(q3, hn::Add(K(d, kPi<T>), base), hn::Sub(K(d, T(2) * kPi<T>), base))));
+    const V<D> c = hn::Cos(d, phi), s = hn::Sin(d, phi);
+    const V<D> e = hn::Add(hn::Mul(hn::Mul(K(d, nu), c), c), hn::Mul(hn::Mul(K(d, nv), s), s));
+    const V<D> cos_t = PowPositive(d, hn::Sub(one, u1), hn::Div(one, hn::Add(e, one)));
+    const V<D> sin_t = SafeSqrt(d, hn::Sub(one, hn::Mul(cos_t, cos_t)));
+    return ReflectAbout(d, wo, V3<D>{hn::Mul(sin_t, c), hn::Mul(sin_t, s), cos_t});
   }
   // AshikhminShirleyLobeT::pdf with AS_PdfHalf.
   template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
@@ -350,10 +439,13 @@ template <typename T> struct AshikhminShirleyK {
     return out;
   }
   // specular_probability(wo): Schlick at wo.z, averaged over the channels.
-  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+  template <class D> HWY_INLINE V<D> SpecularProbability(D d, const V3<D>& wo) const {
     const V<D> sw = Average(d, hn::Mul(K(d, ks[0]), FSchlick(d, rs[0], wo.z)), hn::Mul(K(d, ks[1]), FSchlick(d, rs[1], wo.z)),
                             hn::Mul(K(d, ks[2]), FSchlick(d, rs[2], wo.z)));
-    const V<D> p_spec = SpecularShare(d, K(d, diffuse_weight), sw);
+    return SpecularShare(d, K(d, diffuse_weight), sw);
+  }
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V<D> p_spec = SpecularProbability(d, wo);
     return hn::IfThenElseZero(UpperBoth(d, wi, wo), MixturePdf(d, p_spec, wi.z, lobe.Pdf(d, wi, wo)));
   }
 };
@@ -380,6 +472,32 @@ template <typename T> struct GGXLobeK {
   template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& wi, const V3<D>& wo) const {
     return EvalH(d, Normalize(d, Add3(wi, wo)), wi, wo);
   }
+  // GGXLobeT::sample with GGX_SampleVisibleNormal (Heitz 2018, Listing 1), step for step.
+  template <class D> HWY_INLINE V3<D> Sample(D d, const V3<D>& wo, V<D> u0, V<D> u1) const {
+    const V<D> one = K(d, 1);
+    const V3<D> vh = Normalize(d, V3<D>{hn::Mul(K(d, ax), wo.x), hn::Mul(K(d, ay), wo.y), wo.z});
+    const V<D> lensq = hn::Add(hn::Mul(vh.x, vh.x), hn::Mul(vh.y, vh.y));
+    const M<D> has_len = hn::Gt(lensq, hn::Zero(d));
+    const V<D> root = hn::Sqrt(hn::IfThenElse(has_len, lensq, one));
+    const V3<D> t1{hn::IfThenElse(has_len, hn::Div(hn::Neg(vh.y), root), one), hn::IfThenElseZero(has_len, hn::Div(vh.x, root)),
+                   hn::Zero(d)};
+    // glm::cross(vh, t1)
+    const V3<D> t2{hn::Sub(hn::Mul(vh.y, t1.z), hn::Mul(t1.y, vh.z)), hn::Sub(hn::Mul(vh.z, t1.x), hn::Mul(t1.z, vh.x)),
+                   hn::Sub(hn::Mul(vh.x, t1.y), hn::Mul(t1.x, vh.y))};
+    const V<D> r = hn::Sqrt(u0);
+    const V<D> phi = hn::Mul(K(d, T(2) * kPi<T>), u1);
+    const V<D> p1 = hn::Mul(r, hn::Cos(d, phi));
+    V<D> p2 = hn::Mul(r, hn::Sin(d, phi));
+    const V<D> s = hn::Mul(K(d, T(0.5)), hn::Add(one, vh.z));
+    p2 = hn::Add(hn::Mul(hn::Sub(one, s), SafeSqrt(d, hn::Sub(one, hn::Mul(p1, p1)))), hn::Mul(s, p2));
+    const V<D> q = SafeSqrt(d, hn::Sub(hn::Sub(one, hn::Mul(p1, p1)), hn::Mul(p2, p2)));
+    const V3<D> nh{hn::Add(hn::Add(hn::Mul(p1, t1.x), hn::Mul(p2, t2.x)), hn::Mul(q, vh.x)),
+                   hn::Add(hn::Add(hn::Mul(p1, t1.y), hn::Mul(p2, t2.y)), hn::Mul(q, vh.y)),
+                   hn::Add(hn::Add(hn::Mul(p1, t1.z), hn::Mul(p2, t2.z)), hn::Mul(q, vh.z))};
+    const V3<D> h = Normalize(d, V3<D>{hn::Mul(K(d, ax), nh.x), hn::Mul(K(d, ay), nh.y),
+                                       hn::IfThenElseZero(hn::Gt(nh.z, hn::Zero(d)), nh.z)});
+    return ReflectAbout(d, wo, h);
+  }
   template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
     const V3<D> h = Normalize(d, Add3(wi, wo));
     const M<D> ok = hn::And(hn::Gt(Dot(wo, h), hn::Zero(d)), hn::Gt(h.z, hn::Zero(d)));
@@ -405,9 +523,12 @@ template <typename T> struct GGXK {
       out.c[c] = hn::IfThenElseZero(upper, hn::Add(hn::Mul(FSchlick(d, f0[c], cos_ih), l), K(d, kd_pi[c])));
     return out;
   }
-  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+  template <class D> HWY_INLINE V<D> SpecularProbability(D d, const V3<D>& wo) const {
     const V<D> sw = Average(d, FSchlick(d, f0[0], wo.z), FSchlick(d, f0[1], wo.z), FSchlick(d, f0[2], wo.z));
-    const V<D> p_spec = SpecularShare(d, K(d, diffuse_weight), sw);
+    return SpecularShare(d, K(d, diffuse_weight), sw);
+  }
+  template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
+    const V<D> p_spec = SpecularProbability(d, wo);
     return hn::IfThenElseZero(UpperBoth(d, wi, wo), MixturePdf(d, p_spec, wi.z, lobe.Pdf(d, wi, wo)));
   }
 };
@@ -619,6 +740,80 @@ template <typename T> void RunMaterial(const MaterialT<T>& m, const EvalArgs<T>&
     case ModelKind::GGX: return RunRange(d, GGXK<T>(m.ggx), a, begin, end, want_pdf);
     case ModelKind::Metal: return RunRange(d, MetalK<T>(m.metal), a, begin, end, want_pdf);
     default: return RunRange(d, LambertK<T>(m.lambert), a, begin, end, want_pdf);
+  }
+}
+
+// --- Sampling: sample_diffuse_specular + make_sample -------------------------------------------
+
+// The models whose sample() is sample_diffuse_specular (Phong, Ward, Ashikhmin-Shirley, GGX) and
+// Lambert's; Lafortune and the metal pick one of up to 25 lobes and stay scalar (batch.cpp).
+template <class D, class Kernel> HWY_INLINE void SampleVec(D d, const Kernel& k, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1,
+                                                          V3<D>& wi, RGBV<D>& weight, V<D>& pdf, M<D>& valid) {
+  if constexpr (requires { k.SpecularProbability(d, wo); }) {
+    const M<D> spec = hn::Lt(uc, k.SpecularProbability(d, wo));
+    const V3<D> ws = k.lobe.Sample(d, wo, u0, u1);
+    const V3<D> wd = CosineHemisphere(d, u0, u1);
+    wi = {hn::IfThenElse(spec, ws.x, wd.x), hn::IfThenElse(spec, ws.y, wd.y), hn::IfThenElse(spec, ws.z, wd.z)};
+  } else {
+    wi = CosineHemisphere(d, u0, u1);
+  }
+  // make_sample, with the checks of sample_diffuse_specular: wo and wi above the horizon, pdf > 0.
+  const V<D> p = k.Pdf(d, wi, wo);
+  const RGBV<D> f = k.F(d, wi, wo);
+  valid = hn::And(hn::And(hn::Gt(wo.z, hn::Zero(d)), hn::Gt(wi.z, hn::Zero(d))), hn::Gt(p, hn::Zero(d)));
+  const V<D> scale = hn::Div(wi.z, hn::IfThenElse(valid, p, K(d, 1)));
+  for (int c = 0; c < 3; ++c) weight.c[c] = hn::IfThenElseZero(valid, hn::Mul(f.c[c], scale));
+  wi = {hn::IfThenElseZero(valid, wi.x), hn::IfThenElseZero(valid, wi.y), hn::IfThenElseZero(valid, wi.z)};
+  pdf = hn::IfThenElseZero(valid, p);
+}
+
+template <class D, class Kernel, typename T>
+HWY_INLINE void SampleRange(D d, const Kernel& k, const SampleArgs<T>& a, size_t begin, size_t end) {
+  const size_t N = hn::Lanes(d);
+  constexpr size_t kMax = hn::MaxLanes(D());
+  HWY_ALIGN T buf[14][kMax];
+  for (size_t i = begin; i < end; i += N) {
+    const size_t count = std::min(N, end - i);
+    const T* src[6] = {a.wo.x + i, a.wo.y + i, a.wo.z + i, a.uc + i, a.u0 + i, a.u1 + i};
+    if (count < N) {  // the last, partial vector: padded copies (wo = n, u = 0.5)
+      for (int q = 0; q < 6; ++q) {
+        for (size_t j = 0; j < N; ++j) buf[q][j] = j < count ? src[q][j] : (q == 2 ? T(1) : q >= 3 ? T(0.5) : T(0));
+        src[q] = buf[q];
+      }
+    }
+    const V3<D> wo{hn::LoadU(d, src[0]), hn::LoadU(d, src[1]), hn::LoadU(d, src[2])};
+    V3<D> wi;
+    RGBV<D> w;
+    V<D> p;
+    M<D> valid;
+    SampleVec(d, k, wo, hn::LoadU(d, src[3]), hn::LoadU(d, src[4]), hn::LoadU(d, src[5]), wi, w, p, valid);
+    T* dst[7] = {a.out.wi_x + i, a.out.wi_y + i, a.out.wi_z + i, a.out.weight_r + i, a.out.weight_g + i, a.out.weight_b + i,
+                 a.out.pdf + i};
+    const V<D> vals[7] = {wi.x, wi.y, wi.z, w.c[0], w.c[1], w.c[2], p};
+    const V<D> valid_v = hn::IfThenElseZero(valid, K(d, 1));
+    if (count == N) {
+      for (int q = 0; q < 7; ++q) hn::StoreU(vals[q], d, dst[q]);
+    } else {
+      for (int q = 0; q < 7; ++q) {
+        hn::Store(vals[q], d, buf[6 + q]);
+        std::copy_n(buf[6 + q], count, dst[q]);
+      }
+    }
+    hn::Store(valid_v, d, buf[13]);
+    for (size_t j = 0; j < count; ++j) a.out.valid[i + j] = buf[13][j] != T(0) ? 1 : 0;
+  }
+}
+
+// Returns false for the models without a SIMD sampler (the caller runs the scalar one).
+template <typename T> bool SampleMaterial(const MaterialT<T>& m, const SampleArgs<T>& a, size_t begin, size_t end) {
+  const hn::ScalableTag<T> d;
+  switch (m.kind) {
+    case ModelKind::Phong: SampleRange(d, LambertPlusLobeK<T, PhongLobeK<T>>(m.phong), a, begin, end); return true;
+    case ModelKind::Ward: SampleRange(d, LambertPlusLobeK<T, WardLobeK<T>>(m.ward), a, begin, end); return true;
+    case ModelKind::AshikhminShirley: SampleRange(d, AshikhminShirleyK<T>(m.ashikhmin_shirley), a, begin, end); return true;
+    case ModelKind::GGX: SampleRange(d, GGXK<T>(m.ggx), a, begin, end); return true;
+    case ModelKind::Lambert: SampleRange(d, LambertK<T>(m.lambert), a, begin, end); return true;
+    default: return false;
   }
 }
 
