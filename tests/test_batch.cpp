@@ -142,17 +142,15 @@ template <typename T> void check_against_scalar(const NamedMaterial& nm) {
 TEST_P(BatchTest, EvaluateAndPdfMatchScalarFloat) { check_against_scalar<float>(GetParam()); }
 TEST_P(BatchTest, EvaluateAndPdfMatchScalarDouble) { check_against_scalar<double>(GetParam()); }
 
-// The batch sampler fed the same uniforms gives the scalar sampler's records. Lafortune and the
-// metal run the scalar sampler itself: bit for bit. The SIMD samplers (Lambert, Phong, Ward,
-// Ashikhmin-Shirley, GGX) compute the same directions with other sin / cos / atan / log
-// implementations: the same validity, wi within 1e-4, and a record whose pdf and weight are the
+// The batch sampler fed the same uniforms gives the scalar sampler's records. The SIMD samplers
+// compute the same directions with other sin / cos / atan / log implementations: the same validity, wi within 1e-4, and a record whose pdf and weight are the
 // scalar pdf and f cos / pdf at the batch's own wi (the comparison of the main test). Where a
 // uniform sits on a branch boundary (the lobe choice uc = p_spec, the concentric map's diagonals)
 // an ulp can change the branch: at most 1 in 1000 elements may differ in validity or wi.
 TEST_P(BatchTest, SampleMatchesScalar) {
   const MaterialT<float> m = build<float>(GetParam().json);
   const MaterialD md = build<double>(GetParam().json);
-  const bool bitwise = m.kind == ModelKind::Lafortune || m.kind == ModelKind::Metal;
+  const bool bitwise = false;  // no model runs the scalar sampler in the batch path any more
   Rng rng(99);
   const size_t n = 3001;
   batch::DirectionArray<float> wo(n);

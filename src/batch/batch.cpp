@@ -148,9 +148,8 @@ void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T*
   });
 }
 
-// Lambert, Phong, Ward, Ashikhmin-Shirley and GGX: the SIMD samplers (kernels-inl.h). Lafortune
-// and the metal: the scalar sampler on each element (their lobe choice walks up to 25 weighted
-// candidates per element; no SIMD twin yet).
+// The SIMD samplers (kernels-inl.h) for every model; the scalar loop below is the fallback for a
+// model kind without one (none at present).
 template <typename T>
 void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
             Threads threads) {

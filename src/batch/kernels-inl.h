@@ -595,6 +595,36 @@ template <typename T> struct LafortuneK {
     }
     return out;
   }
+  // LafortuneT::sample's direction: walk the cumulative weights with uc (cosine first, then each
+  // (lobe, channel) of positive weight while the target is not negative), per lane with masks.
+  template <class D>
+  HWY_INLINE V3<D> SampleDirection(D d, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1, M<D>& /*ok*/) const {
+    V<D> w[kLafortuneMaxLobes][3];
+    V<D> total = hn::Zero(d);
+    for (int i = 0; i < lobe_count; ++i)
+      for (int c = 0; c < 3; ++c) total = hn::Add(total, w[i][c] = lobes[i].ChannelWeight(d, wo, c));
+    const V<D> cos_w = hn::Add(K(d, rho_avg), hn::Mul(K(d, T(LafortuneT<T>::kDefensiveShare)), total));
+    const V<D> cosine =
+        hn::IfThenElse(hn::Or(hn::Gt(cos_w, hn::Zero(d)), hn::Gt(total, hn::Zero(d))), cos_w, K(d, 1));
+    V<D> target = hn::Sub(hn::Mul(uc, hn::Add(cosine, total)), cosine);
+    M<D> chosen = hn::Lt(K(d, 1), hn::Zero(d));  // all false
+    V3<D> axis{hn::Zero(d), hn::Zero(d), K(d, 1)};
+    V<D> n = K(d, 1);
+    for (int i = 0; i < lobe_count; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const M<D> take = hn::AndNot(hn::Lt(target, hn::Zero(d)), hn::Gt(w[i][c], hn::Zero(d)));
+        const V3<D> a = lobes[i].Axis(d, wo, c);
+        axis = {hn::IfThenElse(take, a.x, axis.x), hn::IfThenElse(take, a.y, axis.y), hn::IfThenElse(take, a.z, axis.z)};
+        n = hn::IfThenElse(take, K(d, lobes[i].n[c]), n);
+        chosen = hn::Or(chosen, take);
+        target = hn::IfThenElse(take, hn::Sub(target, w[i][c]), target);
+      }
+    const V<D> len = hn::Sqrt(Dot(axis, axis));
+    const V3<D> a_unit{hn::Div(axis.x, len), hn::Div(axis.y, len), hn::Div(axis.z, len)};
+    const V3<D> wl = CosinePowerSample(d, a_unit, n, u0, u1);
+    const V3<D> wc = CosineHemisphere(d, u0, u1);
+    return {hn::IfThenElse(chosen, wl.x, wc.x), hn::IfThenElse(chosen, wl.y, wc.y), hn::IfThenElse(chosen, wl.z, wc.z)};
+  }
   // pdf(sampling_weights(wo), wi, wo).
   template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
     V<D> w[kLafortuneMaxLobes][3];
@@ -640,6 +670,66 @@ template <typename T> struct MetalK {
       case SpecularLobeKind::AshikhminShirley: return as.Pdf(d, wi, wo);
       default: return ggx.Pdf(d, wi, wo);
     }
+  }
+  template <class D> HWY_INLINE V3<D> SpecularSample(D d, const V3<D>& wo, V<D> u0, V<D> u1) const {
+    switch (kind) {
+      case SpecularLobeKind::Ward: return ward.Sample(d, wo, u0, u1);
+      case SpecularLobeKind::AshikhminShirley: return as.Sample(d, wo, u0, u1);
+      default: return ggx.Sample(d, wo, u0, u1);
+    }
+  }
+  // specular_probability(wo).
+  template <class D> HWY_INLINE V<D> SpecularProbability(D d, const V3<D>& wo, V<D> ws[3]) const {
+    V<D> fw[3];
+    for (int c = 0; c < 3; ++c) fw[c] = hn::Mul(K(d, specular_weight[c]), FConductor(d, wo.z, eta[c], k[c]));
+    const V<D> s = Average(d, fw[0], fw[1], fw[2]);
+    V<D> dsum = hn::Zero(d);
+    for (int c = 0; c < 3; ++c) ws[c] = hn::Zero(d);
+    if (has_dd)
+      for (int c = 0; c < 3; ++c) dsum = hn::Add(dsum, ws[c] = dd.ChannelWeight(d, wo, c));
+    const V<D> sd = hn::Add(s, dsum);
+    return hn::IfThenElse(hn::Gt(sd, hn::Zero(d)), hn::Div(s, sd), K(d, 1));
+  }
+  // MetalT::sample's direction: the specular lobe with probability ps, else a channel of the
+  // directional-diffuse lobe picked by weight with uc rescaled (first c with target < ws[c], else
+  // the last positive one); no weight at all is "no sample".
+  template <class D>
+  HWY_INLINE V3<D> SampleDirection(D d, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1, M<D>& ok) const {
+    V<D> ws[3];
+    const V<D> ps = SpecularProbability(d, wo, ws);
+    const M<D> spec = hn::Lt(uc, ps);
+    const V3<D> w_spec = SpecularSample(d, wo, u0, u1);
+    if (!has_dd) {
+      ok = hn::And(ok, spec);  // ps = 1 here unless every weight is 0
+      return w_spec;
+    }
+    const V<D> wsum = hn::Add(hn::Add(ws[0], ws[1]), ws[2]);
+    V<D> target = hn::Mul(hn::Div(hn::Sub(uc, ps), hn::Sub(K(d, 1), ps)), wsum);
+    M<D> found = hn::Lt(K(d, 1), hn::Zero(d));  // all false
+    V<D> chosen = K(d, 2);
+    for (int c = 0; c < 3; ++c) {
+      const M<D> hit = hn::AndNot(found, hn::And(hn::Gt(ws[c], hn::Zero(d)), hn::Lt(target, ws[c])));
+      chosen = hn::IfThenElse(hit, K(d, T(c)), chosen);
+      found = hn::Or(found, hit);
+      target = hn::IfThenElse(found, target, hn::Sub(target, ws[c]));
+    }
+    // while (chosen > 0 && !(ws[chosen] > 0)) --chosen, for the lanes that found nothing.
+    const V<D> last_positive = hn::IfThenElse(hn::Gt(ws[2], hn::Zero(d)), K(d, 2),
+                                              hn::IfThenElse(hn::Gt(ws[1], hn::Zero(d)), K(d, 1), hn::Zero(d)));
+    chosen = hn::IfThenElse(found, chosen, last_positive);
+    V3<D> axis{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+    V<D> n = hn::Zero(d);
+    for (int c = 0; c < 3; ++c) {
+      const M<D> is_c = hn::Eq(chosen, K(d, T(c)));
+      const V3<D> a = dd.Axis(d, wo, c);
+      axis = {hn::IfThenElse(is_c, a.x, axis.x), hn::IfThenElse(is_c, a.y, axis.y), hn::IfThenElse(is_c, a.z, axis.z)};
+      n = hn::IfThenElse(is_c, K(d, dd.n[c]), n);
+    }
+    const V<D> len = hn::Sqrt(Dot(axis, axis));
+    const V3<D> w_dd = CosinePowerSample(d, V3<D>{hn::Div(axis.x, len), hn::Div(axis.y, len), hn::Div(axis.z, len)}, n, u0, u1);
+    ok = hn::And(ok, hn::Or(spec, hn::Gt(wsum, hn::Zero(d))));
+    return {hn::IfThenElse(spec, w_spec.x, w_dd.x), hn::IfThenElse(spec, w_spec.y, w_dd.y),
+            hn::IfThenElse(spec, w_spec.z, w_dd.z)};
   }
   template <class D> HWY_INLINE RGBV<D> F(D d, const V3<D>& wi, const V3<D>& wo) const {
     const M<D> upper = UpperBoth(d, wi, wo);
@@ -745,11 +835,14 @@ template <typename T> void RunMaterial(const MaterialT<T>& m, const EvalArgs<T>&
 
 // --- Sampling: sample_diffuse_specular + make_sample -------------------------------------------
 
-// The models whose sample() is sample_diffuse_specular (Phong, Ward, Ashikhmin-Shirley, GGX) and
-// Lambert's; Lafortune and the metal pick one of up to 25 lobes and stay scalar (batch.cpp).
+// sample_diffuse_specular (Phong, Ward, Ashikhmin-Shirley, GGX), Lambert's cosine sampling, and the
+// models with their own lobe choice (Lafortune, metal: SampleDirection), then make_sample.
 template <class D, class Kernel> HWY_INLINE void SampleVec(D d, const Kernel& k, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1,
                                                           V3<D>& wi, RGBV<D>& weight, V<D>& pdf, M<D>& valid) {
-  if constexpr (requires { k.SpecularProbability(d, wo); }) {
+  M<D> direction_ok = hn::Gt(wo.z, hn::Zero(d));
+  if constexpr (requires { k.SampleDirection(d, wo, uc, u0, u1, direction_ok); }) {
+    wi = k.SampleDirection(d, wo, uc, u0, u1, direction_ok);
+  } else if constexpr (requires { k.SpecularProbability(d, wo); }) {
     const M<D> spec = hn::Lt(uc, k.SpecularProbability(d, wo));
     const V3<D> ws = k.lobe.Sample(d, wo, u0, u1);
     const V3<D> wd = CosineHemisphere(d, u0, u1);
@@ -760,7 +853,7 @@ template <class D, class Kernel> HWY_INLINE void SampleVec(D d, const Kernel& k,
   // make_sample, with the checks of sample_diffuse_specular: wo and wi above the horizon, pdf > 0.
   const V<D> p = k.Pdf(d, wi, wo);
   const RGBV<D> f = k.F(d, wi, wo);
-  valid = hn::And(hn::And(hn::Gt(wo.z, hn::Zero(d)), hn::Gt(wi.z, hn::Zero(d))), hn::Gt(p, hn::Zero(d)));
+  valid = hn::And(hn::And(direction_ok, hn::Gt(wi.z, hn::Zero(d))), hn::Gt(p, hn::Zero(d)));
   const V<D> scale = hn::Div(wi.z, hn::IfThenElse(valid, p, K(d, 1)));
   for (int c = 0; c < 3; ++c) weight.c[c] = hn::IfThenElseZero(valid, hn::Mul(f.c[c], scale));
   wi = {hn::IfThenElseZero(valid, wi.x), hn::IfThenElseZero(valid, wi.y), hn::IfThenElseZero(valid, wi.z)};
@@ -812,8 +905,9 @@ template <typename T> bool SampleMaterial(const MaterialT<T>& m, const SampleArg
     case ModelKind::Ward: SampleRange(d, LambertPlusLobeK<T, WardLobeK<T>>(m.ward), a, begin, end); return true;
     case ModelKind::AshikhminShirley: SampleRange(d, AshikhminShirleyK<T>(m.ashikhmin_shirley), a, begin, end); return true;
     case ModelKind::GGX: SampleRange(d, GGXK<T>(m.ggx), a, begin, end); return true;
-    case ModelKind::Lambert: SampleRange(d, LambertK<T>(m.lambert), a, begin, end); return true;
-    default: return false;
+    case ModelKind::Lafortune: SampleRange(d, LafortuneK<T>(m.lafortune), a, begin, end); return true;
+    case ModelKind::Metal: SampleRange(d, MetalK<T>(m.metal), a, begin, end); return true;
+    default: SampleRange(d, LambertK<T>(m.lambert), a, begin, end); return true;
   }
 }
 
