@@ -162,11 +162,11 @@ int cmd_fresnel(const FresnelArgs& a) {
 }
 
 int cmd_metals() {
-  std::string out = fmt::format("{:<10} {:<3} {:<32} {:<32} {:<32} {}\n", "# name", "", "eta (r g b)", "k (r g b)", "F0 (r g b)", "source");
+  std::string out = fmt::format("{:<10} {:<4} {:<32} {:<32} {:<32} {}\n", "# name", "", "eta (r g b)", "k (r g b)", "F0 (r g b)", "source");
   for (const MetalData& md : metal_table()) {
     const RGBT<double> f0 = F_Conductor(1.0, RGBT<double>(md.eta), RGBT<double>(md.k));
     const auto rgb = [](const glm::dvec3& v) { return fmt::format("{:.4f} {:.4f} {:.4f}", v.x, v.y, v.z); };
-    out += fmt::format("{:<10} {:<3} {:<32} {:<32} {:<32} {}\n", md.name, md.symbol, rgb(md.eta), rgb(md.k), rgb(f0), md.source);
+    out += fmt::format("{:<10} {:<4} {:<32} {:<32} {:<32} {}\n", md.name, md.symbol, rgb(md.eta), rgb(md.k), rgb(f0), md.source);
   }
   write_stdout(out);
   return 0;
