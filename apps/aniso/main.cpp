@@ -436,7 +436,8 @@ int main(int argc, char** argv) {
   auto* sample = app.add_subcommand("sample", "write N lines 'wi.x wi.y wi.z weight_r weight_g weight_b pdf'");
   sample->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
   sample->add_option("--wo", wo, "viewing direction x y z (local frame)")->required()->expected(3);
-  sample->add_option("--count,-n", count_text, fmt::format("number of samples (lines), 0 to {}", kMaxCount));
+  // --samples counts the same thing as albedo's --samples (draws of sample()); --count is kept.
+  sample->add_option("--count,-n,--samples", count_text, fmt::format("number of samples (draws of sample(): output lines), 0 to {}", kMaxCount));
   sample->add_option("--seed", seed_text, "random seed, 0 to 2^64-1");
 
   double theta = 0.0, phi = 0.0;
