@@ -61,6 +61,10 @@ template <typename T> void make_pairs(batch::DirectionArray<T>& wi, batch::Direc
     const Vec3T<T> o = random_upper<T>(rng);
     vi.push_back(reflect_about_normal(o)), vo.push_back(o);  // h = wi + wo along n
   }
+  // Around the horizon cosine (math.h: 1e-6 in float, 1e-12 in double), on both sides.
+  const double horizon = HorizonCos<T>::value;
+  for (int i = 0; i < 60; ++i) vi.push_back(grazing(0.1 * horizon, 10.0 * horizon)), vo.push_back(random_upper<T>(rng));
+  for (int i = 0; i < 60; ++i) vi.push_back(random_upper<T>(rng)), vo.push_back(grazing(0.1 * horizon, 10.0 * horizon));
   vi.push_back(Vec3T<T>(0, 0, 1)), vo.push_back(Vec3T<T>(0, 0, 1));  // both along n
   for (int i = 0; i < 100; ++i) {
     Vec3T<T> i_dir = random_upper<T>(rng), o_dir = random_upper<T>(rng);

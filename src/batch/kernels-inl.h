@@ -76,9 +76,13 @@ template <class D> HWY_INLINE V3<D> Normalize(D d, const V3<D>& v) {
 template <class D> HWY_INLINE V<D> SafeSqrt(D d, V<D> x) { return hn::Sqrt(hn::IfThenElseZero(hn::Gt(x, hn::Zero(d)), x)); }
 // clamp01.
 template <class D> HWY_INLINE V<D> Clamp01(D d, V<D> x) { return hn::Min(hn::Max(x, hn::Zero(d)), K(d, 1)); }
+// above_horizon: cos(theta) > horizon_cos<T>() (math.h, "The horizon").
+template <class D> HWY_INLINE M<D> AboveHorizon(D d, V<D> cos_theta) {
+  return hn::Gt(cos_theta, K(d, horizon_cos<hn::TFromD<D>>()));
+}
 // same_upper_hemisphere.
 template <class D> HWY_INLINE M<D> UpperBoth(D d, const V3<D>& wi, const V3<D>& wo) {
-  return hn::And(hn::Gt(wi.z, hn::Zero(d)), hn::Gt(wo.z, hn::Zero(d)));
+  return hn::And(AboveHorizon(d, wi.z), AboveHorizon(d, wo.z));
 }
 // average(c) = (c.x + c.y + c.z) / 3.
 template <class D> HWY_INLINE V<D> Average(D d, V<D> r, V<D> g, V<D> b) {
@@ -172,7 +176,8 @@ template <class D> HWY_INLINE V<D> FConductor(D d, V<D> cos_theta, hn::TFromD<D>
   const V<D> t3 = hn::Add(hn::Mul(cos2, a2_plus_b2), hn::Mul(sin2, sin2));
   const V<D> t4 = hn::Mul(t2, sin2);
   const V<D> rp = hn::Div(hn::Mul(rs, hn::Sub(t3, t4)), hn::Add(t3, t4));
-  return hn::Mul(K(d, T(0.5)), hn::Add(rp, rs));
+  const V<D> f = hn::Mul(K(d, T(0.5)), hn::Add(rp, rs));
+  return hn::IfThenElseZero(hn::Gt(f, hn::Zero(d)), f);  // clamped at 0, as the scalar code
 }
 
 // --- lobe_mixture.h twins --------------------------------------------------------------------
@@ -536,17 +541,26 @@ template <typename T> struct GGXK {
 // --- lafortune.h twins -------------------------------------------------------------------------
 
 template <typename T> struct LafortuneLobeK {
-  T cx[3], cy[3], cz[3], n[3], scale[3];
+  T cx[3], cy[3], cz[3], n[3], scale[3], log_scale[3];
   LafortuneLobeK() = default;
   explicit LafortuneLobeK(const LafortuneLobeT<T>& l) {
-    for (int c = 0; c < 3; ++c) cx[c] = l.cx[c], cy[c] = l.cy[c], cz[c] = l.cz[c], n[c] = l.n[c], scale[c] = l.scale[c];
+    using std::log;
+    for (int c = 0; c < 3; ++c) {
+      cx[c] = l.cx[c], cy[c] = l.cy[c], cz[c] = l.cz[c], n[c] = l.n[c], scale[c] = l.scale[c];
+      log_scale[c] = l.scale[c] > T(0) ? log(l.scale[c]) : T(0);
+    }
   }
-  // LafortuneLobeT::eval, channel c: scale max(Cx p.x + Cy p.y + Cz p.z, 0)^n, p = wi * wo.
+  // Lafortune_Lobe(base, n, scale) = exp(n log(base) + log(scale)) for base > 0 and scale > 0.
+  template <class D> HWY_INLINE V<D> Lobe(D d, V<D> base, int c) const {
+    if (!(scale[c] > T(0))) return hn::Zero(d);
+    const M<D> pos = hn::Gt(base, hn::Zero(d));
+    const V<D> safe = hn::IfThenElse(pos, base, K(d, 1));
+    return hn::IfThenElseZero(pos, hn::Exp(d, hn::Add(hn::Mul(K(d, n[c]), hn::Log(d, safe)), K(d, log_scale[c]))));
+  }
+  // LafortuneLobeT::eval, channel c, p = wi * wo.
   template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& p, int c) const {
     const V<D> base = hn::Add(hn::Add(hn::Mul(K(d, cx[c]), p.x), hn::Mul(K(d, cy[c]), p.y)), hn::Mul(K(d, cz[c]), p.z));
-    const M<D> pos = hn::Gt(base, hn::Zero(d));  // Lafortune_Lobe
-    const V<D> lobe = hn::IfThenElseZero(pos, PowPositive(d, hn::IfThenElse(pos, base, K(d, 1)), K(d, n[c])));
-    return hn::Mul(K(d, scale[c]), lobe);
+    return Lobe(d, base, c);
   }
   template <class D> HWY_INLINE V3<D> Axis(D d, const V3<D>& wo, int c) const {
     return {hn::Mul(K(d, cx[c]), wo.x), hn::Mul(K(d, cy[c]), wo.y), hn::Mul(K(d, cz[c]), wo.z)};
@@ -558,10 +572,7 @@ template <typename T> struct LafortuneLobeK {
     const V<D> len = hn::Sqrt(Dot(a, a));
     const M<D> ok = hn::And(hn::Gt(len, hn::Zero(d)), hn::Gt(a.z, hn::Zero(d)));
     const V<D> safe_len = hn::IfThenElse(ok, len, K(d, 1));
-    const V<D> w = hn::Div(hn::Mul(hn::Mul(hn::Mul(hn::Mul(K(d, scale[c]), PowPositive(d, safe_len, K(d, n[c]))),
-                                                   hn::Div(a.z, safe_len)),
-                                           K(d, T(2))),
-                                   K(d, kPi<T>)),
+    const V<D> w = hn::Div(hn::Mul(hn::Mul(hn::Mul(Lobe(d, safe_len, c), hn::Div(a.z, safe_len)), K(d, T(2))), K(d, kPi<T>)),
                            K(d, (n[c] + T(1)) * T(3)));
     return hn::IfThenElseZero(ok, w);
   }
@@ -839,7 +850,7 @@ template <typename T> void RunMaterial(const MaterialT<T>& m, const EvalArgs<T>&
 // models with their own lobe choice (Lafortune, metal: SampleDirection), then make_sample.
 template <class D, class Kernel> HWY_INLINE void SampleVec(D d, const Kernel& k, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1,
                                                           V3<D>& wi, RGBV<D>& weight, V<D>& pdf, M<D>& valid) {
-  M<D> direction_ok = hn::Gt(wo.z, hn::Zero(d));
+  M<D> direction_ok = AboveHorizon(d, wo.z);
   if constexpr (requires { k.SampleDirection(d, wo, uc, u0, u1, direction_ok); }) {
     wi = k.SampleDirection(d, wo, uc, u0, u1, direction_ok);
   } else if constexpr (requires { k.SpecularProbability(d, wo); }) {
@@ -853,7 +864,7 @@ template <class D, class Kernel> HWY_INLINE void SampleVec(D d, const Kernel& k,
   // make_sample, with the checks of sample_diffuse_specular: wo and wi above the horizon, pdf > 0.
   const V<D> p = k.Pdf(d, wi, wo);
   const RGBV<D> f = k.F(d, wi, wo);
-  valid = hn::And(hn::And(direction_ok, hn::Gt(wi.z, hn::Zero(d))), hn::Gt(p, hn::Zero(d)));
+  valid = hn::And(hn::And(direction_ok, AboveHorizon(d, wi.z)), hn::Gt(p, hn::Zero(d)));
   const V<D> scale = hn::Div(wi.z, hn::IfThenElse(valid, p, K(d, 1)));
   for (int c = 0; c < 3; ++c) weight.c[c] = hn::IfThenElseZero(valid, hn::Mul(f.c[c], scale));
   wi = {hn::IfThenElseZero(valid, wi.x), hn::IfThenElseZero(valid, wi.y), hn::IfThenElseZero(valid, wi.z)};
