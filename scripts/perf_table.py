@@ -3,7 +3,8 @@
 
 Usage: scripts/perf_table.py RUN1.json [RUN2.json ...] [--clock-ghz 2.3] [--lanes 16] [--cores 2]
 
-Each JSON file is one `aniso_bench --benchmark_repetitions=N --benchmark_out=RUN.json
+Every rate is per second of wall-clock time (the scalar benchmarks' CPU-time rate is rescaled by
+cpu_time / real_time). Each JSON file is one `aniso_bench --benchmark_repetitions=N --benchmark_out=RUN.json
 --benchmark_out_format=json` run. Per run, the median over its repetitions of every benchmark's
 items_per_second; the ratios batch / scalar and batch_mt / batch are taken within a run (the machine
 is shared: runs differ, a run's benchmarks are close in time); the table gives the median over runs
@@ -39,7 +40,12 @@ def medians(path):
     out = {}
     for b in data["benchmarks"]:
         if b.get("aggregate_name") == "median" and "items_per_second" in b:
-            out[b["run_name"]] = b["items_per_second"]
+            rate = b["items_per_second"]
+            if not b["run_name"].startswith(("batch/", "batch_mt/")):
+                # The scalar benchmarks' items_per_second is per CPU second: rescale it to the
+                # wall clock (cpu_time / real_time) like the batch benchmarks' own counter.
+                rate *= b["cpu_time"] / b["real_time"]
+            out[b["run_name"]] = rate
     return out
 
 

@@ -38,6 +38,10 @@ HWY_AFTER_NAMESPACE();
 #include <xmmintrin.h>
 #endif
 
+#include <cstdlib>
+#include <cstring>
+
+#include <hwy/targets.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -88,7 +92,28 @@ class FlushSubnormals {
   unsigned saved_ = 0;
 };
 
+// ANISO_SIMD=avx2 in the environment keeps the dispatcher off AVX-512 (to measure, on an AVX-512
+// machine, what an AVX2-only machine such as the CI's gets); read once, before the first dispatch.
+void apply_simd_limit_from_environment() {
+  static const bool applied = [] {
+    const char* limit = std::getenv("ANISO_SIMD");
+    if (limit != nullptr && std::strcmp(limit, "avx2") == 0) {
+      uint32_t avx512 = HWY_AVX3 | HWY_AVX3_DL;
+#ifdef HWY_AVX3_ZEN4
+      avx512 |= HWY_AVX3_ZEN4;
+#endif
+#ifdef HWY_AVX3_SPR
+      avx512 |= HWY_AVX3_SPR;
+#endif
+      hwy::DisableTargets(avx512);
+    }
+    return true;
+  }();
+  (void)applied;
+}
+
 template <typename Fn> void for_blocks(size_t n, Threads threads, Fn&& fn) {
+  apply_simd_limit_from_environment();
   const size_t blocks = (n + kBlock - 1) / kBlock;
   const auto run = [&](size_t b) { fn(b * kBlock, std::min(n, (b + 1) * kBlock)); };
   if (threads == Threads::One || blocks <= 1) {
@@ -177,9 +202,18 @@ void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, c
   });
 }
 
-const char* simd_target() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
-size_t simd_lanes_float() { return HWY_DYNAMIC_DISPATCH(LanesFloat)(); }
-size_t simd_lanes_double() { return HWY_DYNAMIC_DISPATCH(LanesDouble)(); }
+const char* simd_target() {
+  apply_simd_limit_from_environment();
+  return HWY_DYNAMIC_DISPATCH(TargetName)();
+}
+size_t simd_lanes_float() {
+  apply_simd_limit_from_environment();
+  return HWY_DYNAMIC_DISPATCH(LanesFloat)();
+}
+size_t simd_lanes_double() {
+  apply_simd_limit_from_environment();
+  return HWY_DYNAMIC_DISPATCH(LanesDouble)();
+}
 
 template void evaluate<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, Colors<float>, Threads,
                               Kernels);

@@ -71,7 +71,8 @@ template <typename T>
 void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
             Threads threads = Threads::All);
 
-// The Highway target the dispatcher picked on this machine ("AVX3", "AVX2", ...).
+// The Highway target the dispatcher picked on this machine ("AVX3", "AVX2", ...). The environment
+// variable ANISO_SIMD=avx2 keeps it off AVX-512 (for measurements; read at the first call).
 const char* simd_target();
 // Lanes of one float / double vector on that target.
 size_t simd_lanes_float();
