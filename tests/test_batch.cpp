@@ -360,3 +360,65 @@ TEST(Batch, ScalarKernelsAreTheScalarPathBitForBit) {
 
 }  // namespace
 }  // namespace aniso::test
+
+namespace aniso::test {
+namespace {
+
+// The chi-square suite of test_sampling.cpp (every test material, normal, moderate, oblique and
+// near-grazing views), run on the batch sampler: one batch::sample call draws all the samples with
+// the harness's uniforms, in its order; expected frequencies from the scalar double pdf.
+struct BatchSamplingCase {
+  std::string material;
+  nlohmann::json json;
+  double theta_deg, phi_deg;
+};
+
+std::vector<BatchSamplingCase> batch_sampling_cases() {
+  std::vector<BatchSamplingCase> cases;
+  const double views[][2] = {{0.0, 0.0}, {35.0, 30.0}, {65.0, 120.0}, {85.0, 200.0}};
+  for (const auto& m : all_model_materials())
+    for (const auto& v : views) cases.push_back({m.name, m.json, v[0], v[1]});
+  return cases;
+}
+
+void PrintTo(const BatchSamplingCase& c, std::ostream* os) {
+  *os << c.material << " wo(theta " << c.theta_deg << ", phi " << c.phi_deg << ")";
+}
+
+class BatchSamplingTest : public testing::TestWithParam<BatchSamplingCase> {};
+
+TEST_P(BatchSamplingTest, ChiSquareMatchesPdf) {
+  constexpr int64_t kSamples = 1'000'000;
+  const BatchSamplingCase& c = GetParam();
+  const MaterialT<float> m = build<float>(c.json);
+  const MaterialD md = build<double>(c.json);
+  const Vec3d wod = spherical(c.theta_deg, c.phi_deg);
+  const Vec3 wo = Vec3(wod);
+  const uint64_t seed = 7;
+  Rng rng(seed);
+  batch::DirectionArray<float> wos(kSamples);
+  std::vector<float> uc(kSamples), u0(kSamples), u1(kSamples);
+  for (int64_t i = 0; i < kSamples; ++i) {
+    wos.set(size_t(i), wo);
+    uc[i] = rng.uniform_as<float>(), u0[i] = rng.uniform_as<float>(), u1[i] = rng.uniform_as<float>();
+  }
+  batch::SampleArray<float> s(kSamples);
+  batch::sample(m, wos.view(), uc.data(), u0.data(), u1.data(), kSamples, s.view());
+  int64_t next = 0;
+  const Chi2Result r = chi2_test([&](float, Vec2) { return s.get(size_t(next++)); },
+                                 [&](const Vec3d& wi) { return md.pdf(wi, wod); }, kSamples, seed);
+  ASSERT_TRUE(r.message.empty()) << r.message;
+  const double significance = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(batch_sampling_cases().size()));
+  EXPECT_GT(r.p_value, significance) << c.material << " wo theta " << c.theta_deg << ": chi2 " << r.chi2 << " dof "
+                                     << r.dof << " pdf integral " << r.pdf_integral << " accepted "
+                                     << r.accepted_fraction;
+  EXPECT_NEAR(r.pdf_integral, r.accepted_fraction, 5e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, BatchSamplingTest, testing::ValuesIn(batch_sampling_cases()),
+                         [](const testing::TestParamInfo<BatchSamplingCase>& info) {
+                           return info.param.material + "_theta" + std::to_string(int(info.param.theta_deg));
+                         });
+
+}  // namespace
+}  // namespace aniso::test
