@@ -139,8 +139,8 @@ template <typename T> void check_against_scalar(const NamedMaterial& nm) {
       ADD_FAILURE() << nm.name << type << " pdf: " << show(i) << " batch " << p[i] << " scalar " << ps[i]
                     << " double " << pd[i];
   }
-  testing::Test::RecordProperty("worst_f_excess", std::to_string(worst_f));
-  testing::Test::RecordProperty("worst_pdf_excess", std::to_string(worst_p));
+  testing::Test::RecordProperty("worst_f_excess", fmt::format("{:.3g}", worst_f));
+  testing::Test::RecordProperty("worst_pdf_excess", fmt::format("{:.3g}", worst_p));
 }
 
 TEST_P(BatchTest, EvaluateAndPdfMatchScalarFloat) { check_against_scalar<float>(GetParam()); }

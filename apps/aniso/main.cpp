@@ -77,8 +77,9 @@ bool read_stdin_line(std::string& line, size_t line_no) {
 // still ends the command with exit 2).
 // Piped input of kEvalBatchThreshold pairs or more goes through the batch path on all cores, with
 // the scalar kernels (batch::Kernels::Scalar), so that a line's output never depends on how many
-// lines came with it: the SIMD twins agree to ~1e-13 relative in double, which still flips the 9th
-// printed digit of about one number in 2000 (tests/test_batch.cpp). Below it, the plain loop.
+// lines came with it: the SIMD twins agree to ~1e-14 relative in double, which still flips a 9th
+// printed digit now and then (within the first 2000 numbers of tests/test_batch.cpp's input).
+// Below it, the plain loop.
 constexpr size_t kEvalBatchThreshold = 1024;
 
 int cmd_eval(const std::string& material, bool angles) {
