@@ -95,9 +95,10 @@ void bm_batch(benchmark::State& state, const Material m, What what, batch::Threa
   // ".../real_time", and the names are fixed).
   const double items = double(state.iterations()) * double(n);
   state.counters["items_per_second"] = benchmark::Counter(items / std::max(wall_seconds, 1e-12));
-  // Items per CPU second of the whole process (all threads): on a machine whose other core is busy
-  // with other work, batch_mt cannot run faster than batch, but if its items per CPU second equal
-  // batch's, the parallel version wastes nothing and scales with the cores it gets.
+  // Items per CPU second of the whole process (all threads): items_per_second / items_per_cpu_second
+  // is the average number of threads that worked, which tells a batch_mt run on a machine whose
+  // other cores are busy with other work (1.0: the calling thread did all the blocks) from one
+  // that had them.
   state.counters["items_per_cpu_second"] =
       benchmark::Counter(items / std::max(process_cpu_seconds() - cpu_start, 1e-12));
   state.SetLabel(batch::simd_target());
