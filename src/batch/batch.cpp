@@ -92,21 +92,23 @@ class FlushSubnormals {
   unsigned saved_ = 0;
 };
 
-// ANISO_SIMD=avx2 in the environment keeps the dispatcher off AVX-512 (to measure, on an AVX-512
-// machine, what an AVX2-only machine such as the CI's gets); read once, before the first dispatch.
+// ANISO_SIMD in the environment caps the dispatcher (to measure and test, on an AVX-512 machine,
+// the code other machines run): "avx2" (8 float lanes, the CI machine's), "sse4" (4 lanes),
+// "baseline" (the compiled-in minimum, SSE2 on x86-64). Read once, before the first dispatch.
 void apply_simd_limit_from_environment() {
   static const bool applied = [] {
     const char* limit = std::getenv("ANISO_SIMD");
-    if (limit != nullptr && std::strcmp(limit, "avx2") == 0) {
-      uint32_t avx512 = HWY_AVX3 | HWY_AVX3_DL;
+    if (limit == nullptr) return true;
+    int64_t avx512 = HWY_AVX3 | HWY_AVX3_DL;
 #ifdef HWY_AVX3_ZEN4
-      avx512 |= HWY_AVX3_ZEN4;
+    avx512 |= HWY_AVX3_ZEN4;
 #endif
 #ifdef HWY_AVX3_SPR
-      avx512 |= HWY_AVX3_SPR;
+    avx512 |= HWY_AVX3_SPR;
 #endif
-      hwy::DisableTargets(avx512);
-    }
+    if (std::strcmp(limit, "avx2") == 0) hwy::DisableTargets(avx512);
+    else if (std::strcmp(limit, "sse4") == 0) hwy::DisableTargets(avx512 | HWY_AVX2);
+    else if (std::strcmp(limit, "baseline") == 0) hwy::DisableTargets(~int64_t(0));  // the baseline stays
     return true;
   }();
   (void)applied;

@@ -72,7 +72,8 @@ void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, c
             Threads threads = Threads::All);
 
 // The Highway target the dispatcher picked on this machine ("AVX3", "AVX2", ...). The environment
-// variable ANISO_SIMD=avx2 keeps it off AVX-512 (for measurements; read at the first call).
+// variable ANISO_SIMD (avx2, sse4, baseline) caps it, for measurements and tests; read at the
+// first call.
 const char* simd_target();
 // Lanes of one float / double vector on that target.
 size_t simd_lanes_float();
