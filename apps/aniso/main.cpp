@@ -19,6 +19,7 @@
 
 #include <unistd.h>
 
+#include "commands.h"
 #include "data/metals.h"
 #include "io/materials.h"
 #include "io/presets.h"
@@ -370,6 +371,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(CLI::Range(-30.0, 30.0));
   render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp")->check(CLI::IsMember({"aces", "clamp"}));
   render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
+
+  add_export_commands(app);
 
   // An unknown command would otherwise be reported by CLI11 as "A subcommand is required".
   if (argc > 1 && argv[1][0] != '-') {

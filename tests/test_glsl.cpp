@@ -1,0 +1,218 @@
+// tests/test_glsl.cpp: the GLSL twin of the kernels (include/aniso/**/*.glsl): it compiles as GLSL
+// 3.30 core and ES 3.00, every parameter table entry has a GLSL counterpart, and on llvmpipe (or
+// any GL 4.5) every model, form and normalisation matches the C++ float kernels on a grid of
+// direction pairs: f, pdf, and sampling fed the same u. A mismatch names the GLSL function.
+#include <functional>
+#include <sstream>
+
+#include "glsl_util.h"
+#include "io/presets.h"
+#include "test_util.h"
+
+namespace aniso::test {
+namespace {
+
+using gl::GlslDialect;
+
+// --- compilation -------------------------------------------------------------------------------
+
+TEST(GlslLibrary, EveryFileCompilesAsCore330AndEs300) {
+  ANISO_REQUIRE_GLSLANG();
+  // File k with the files before it (its dependencies), as a fragment shader with an empty main.
+  std::string prefix;
+  for (const gl::GlslFile& f : gl::glsl_library_files()) {
+    prefix += std::string(f.source) + "\n";
+    // No line may start with '#': no preprocessor (a shader brings its own #version), and BRDF
+    // Explorer drops such lines from a .brdf shader.
+    std::istringstream lines{std::string(f.source)};
+    for (std::string line; std::getline(lines, line);) {
+      const size_t first = line.find_first_not_of(" \t");
+      EXPECT_FALSE(first != std::string::npos && line[first] == '#') << f.path << ": " << line;
+    }
+    for (GlslDialect d : {GlslDialect::Core330, GlslDialect::Es300}) {
+      const std::string src = gl::glsl_preamble(d) + prefix + "void main() {}\n";
+      EXPECT_EQ(glslang_errors(src, "frag", "lib"), "")
+          << f.path << " (with the files before it) as " << (d == GlslDialect::Core330 ? "GLSL 3.30 core" : "GLSL ES 3.00");
+    }
+  }
+}
+
+// --- the material's parameters from the tables ------------------------------------------------
+
+std::vector<NamedMaterial> materials_with_presets() {
+  std::vector<NamedMaterial> v = all_model_materials();
+  // One of each preset family: the lecture's Lafortune fit, pbrt-v1 fits, metals (GGX and brushed
+  // Ward + directional diffuse), Ngan 2005 fits.
+  for (const char* name : {"matte-steel", "clay", "brushedmetal", "gold", "brushed-copper", "ngan/ashikhminshirley/blue-acrylic"}) {
+    const auto p = find_preset(name);
+    if (p) v.push_back({std::string("preset_") + name, *p});
+  }
+  for (auto& m : v)
+    for (char& c : m.name)
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return v;
+}
+
+TEST(GlslMaterial, EveryTableEntryHasAGlslCounterpart) {
+  for (const NamedMaterial& nm : materials_with_presets()) {
+    const MaterialDesc d = parse_material(nm.json, nm.name);
+    for (gl::GlslStorage s : {gl::GlslStorage::Uniform, gl::GlslStorage::Const, gl::GlslStorage::BrdfExplorer})
+      EXPECT_NO_THROW(gl::glsl_material(d, s, "u_")) << nm.name;
+  }
+}
+
+TEST(GlslMaterial, ATableEntryWithoutCounterpartFails) {
+  // The ward table with one more entry: the generator makes a slot for it, no builder uses it.
+  const ModelSpec& ward = *find_model_spec("ward");
+  std::vector<ParamSpec> extra;
+  for (const ParamSpec* p : ward.params()) extra.push_back(*p);
+  extra.push_back({.name = "sheen", .kind = ParamKind::Scalar, .doc = "not a Ward parameter", .default_value = 0.5});
+  const std::span<const ParamSpec> parts[] = {extra};
+  const ModelSpec fake{"ward", "Ward + sheen", "", parts};
+  const MaterialDesc d = parse_material({{"model", "ward"}}, "fake");
+  try {
+    gl::glsl_material(d, fake, gl::GlslStorage::Uniform, "u_");
+    FAIL() << "a table entry without a GLSL counterpart was accepted";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("ward.sheen"), std::string::npos) << e.what();
+  }
+}
+
+TEST(GlslMaterial, FloatLiteralsReadBackExactly) {
+  for (double x : {0.15, 1.0, 1e6, 1e-3, -100.0, 0.318309886, 3.0e-8}) {
+    const std::string s = gl::glsl_float_literal(x);
+    EXPECT_EQ(std::stof(s), float(x)) << s;
+    EXPECT_NE(s.find_first_of(".e"), std::string::npos) << s << " must be a float literal";
+  }
+}
+
+// --- parity on the GPU (llvmpipe in CI) ----------------------------------------------------------
+
+struct Grid {
+  std::vector<glm::vec3> wi, wo, u;
+  std::vector<std::string> kind;
+};
+
+glm::vec3 unit(double theta, double phi) {
+  return glm::vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+}
+
+// Random pairs, near-mirror pairs, grazing pairs (one or both within 0.06 rad of the horizon),
+// h = n (wi the exact mirror of wo), and a few below the horizon (f = pdf = 0, "no sample").
+Grid make_grid() {
+  Grid g;
+  Rng rng(6);
+  auto add = [&](glm::vec3 a, glm::vec3 b, const char* k) {
+    g.wi.push_back(glm::normalize(a));
+    g.wo.push_back(glm::normalize(b));
+    g.u.push_back(glm::vec3(float(rng.uniform()), float(rng.uniform()), float(rng.uniform())));
+    g.kind.push_back(k);
+  };
+  for (int i = 0; i < 400; ++i) add(random_upper<float>(rng), random_upper<float>(rng), "random");
+  for (int i = 0; i < 200; ++i) {
+    const glm::vec3 wo = random_upper<float>(rng);
+    const glm::vec3 m(-wo.x, -wo.y, wo.z);
+    const glm::vec3 jitter = 0.05f * glm::vec3(float(rng.uniform() - 0.5), float(rng.uniform() - 0.5), 0.f);
+    glm::vec3 wi = m + jitter;
+    if (wi.z <= 0.01f) wi.z = 0.01f;
+    add(wi, wo, "near-mirror");
+  }
+  for (int i = 0; i < 200; ++i) {
+    const double t1 = M_PI / 2 - 0.06 * rng.uniform() - 1e-3, t2 = i % 2 ? M_PI / 2 - 0.06 * rng.uniform() - 1e-3 : std::acos(rng.uniform());
+    add(unit(t1, 2 * M_PI * rng.uniform()), unit(t2, 2 * M_PI * rng.uniform()), "grazing");
+  }
+  for (int i = 0; i < 100; ++i) {
+    const glm::vec3 wo = random_upper<float>(rng);
+    add(glm::vec3(-wo.x, -wo.y, wo.z), wo, "h = n");
+  }
+  add(glm::vec3(0, 0, 1), glm::vec3(0, 0, 1), "h = n");
+  for (int i = 0; i < 20; ++i) add(unit(M_PI / 2 + 0.5 * rng.uniform(), 6 * rng.uniform()), random_upper<float>(rng), "below");
+  return g;
+}
+
+std::string describe(const Grid& g, size_t i) {
+  return fmt::format("{} pair #{}: wi = ({:.7g}, {:.7g}, {:.7g}), wo = ({:.7g}, {:.7g}, {:.7g}), u = ({:.7g}, {:.7g}, {:.7g})",
+                     g.kind[i], i, g.wi[i].x, g.wi[i].y, g.wi[i].z, g.wo[i].x, g.wo[i].y, g.wo[i].z, g.u[i].x, g.u[i].y,
+                     g.u[i].z);
+}
+
+class GlslParity : public ::testing::TestWithParam<NamedMaterial> {};
+
+// The whole material: the generated builder (uniforms set from the table values) behind the
+// Material dispatch, against MaterialT<float> built by the host.
+TEST_P(GlslParity, MaterialMatchesCppFloat) {
+  ANISO_REQUIRE_GL();
+  const MaterialDesc d = parse_material(GetParam().json, GetParam().name);
+  const Material cpu = build_material<float>(d);
+  const gl::GlslMaterial gm = gl::glsl_material(d, gl::GlslStorage::Uniform, "u_");
+  const Grid g = make_grid();
+  const auto r = run_pairs(gm.declarations + gm.code,
+                           "  Material m = aniso_material();\n"
+                           "  f = Material_f(m, wi, wo);\n  pdf = Material_pdf(m, wi, wo);\n"
+                           "  s = Material_sample(m, wo, u.x, u.yz);\n",
+                           g.wi, g.wo, g.u, [&](const gl::ComputeProgram& p) { gl::set_uniforms(p, gm, "u_"); });
+  const std::string f_name = gm.model_struct + "_f", pdf_name = gm.model_struct + "_pdf",
+                    sample_name = gm.model_struct + "_sample";
+  // 1e-4 relative (issue 6), except for exponents in the thousands (Ngan 2005's Ashikhmin-Shirley
+  // fits): GLSL's pow is only "inherited from exp2(y log2 x)", and llvmpipe's log2 error times an
+  // exponent of ~1e4 reaches ~3e-3 in the lobe's peak. Known gap, docs/glsl.md.
+  const bool huge_exponent = GetParam().name.find("ngan") != std::string::npos;
+  const double tol = huge_exponent ? 1e-2 : 1e-4;
+  int failures = 0;
+  for (size_t i = 0; i < g.wi.size() && failures < 10; ++i) {
+    const RGB f = cpu.f(g.wi[i], g.wo[i]);
+    const float pdf = cpu.pdf(g.wi[i], g.wo[i]);
+    const BSDFSampleT<float> s = cpu.sample(g.wo[i], g.u[i].x, Vec2(g.u[i].y, g.u[i].z));
+    bool ok = true;
+    for (int c = 0; c < 3; ++c)
+      if (!close(r[i].f[c], f[c], tol)) {
+        ADD_FAILURE() << "GLSL " << f_name << " drifted from C++ f: channel " << c << " GLSL " << r[i].f[c] << " vs C++ "
+                      << f[c] << " at " << describe(g, i);
+        ok = false;
+      }
+    if (!close(r[i].pdf, pdf, tol)) {
+      ADD_FAILURE() << "GLSL " << pdf_name << " drifted from C++ pdf: GLSL " << r[i].pdf << " vs C++ " << pdf << " at "
+                    << describe(g, i);
+      ok = false;
+    }
+    if (r[i].sample_valid != s.valid) {
+      ADD_FAILURE() << "GLSL " << sample_name << " valid = " << r[i].sample_valid << ", C++ " << s.valid << " at "
+                    << describe(g, i);
+      ok = false;
+    } else if (s.valid) {
+      for (int c = 0; c < 3; ++c) {
+        if (!(std::abs(r[i].sample_wi[c] - s.wi[c]) <= 1e-4f)) {
+          ADD_FAILURE() << "GLSL " << sample_name << " wi[" << c << "] = " << r[i].sample_wi[c] << ", C++ " << s.wi[c]
+                        << " at " << describe(g, i);
+          ok = false;
+        }
+      }
+      // The weight and pdf follow from wi, and a narrow lobe turns the 1e-4 that wi may move into
+      // more than 1e-4 of pdf: they are compared with the C++ record at the GLSL wi (the same
+      // make_sample(wi, f, pdf)). Tolerance 2e-3, not 1e-4: sampled points sit in the lobe's peak,
+      // where pow(n.h, e) with Ngan's exponents (e up to ~1e4) carries GLSL's pow error
+      // ("inherited from exp2(y log2 x)", llvmpipe's log2 ~1e-7 absolute times e); random pairs
+      // (the f and pdf checks above, at 1e-4) rarely land there.
+      const glm::vec3 gwi = r[i].sample_wi;
+      const float p_at = cpu.pdf(gwi, g.wo[i]);
+      const RGB w_at = cpu.f(gwi, g.wo[i]) * (gwi.z / p_at);
+      for (int c = 0; c < 3; ++c)
+        if (!close(r[i].sample_weight[c], w_at[c], std::max(tol, 2e-3))) {
+          ADD_FAILURE() << "GLSL " << sample_name << " weight[" << c << "] = " << r[i].sample_weight[c] << ", C++ "
+                        << w_at[c] << " (f cos / pdf at the GLSL wi; C++ sample gave " << s.weight[c] << ") at " << describe(g, i);
+          ok = false;
+        }
+      if (!close(r[i].sample_pdf, p_at, std::max(tol, 2e-3))) {
+        ADD_FAILURE() << "GLSL " << sample_name << " pdf = " << r[i].sample_pdf << ", C++ " << p_at
+                      << " (at the GLSL wi; C++ sample gave " << s.pdf << ") at " << describe(g, i);
+        ok = false;
+      }
+    }
+    if (!ok) ++failures;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(All, GlslParity, ::testing::ValuesIn(materials_with_presets()), material_name);
+
+}  // namespace
+}  // namespace aniso::test
