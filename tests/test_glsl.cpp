@@ -3,6 +3,7 @@
 // any GL 4.5) every model, form and normalisation matches the C++ float kernels on a grid of
 // direction pairs: f, pdf, and sampling fed the same u. A mismatch names the GLSL function.
 #include <functional>
+#include <iostream>
 #include <sstream>
 
 #include "chi2.h"
@@ -154,11 +155,27 @@ TEST_P(GlslParity, MaterialMatchesCppFloat) {
                            g.wi, g.wo, g.u, [&](const gl::ComputeProgram& p) { gl::set_uniforms(p, gm, "u_"); });
   const std::string f_name = gm.model_struct + "_f", pdf_name = gm.model_struct + "_pdf",
                     sample_name = gm.model_struct + "_sample";
-  // 1e-4 relative (issue 6), except for exponents in the thousands (Ngan 2005's Ashikhmin-Shirley
-  // fits): GLSL's pow is only "inherited from exp2(y log2 x)", and llvmpipe's log2 error times an
-  // exponent of ~1e4 reaches ~3e-3 in the lobe's peak. Known gap, docs/glsl.md.
-  const bool huge_exponent = GetParam().name.find("ngan") != std::string::npos;
-  const double tol = huge_exponent ? 1e-2 : 1e-4;
+  // 1e-4 relative (issue 6), unless the function itself is worse conditioned than that in float:
+  // Ngan 2005's Ashikhmin-Shirley fits have exponents ~1e4, where one float rounding of n.h moves
+  // pow(n.h, e) by ~1e-3, and C++ float already differs from C++ double by that much. The
+  // tolerance is then four times the worst float-vs-double difference of the C++ kernels on this
+  // grid, measured here (GLSL's normalize, pow and inversesqrt are allowed a few ulp where glibc's
+  // are correctly rounded; llvmpipe lands at ~2x), so that GLSL is held to what float arithmetic
+  // can deliver and no less.
+  const MaterialD cpu_d = build_material<double>(d);
+  double float_vs_double = 0.0;
+  for (size_t i = 0; i < g.wi.size(); ++i) {
+    const RGB ff = cpu.f(g.wi[i], g.wo[i]);
+    const RGBT<double> fd = cpu_d.f(Vec3d(g.wi[i]), Vec3d(g.wo[i]));
+    const double pf = cpu.pdf(g.wi[i], g.wo[i]), pd = cpu_d.pdf(Vec3d(g.wi[i]), Vec3d(g.wo[i]));
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(fd[c]) > 1e-6) float_vs_double = std::max(float_vs_double, std::abs(ff[c] - fd[c]) / std::abs(fd[c]));
+    if (pd > 1e-6) float_vs_double = std::max(float_vs_double, std::abs(pf - pd) / pd);
+  }
+  // Only where float is that ill-conditioned (its own error above 1e-3): everywhere else 1e-4.
+  const double tol = float_vs_double > 1e-3 ? 4.0 * float_vs_double : 1e-4;
+  RecordProperty("tolerance", fmt::format("{:.3g}", tol));
+  if (tol > 1e-4) std::cout << "[ NOTE     ] relative tolerance " << tol << ": C++ float differs from double by " << float_vs_double << " on this grid\n";
   int failures = 0;
   for (size_t i = 0; i < g.wi.size() && failures < 10; ++i) {
     const RGB f = cpu.f(g.wi[i], g.wo[i]);
@@ -190,20 +207,17 @@ TEST_P(GlslParity, MaterialMatchesCppFloat) {
       }
       // The weight and pdf follow from wi, and a narrow lobe turns the 1e-4 that wi may move into
       // more than 1e-4 of pdf: they are compared with the C++ record at the GLSL wi (the same
-      // make_sample(wi, f, pdf)). Tolerance 2e-3, not 1e-4: sampled points sit in the lobe's peak,
-      // where pow(n.h, e) with Ngan's exponents (e up to ~1e4) carries GLSL's pow error
-      // ("inherited from exp2(y log2 x)", llvmpipe's log2 ~1e-7 absolute times e); random pairs
-      // (the f and pdf checks above, at 1e-4) rarely land there.
+      // make_sample(wi, f, pdf)), at the same tolerance as f and pdf.
       const glm::vec3 gwi = r[i].sample_wi;
       const float p_at = cpu.pdf(gwi, g.wo[i]);
       const RGB w_at = cpu.f(gwi, g.wo[i]) * (gwi.z / p_at);
       for (int c = 0; c < 3; ++c)
-        if (!close(r[i].sample_weight[c], w_at[c], std::max(tol, 2e-3))) {
+        if (!close(r[i].sample_weight[c], w_at[c], tol)) {
           ADD_FAILURE() << "GLSL " << sample_name << " weight[" << c << "] = " << r[i].sample_weight[c] << ", C++ "
                         << w_at[c] << " (f cos / pdf at the GLSL wi; C++ sample gave " << s.weight[c] << ") at " << describe(g, i);
           ok = false;
         }
-      if (!close(r[i].sample_pdf, p_at, std::max(tol, 2e-3))) {
+      if (!close(r[i].sample_pdf, p_at, tol)) {
         ADD_FAILURE() << "GLSL " << sample_name << " pdf = " << r[i].sample_pdf << ", C++ " << p_at
                       << " (at the GLSL wi; C++ sample gave " << s.pdf << ") at " << describe(g, i);
         ok = false;
