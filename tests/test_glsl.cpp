@@ -2,6 +2,7 @@
 // 3.30 core and ES 3.00, every parameter table entry has a GLSL counterpart, and on llvmpipe (or
 // any GL 4.5) every model, form and normalisation matches the C++ float kernels on a grid of
 // direction pairs: f, pdf, and sampling fed the same u. A mismatch names the GLSL function.
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <sstream>
@@ -37,6 +38,23 @@ TEST(GlslLibrary, EveryFileCompilesAsCore330AndEs300) {
           << f.path << " (with the files before it) as " << (d == GlslDialect::Core330 ? "GLSL 3.30 core" : "GLSL ES 3.00");
     }
   }
+}
+
+// The minimal example of docs/glsl.md compiles after the library, as GLSL 3.30 and ES 3.00.
+TEST(Docs, GlslExampleCompiles) {
+  ANISO_REQUIRE_GLSLANG();
+  std::ifstream in(std::string(ANISO_SOURCE_DIR) + "/docs/glsl.md");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string doc = ss.str();
+  const size_t section = doc.find("## Minimal example");
+  ASSERT_NE(section, std::string::npos);
+  const size_t begin = doc.find("```glsl\n", section);
+  ASSERT_NE(begin, std::string::npos);
+  const size_t end = doc.find("```", begin + 8);
+  const std::string example = doc.substr(begin + 8, end - begin - 8);
+  for (GlslDialect d : {GlslDialect::Core330, GlslDialect::Es300})
+    EXPECT_EQ(glslang_errors(gl::glsl_preamble(d) + gl::glsl_library_source() + example, "frag", "doc"), "");
 }
 
 // --- the material's parameters from the tables ------------------------------------------------
