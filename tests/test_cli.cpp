@@ -21,29 +21,12 @@
 #include "io/materials.h"
 #include "io/params.h"
 #include "io/presets.h"
+#include "cli_fixture.h"
 
 namespace aniso {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Result {
-  std::string out, err;
-  int code = -1;  // exit status; 128 + signal if killed by a signal
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
 
 std::vector<std::string> lines_of(const std::string& s) {
   std::vector<std::string> v;
@@ -80,61 +63,11 @@ int significant_digits(const std::string& tok) {
   return n;
 }
 
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
-
 // |a - b| <= rel * max(|a|, |b|) + abs
 ::testing::AssertionResult close(double a, double b, double rel, double abs = 1e-300) {
   if (std::abs(a - b) <= rel * std::max(std::abs(a), std::abs(b)) + abs) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << a << " vs " << b << " (rel " << rel << ", abs " << abs << ")";
 }
-
-// A fresh directory (mkdtemp) per test; run() writes stdin, stdout and stderr as files there.
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    std::string tmpl = (fs::temp_directory_path() / "aniso-cli-XXXXXX").string();
-    ASSERT_NE(mkdtemp(tmpl.data()), nullptr);
-    dir_ = tmpl;
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  std::string write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p.string();
-  }
-
-  Result run(const std::vector<std::string>& args, const std::string& stdin_text = "") {
-    const fs::path in = dir_ / "stdin.txt", out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    std::ofstream(in, std::ios::binary) << stdin_text;
-    std::string cmd = shell_quote(ANISO_CLI);
-    for (const std::string& a : args) cmd.append(" ").append(shell_quote(a));
-    cmd.append(" < ").append(shell_quote(in.string()));
-    cmd.append(" > ").append(shell_quote(out.string()));
-    cmd.append(" 2> ").append(shell_quote(err.string()));
-    const int status = std::system(cmd.c_str());
-    Result r;
-    if (status != -1 && WIFEXITED(status)) r.code = WEXITSTATUS(status);
-    else if (status != -1 && WIFSIGNALED(status)) r.code = 128 + WTERMSIG(status);
-    r.out = read_file(out);
-    r.err = read_file(err);
-    return r;
-  }
-
-  // Bad input: non-zero exit (2, the tool's code for input errors), every expected substring on
-  // stderr, and nothing at all on stdout.
-  void expect_input_error(const Result& r, const std::vector<std::string>& expect) {
-    EXPECT_EQ(r.code, 2) << "stderr: " << r.err;
-    EXPECT_EQ(r.out, "") << "stdout must stay empty on error";
-    EXPECT_FALSE(r.err.empty());
-    for (const std::string& s : expect) EXPECT_TRUE(contains(r.err, s)) << "\"" << s << "\" not in stderr: " << r.err;
-  }
-
-  fs::path dir_;
-};
 
 // Output of the library for the same material and directions (the tool normalises its input).
 RGBT<double> library_f(const std::string& material, Vec3d wi, Vec3d wo, double* pdf = nullptr) {

@@ -1,7 +1,10 @@
 // tests/test_docs.cpp: the documentation quotes what the code says. Each model page
 // docs/models/<name>.md contains its parameter tables exactly as `aniso models --markdown` prints
 // them (markdown_table() in src/io/params.cpp), and README.md gives the two commands up front.
+#include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -53,6 +56,66 @@ TEST(Docs, ReadmeStartsWithTheTwoCommands) {
       << "README.md's first 15 lines must give `make render` (the main job):\n" << head;
   EXPECT_TRUE(head.find("make test") != std::string::npos)
       << "README.md's first 15 lines must give `make test`:\n" << head;
+}
+
+// GitHub's heading anchors: lower case, punctuation other than '-' and '_' dropped, spaces to '-'.
+std::string heading_anchor(const std::string& heading) {
+  std::string a;
+  for (const char ch : heading) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (std::isalnum(c)) a += char(std::tolower(c));
+    else if (c == ' ' || c == '-') a += '-';
+    else if (c == '_' || c >= 0x80) a += ch;  // non-ASCII letters (θ, é) are kept
+  }
+  return a;
+}
+
+std::set<std::string> anchors_of(const std::string& markdown) {
+  std::set<std::string> out;
+  std::istringstream in(markdown);
+  bool fence = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("```", 0) == 0) fence = !fence;
+    if (fence || line.empty() || line[0] != '#') continue;
+    const size_t text = line.find_first_not_of('#');
+    if (text == std::string::npos) continue;
+    out.insert(heading_anchor(line.substr(line.find_first_not_of(' ', text))));
+  }
+  return out;
+}
+
+// Every relative link in the repository's Markdown files resolves to a file in the repository (a
+// user's clone has nothing beside it), and a #fragment to a heading of the target page.
+TEST(Docs, EveryRelativeLinkResolvesInsideTheRepository) {
+  namespace fs = std::filesystem;
+  const fs::path root(ANISO_SOURCE_DIR);
+  const std::regex link(R"(\[[^\]]*\]\(([^)\s]+)\))");
+  int checked = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    const fs::path rel = fs::relative(entry.path(), root);
+    const std::string first = rel.begin()->string();
+    if (first == "build" || first == ".git" || first == "fuzz" || entry.path().extension() != ".md") continue;
+    bool ok = false;
+    const std::string text = read_text(entry.path().string(), ok);
+    ASSERT_TRUE(ok) << rel;
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), link); it != std::sregex_iterator(); ++it) {
+      const std::string target = (*it)[1].str();
+      if (target.find("://") != std::string::npos || target.rfind("mailto:", 0) == 0) continue;
+      const size_t hash = target.find('#');
+      const std::string file = target.substr(0, hash), fragment = hash == std::string::npos ? "" : target.substr(hash + 1);
+      const fs::path resolved = file.empty() ? entry.path() : (entry.path().parent_path() / file).lexically_normal();
+      ++checked;
+      const std::string rel_resolved = fs::relative(resolved, root).string();
+      EXPECT_TRUE(rel_resolved.rfind("..", 0) != 0) << rel << ": link " << target << " leaves the repository";
+      EXPECT_TRUE(fs::exists(resolved)) << rel << ": link " << target << " does not resolve (" << resolved << ")";
+      if (!fragment.empty() && resolved.extension() == ".md" && fs::is_regular_file(resolved)) {
+        bool ok2 = false;
+        const std::set<std::string> anchors = anchors_of(read_text(resolved.string(), ok2));
+        EXPECT_TRUE(anchors.count(fragment)) << rel << ": link " << target << ": no heading with anchor #" << fragment;
+      }
+    }
+  }
+  EXPECT_GT(checked, 20);
 }
 
 }  // namespace

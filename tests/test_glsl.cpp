@@ -118,7 +118,8 @@ glm::vec3 unit(double theta, double phi) {
 }
 
 // Random pairs, near-mirror pairs, grazing pairs (one or both within 0.06 rad of the horizon),
-// h = n (wi the exact mirror of wo), and a few below the horizon (f = pdf = 0, "no sample").
+// h = n (wi the exact mirror of wo), pairs at the horizon threshold, and a few below the horizon
+// (f = pdf = 0, "no sample").
 Grid make_grid() {
   Grid g;
   Rng rng(6);
@@ -146,6 +147,19 @@ Grid make_grid() {
     add(glm::vec3(-wo.x, -wo.y, wo.z), wo, "h = n");
   }
   add(glm::vec3(0, 0, 1), glm::vec3(0, 0, 1), "h = n");
+  // At the horizon threshold (math.h HorizonCos: 1e-6 in float): cosines just below, at and above
+  // it, for wi, for wo and for both.
+  for (float z : {3e-7f, 9e-7f, 1e-6f, 1.2e-6f, 3e-6f, 1e-5f})
+    for (int which = 0; which < 3; ++which) {
+      const float s = std::sqrt(1.f - z * z);
+      const double phi = 2 * M_PI * rng.uniform();
+      const glm::vec3 low(float(s * std::cos(phi)), float(s * std::sin(phi)), z);
+      const glm::vec3 other = random_upper<float>(rng);
+      g.wi.push_back(which != 1 ? low : other);
+      g.wo.push_back(which != 0 ? glm::vec3(-low.y, low.x, low.z) : other);
+      g.u.push_back(glm::vec3(float(rng.uniform()), float(rng.uniform()), float(rng.uniform())));
+      g.kind.push_back("horizon");
+    }
   for (int i = 0; i < 20; ++i) add(unit(M_PI / 2 + 0.5 * rng.uniform(), 6 * rng.uniform()), random_upper<float>(rng), "below");
   return g;
 }

@@ -1,8 +1,10 @@
 // aniso: the command-line tool. Scripting commands (exact formats; other tools and tests depend on
 // them, docs/cli.md): eval, sample, albedo, fresnel; and presets, models for discovery.
 // Numbers are computed in double precision and printed with 9 significant digits.
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -21,8 +23,11 @@
 
 #include "commands.h"
 #include "data/metals.h"
+#include "io/json_read.h"
 #include "io/materials.h"
+#include "io/names.h"
 #include "io/presets.h"
+#include "io/text_input.h"
 #include "render/gallery.h"
 #include "render/integrator.h"
 #include "stats/albedo.h"
@@ -33,127 +38,202 @@ namespace {
 
 using Mat = MaterialT<double>;
 
-Vec3d normalized_or_throw(const Vec3d& v, const std::string& what) {
-  const double len = glm::length(v);
-  if (!std::isfinite(len) || !(len > 0.0))
-    throw InputError(fmt::format("{}: expected a non-zero, finite direction, got ({}, {}, {})", what, v.x, v.y, v.z));
-  return v / len;
+std::string num(double x) { return fmt::format("{:.9g}", x + 0.0); }  // + 0.0: never print "-0"
+
+// Every write to stdout goes through here: a short write (a full disk, a closed pipe) is an error
+// with a message and exit 1, never a silent exit 0 (docs/cli.md, "Exit codes").
+void write_stdout(std::string_view text) {
+  if (text.empty()) return;
+  if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size())
+    throw std::runtime_error(fmt::format("stdout: write error: {}", std::strerror(errno)));
+}
+void flush_stdout() {
+  if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    throw std::runtime_error(fmt::format("stdout: write error: {}", std::strerror(errno)));
 }
 
-std::string num(double x) { return fmt::format("{:.9g}", x); }
+// One line of stdin without its newline; false at the end of input. A read error (a directory as
+// stdin, a closed descriptor) is an error, not the end of input; lines are capped at 1 MiB (a
+// direction pair needs under 200 bytes) so that a line without newline cannot exhaust memory.
+bool read_stdin_line(std::string& line, size_t line_no) {
+  constexpr size_t kMaxLine = size_t(1) << 20;
+  line.clear();
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, stdin)) {
+    line.append(buf);
+    if (!line.empty() && line.back() == '\n') {
+      line.pop_back();
+      return true;
+    }
+    if (line.size() > kMaxLine) throw InputError(fmt::format("stdin line {}: longer than 1 MiB", line_no));
+  }
+  if (std::ferror(stdin)) throw InputError(fmt::format("stdin: read error after line {}: {}", line_no - 1, std::strerror(errno)));
+  return !line.empty();  // a last line without newline
+}
 
-// Reads "wi.x wi.y wi.z wo.x wo.y wo.z" lines; all lines are checked before anything is printed,
-// so a bad line leaves no half-written output.
-int cmd_eval(const std::string& material) {
+// Reads direction-pair lines (io/text_input.h) and writes 'f_r f_g f_b pdf' per line.
+// Piped input: every line is checked before anything is printed, so a bad line leaves no
+// half-written output. On a terminal each result is printed as its line is entered (a bad line
+// still ends the command with exit 2).
+int cmd_eval(const std::string& material, bool angles) {
   const Mat m = build_material<double>(load_material(material));
+  const bool interactive = isatty(STDIN_FILENO) != 0;
   std::string out, line;
   size_t line_no = 0;
-  while (std::getline(std::cin, line)) {
-    ++line_no;
-    const size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;  // blank lines and comments
-    std::istringstream in(line);
-    double v[6];
-    for (int i = 0; i < 6; ++i) {
-      std::string tok;
-      if (!(in >> tok))
-        throw InputError(fmt::format("stdin line {}: expected 6 numbers (wi.x wi.y wi.z wo.x wo.y wo.z), got {}",
-                                     line_no, i));
-      try {
-        size_t used = 0;
-        v[i] = std::stod(tok, &used);
-        if (used != tok.size() || !std::isfinite(v[i])) throw std::invalid_argument(tok);
-      } catch (const std::exception&) {
-        throw InputError(fmt::format("stdin line {}: field {}: expected a finite number, got \"{}\"", line_no, i + 1, tok));
-      }
-    }
-    std::string extra;
-    if (in >> extra) throw InputError(fmt::format("stdin line {}: expected 6 numbers, got more (\"{}\")", line_no, extra));
-    const Vec3d wi = normalized_or_throw(Vec3d(v[0], v[1], v[2]), fmt::format("stdin line {}: wi", line_no));
-    const Vec3d wo = normalized_or_throw(Vec3d(v[3], v[4], v[5]), fmt::format("stdin line {}: wo", line_no));
-    const RGBT<double> f = m.f(wi, wo);
-    out += fmt::format("{} {} {} {}\n", num(f.x), num(f.y), num(f.z), num(m.pdf(wi, wo)));
-  }
-  std::fwrite(out.data(), 1, out.size(), stdout);
-  return 0;
-}
-
-int cmd_sample(const std::string& material, const std::vector<double>& wo_in, int64_t count, uint64_t seed) {
-  const Mat m = build_material<double>(load_material(material));
-  const Vec3d wo = normalized_or_throw(Vec3d(wo_in[0], wo_in[1], wo_in[2]), "--wo");
-  Rng rng(seed);
-  std::string out;
-  for (int64_t i = 0; i < count; ++i) {
-    const double uc = rng.uniform();
-    const Vec2T<double> u(rng.uniform(), rng.uniform());
-    const BSDFSampleT<double> s = m.sample(wo, uc, u);
-    if (!s.valid) {
-      out += "0 0 0 0 0 0 0\n";
-      continue;
-    }
-    out += fmt::format("{} {} {} {} {} {} {}\n", num(s.wi.x), num(s.wi.y), num(s.wi.z), num(s.weight.x),
-                       num(s.weight.y), num(s.weight.z), num(s.pdf));
-    if (out.size() > (1u << 20)) {
-      std::fwrite(out.data(), 1, out.size(), stdout);
+  while (read_stdin_line(line, ++line_no)) {
+    if (is_blank_or_comment(line)) continue;
+    const DirectionPair d = parse_direction_line(line, line_no, angles);
+    const RGBT<double> f = m.f(d.wi, d.wo);
+    out += fmt::format("{} {} {} {}\n", num(f.x), num(f.y), num(f.z), num(m.pdf(d.wi, d.wo)));
+    if (interactive) {
+      write_stdout(out);
+      flush_stdout();
       out.clear();
     }
   }
-  std::fwrite(out.data(), 1, out.size(), stdout);
+  write_stdout(out);
   return 0;
 }
 
-Vec3d direction_deg(double theta_deg, double phi_deg) {
-  const double t = theta_deg * M_PI / 180.0, p = phi_deg * M_PI / 180.0;
-  return Vec3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-}
-
-int cmd_albedo(const std::string& material, double theta, double phi, int64_t samples, uint64_t seed) {
+// Streams N lines 'wi.x wi.y wi.z weight_r weight_g weight_b pdf' in 1 MiB blocks (bounded memory).
+int cmd_sample(const std::string& material, const std::vector<double>& wo_in, uint64_t count, uint64_t seed) {
   const Mat m = build_material<double>(load_material(material));
-  const AlbedoEstimate a = albedo_importance(m, direction_deg(theta, phi), samples, seed);
-  fmt::print("{} {} {}\n", num(a.mean.x), num(a.mean.y), num(a.mean.z));
-  return 0;
-}
-
-int cmd_fresnel(const std::string& metal, double theta, bool schlick) {
-  const MetalData* md = find_metal(metal);
-  if (!md) throw InputError(fmt::format("--metal: unknown metal \"{}\"; expected one of {}", metal, metal_names()));
-  const double c = std::cos(theta * M_PI / 180.0);
-  const RGBT<double> eta(md->eta), k(md->k);
-  // --schlick: Schlick's approximation with the exact F0 of the same metal, for comparison.
-  const RGBT<double> F = schlick ? F_Schlick(F_Conductor(1.0, eta, k), c) : F_Conductor(c, eta, k);
-  fmt::print("{} {} {}\n", num(F.x), num(F.y), num(F.z));
-  return 0;
-}
-
-int cmd_presets(const std::string& show) {
-  if (!show.empty()) {
-    const auto p = find_preset(show);
-    if (!p) throw InputError(fmt::format("--show: unknown preset \"{}\" (run `aniso presets` for the list)", show));
-    fmt::print("{}\n", p->dump(2));
-    return 0;
-  }
-  for (const PresetInfo& p : presets()) fmt::print("{:<40} {}\n", p.name, p.source);
-  return 0;
-}
-
-int cmd_models(bool markdown, const std::string& only) {
-  if (!only.empty() && !find_model_spec(only)) {
-    std::string names;
-    for (const ModelSpec* m : model_specs()) names += fmt::format(" {}", m->name);
-    throw InputError(fmt::format("--model: unknown model \"{}\"; expected one of{}", only, names));
-  }
-  if (markdown) {
-    for (const ModelSpec* m : model_specs())
-      if (only.empty() || m->name == only) fmt::print("{}\n", markdown_table(*m));
-    return 0;
-  }
-  for (const ModelSpec* m : model_specs()) {
-    if (!only.empty() && m->name != only) continue;
-    fmt::print("{} ({}) -- {}\n", m->name, m->title, m->citation);
-    for (const ParamSpec* p : m->params()) {
-      fmt::print("  {:<20} {:<55} {}{}\n", p->name, describe_range(*p), p->doc, p->required ? " [required]" : "");
+  const auto wo = normalized_direction(Vec3d(wo_in[0], wo_in[1], wo_in[2]));
+  if (!wo) throw InputError("--wo: expected a non-zero direction, got (0, 0, 0)");
+  Rng rng(seed);
+  std::string out;
+  for (uint64_t i = 0; i < count; ++i) {
+    const double uc = rng.uniform();
+    const Vec2T<double> u(rng.uniform(), rng.uniform());
+    const BSDFSampleT<double> s = m.sample(*wo, uc, u);
+    if (!s.valid) {
+      out += "0 0 0 0 0 0 0\n";
+    } else {
+      out += fmt::format("{} {} {} {} {} {} {}\n", num(s.wi.x), num(s.wi.y), num(s.wi.z), num(s.weight.x),
+                         num(s.weight.y), num(s.weight.z), num(s.pdf));
+    }
+    if (out.size() > (size_t(1) << 20)) {
+      write_stdout(out);
+      out.clear();
     }
   }
+  write_stdout(out);
+  return 0;
+}
+
+int cmd_albedo(const std::string& material, double theta, double phi, uint64_t samples, uint64_t seed) {
+  const Mat m = build_material<double>(load_material(material));
+  // theta = 90 is on the horizon (cos rounds to 6e-17 < the double horizon cosine 1e-12): albedo 0
+  // (docs/conventions.md, "The horizon").
+  const AlbedoEstimate a = albedo_importance(m, direction_from_degrees(theta, phi), int64_t(samples), seed);
+  write_stdout(fmt::format("{} {} {}\n", num(a.mean.x), num(a.mean.y), num(a.mean.z)));
+  return 0;
+}
+
+struct FresnelArgs {
+  std::string metal;
+  std::vector<double> eta, k;
+  double theta = 0.0;
+  bool schlick = false;
+};
+
+int cmd_fresnel(const FresnelArgs& a) {
+  RGBT<double> eta, k;
+  if (!a.metal.empty()) {
+    if (!a.eta.empty() || !a.k.empty()) throw InputError("give either --metal or --eta and --k, not both");
+    const MetalData* md = find_metal(a.metal);
+    if (!md) throw InputError(fmt::format("--metal: {}", unknown_metal_message(a.metal)));
+    eta = md->eta;
+    k = md->k;
+  } else {
+    if (a.eta.empty() || a.k.empty())
+      throw InputError(fmt::format("give --metal NAME (one of {}) or both --eta R G B and --k R G B", metal_names()));
+    for (int c = 0; c < 3; ++c) {
+      if (!(a.eta[c] > 0.0 && a.eta[c] <= 100.0)) throw InputError(fmt::format("--eta: channel {}: expected a number in (0, 100], got {}", c, a.eta[c]));
+      if (!(a.k[c] >= 0.0 && a.k[c] <= 100.0)) throw InputError(fmt::format("--k: channel {}: expected a number in [0, 100], got {}", c, a.k[c]));
+      eta[c] = a.eta[c];
+      k[c] = a.k[c];
+    }
+  }
+  const double c = std::cos(a.theta * M_PI / 180.0);
+  // --schlick: Schlick's approximation with the exact F0 of the same metal, for comparison.
+  const RGBT<double> F = a.schlick ? F_Schlick(F_Conductor(1.0, eta, k), c) : F_Conductor(c, eta, k);
+  write_stdout(fmt::format("{} {} {}\n", num(F.x), num(F.y), num(F.z)));
+  return 0;
+}
+
+int cmd_metals() {
+  std::string out = fmt::format("{:<10} {:<4} {:<32} {:<32} {:<32} {}\n", "# name", "", "eta (r g b)", "k (r g b)", "F0 (r g b)", "source");
+  for (const MetalData& md : metal_table()) {
+    const RGBT<double> f0 = F_Conductor(1.0, RGBT<double>(md.eta), RGBT<double>(md.k));
+    const auto rgb = [](const glm::dvec3& v) { return fmt::format("{:.4f} {:.4f} {:.4f}", v.x, v.y, v.z); };
+    out += fmt::format("{:<10} {:<4} {:<32} {:<32} {:<32} {}\n", md.name, md.symbol, rgb(md.eta), rgb(md.k), rgb(f0), md.source);
+  }
+  write_stdout(out);
+  return 0;
+}
+
+int cmd_presets(const std::string& show, bool show_given) {
+  if (show_given) {
+    if (show.empty()) throw InputError("--show: expected a preset name, got an empty string (run `aniso presets` for the list)");
+    if (!find_preset(show)) {
+      const std::string near = nearest_preset_names(show);
+      throw InputError(fmt::format("--show: unknown preset \"{}\"{} (run `aniso presets` for the list)", text_escape(show),
+                                   near.empty() ? "" : fmt::format("; did you mean {}?", near)));
+    }
+    // The material as resolved: every key, defaults filled in; valid input as it stands.
+    write_stdout(fmt::format("{}\n", resolved_json(load_material(show)).dump(2)));
+    return 0;
+  }
+  std::string out;
+  for (const PresetInfo& p : presets()) out += fmt::format("{:<40} {}\n", p.name, p.source);
+  write_stdout(out);
+  return 0;
+}
+
+int cmd_models(bool markdown, const std::string& only, bool only_given) {
+  if (only_given && !find_model_spec(only)) {
+    std::string names;
+    std::vector<std::string> all;
+    for (const ModelSpec* m : model_specs()) {
+      names += fmt::format(" {}", m->name);
+      all.emplace_back(m->name);
+    }
+    const std::string near = nearest_names(only, all);
+    throw InputError(fmt::format("--model: unknown model \"{}\"{}; expected one of{}", text_escape(only),
+                                 near.empty() ? "" : fmt::format(" (did you mean {}?)", near), names));
+  }
+  std::string out;
+  if (markdown) {
+    for (const ModelSpec* m : model_specs())
+      if (!only_given || m->name == only) out += fmt::format("{}\n", markdown_table(*m));
+    write_stdout(out);
+    return 0;
+  }
+  // Nested tables (Lafortune lobes, metal lobes, the directional-diffuse lobe) follow their key,
+  // indented, as in the markdown tables.
+  const auto print_table = [&out](const ModelSpec& spec, int indent, const auto& self) -> void {
+    for (const ParamSpec* p : spec.params()) {
+      out += fmt::format("{:{}}  {:<20} {:<45} default {:<12} {}\n", "", indent, p->name, describe_range(*p), default_text(*p), p->doc);
+      std::vector<const ModelSpec*> subs;
+      if (p->sub) subs.push_back(p->sub);
+      if (p->kind == ParamKind::TaggedObject)
+        for (auto c : p->choices) subs.push_back(&metal_lobe_spec(c));
+      for (const ModelSpec* sub : subs) {
+        out += fmt::format("{:{}}    keys of {} ({}):\n", "", indent,
+                           p->kind == ParamKind::TaggedObject ? fmt::format("\"{}\": {{\"model\": \"{}\"}}", p->name, sub->name)
+                                                              : fmt::format("\"{}\"", p->name),
+                           sub->title);
+        self(*sub, indent + 4, self);
+      }
+    }
+  };
+  for (const ModelSpec* m : model_specs()) {
+    if (only_given && m->name != only) continue;
+    out += fmt::format("{} ({}) -- {}\n", m->name, m->title, m->citation);
+    print_table(*m, 0, print_table);
+  }
+  write_stdout(out);
   return 0;
 }
 
@@ -256,27 +336,13 @@ int cmd_render(RenderArgs a) {
   if (!a.material.empty()) {
     // A material argument is a preset name, a JSON file, or an inline JSON object.
     nlohmann::json m = a.material;
-    if (!a.material.empty() && a.material.front() == '{') {
-      try {
-        m = nlohmann::json::parse(a.material);
-      } catch (const nlohmann::json::exception& e) {
-        throw InputError(fmt::format("--material: invalid inline JSON: {}", e.what()));
-      }
-    }
+    const size_t first = a.material.find_first_not_of(" \t\r\n");
+    if (first != std::string::npos && a.material[first] == '{') m = parse_json_text(a.material, "inline material");
     doc = preview_scene(m);
     source = "preview scene";
     if (a.output.empty()) a.output = "aniso-preview.png";
   } else {
-    std::error_code ec;
-    if (!std::filesystem::exists(a.scene, ec)) throw InputError(fmt::format("{}: no such file", a.scene));
-    if (std::filesystem::is_directory(a.scene, ec)) throw InputError(fmt::format("{}: is a directory, expected a scene file", a.scene));
-    std::ifstream in(a.scene);
-    if (!in) throw InputError(fmt::format("{}: cannot open for reading", a.scene));
-    try {
-      doc = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(fmt::format("{}: invalid JSON: {}", a.scene, e.what()));
-    }
+    doc = parse_json_text(read_text_file(a.scene, "a scene file"), a.scene);
     source = a.scene;
     base_dir = std::filesystem::path(a.scene).parent_path().string();
     if (a.output.empty()) a.output = std::filesystem::path(a.scene).stem().string() + ".png";
@@ -309,49 +375,99 @@ int cmd_render(RenderArgs a) {
 }  // namespace
 }  // namespace aniso
 
+// A numeric option's range check that also rejects NaN (CLI11's Range lets NaN through: every
+// comparison with NaN is false) and says what the option means by its range.
+CLI::Validator finite_range(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        std::string why;
+        const auto v = aniso::parse_decimal(text, &why);
+        if (!v) return fmt::format("expected a finite decimal number in [{}, {}], got \"{}\" ({})", lo, hi, text, why);
+        if (*v < lo || *v > hi) return fmt::format("{} is not in [{}, {}]", text, lo, hi);
+        return {};
+      },
+      fmt::format("FLOAT in [{}, {}]", lo, hi));
+}
+
+// A whole-number option, decimal only (CLI11 would read "010" as octal 8, and wrap "-1" for an
+// unsigned seed): checked by io/text_input.h's rule, then handed to CLI11 in canonical form.
+CLI::Validator whole_range(int64_t lo, int64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        try {
+          text = std::to_string(aniso::parse_integer(text, lo, hi, "value"));
+        } catch (const aniso::InputError& e) {
+          return std::string(e.what()).substr(7);  // drop "value: "
+        }
+        return {};
+      },
+      fmt::format("INT in [{}, {}]", lo, hi));
+}
+CLI::Validator seed_value() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        try {
+          text = std::to_string(aniso::parse_unsigned(text, UINT64_MAX, "value"));
+        } catch (const aniso::InputError& e) {
+          return std::string(e.what()).substr(7);
+        }
+        return {};
+      },
+      "UINT64");
+}
+
 int main(int argc, char** argv) {
   using namespace aniso;
-  CLI::App app{"aniso: anisotropic and measured reflectance (models, sampling, metals)"};
+  CLI::App app{"aniso: anisotropic and measured reflectance (models, sampling, metals, rendering)"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("aniso ") + ANISO_VERSION);
+  app.option_defaults()->always_capture_default();  // --help shows every option's default
+
+  // Largest counts: 1e9 sample lines is ~60 GB of text (minutes); 1e9 albedo samples ~1 minute.
+  constexpr uint64_t kMaxCount = 1'000'000'000, kMaxSamples = 1'000'000'000;
 
   std::string material;
+  bool angles = false;
   auto* eval = app.add_subcommand("eval", "read 'wi.x wi.y wi.z wo.x wo.y wo.z' lines on stdin, write 'f_r f_g f_b pdf'");
-  eval->add_option("--material,-m", material, "preset name or JSON file")->required();
+  eval->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
+  eval->add_flag("--angles", angles, "input lines are 'theta_i phi_i theta_o phi_o' in degrees (theta from the normal, phi from the tangent)");
 
   std::vector<double> wo;
-  int64_t count = 1;
-  uint64_t seed = 1;
+  std::string count_text = "1", seed_text = "1", samples_text = "1048576";
   auto* sample = app.add_subcommand("sample", "write N lines 'wi.x wi.y wi.z weight_r weight_g weight_b pdf'");
-  sample->add_option("--material,-m", material, "preset name or JSON file")->required();
+  sample->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
   sample->add_option("--wo", wo, "viewing direction x y z (local frame)")->required()->expected(3);
-  sample->add_option("--count,-n", count, "number of samples")->check(CLI::Range(int64_t(0), int64_t(1) << 40));
-  sample->add_option("--seed", seed, "random seed");
+  // --samples counts the same thing as albedo's --samples (draws of sample()); --count is kept.
+  sample->add_option("--count,-n,--samples", count_text, fmt::format("number of samples (draws of sample(): output lines), 0 to {}", kMaxCount));
+  sample->add_option("--seed", seed_text, "random seed, 0 to 2^64-1");
 
   double theta = 0.0, phi = 0.0;
-  int64_t samples = 1 << 20;
   auto* albedo = app.add_subcommand("albedo", "directional albedo 'r g b' for the viewing direction (theta, phi)");
-  albedo->add_option("--material,-m", material, "preset name or JSON file")->required();
-  albedo->add_option("--theta-deg", theta, "viewing angle from the normal")->required()->check(CLI::Range(0.0, 90.0));
-  albedo->add_option("--phi-deg", phi, "azimuth from the tangent")->check(CLI::Range(-360.0, 360.0));
-  albedo->add_option("--samples", samples, "importance samples")->check(CLI::Range(int64_t(1), int64_t(1) << 34));
-  albedo->add_option("--seed", seed, "random seed");
+  albedo->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
+  albedo->add_option("--theta-deg", theta, "viewing angle from the normal; 90 is the horizon (albedo 0)")->required()->check(finite_range(0.0, 90.0));
+  albedo->add_option("--phi-deg", phi, "azimuth from the tangent")->check(finite_range(-360.0, 360.0));
+  albedo->add_option("--samples", samples_text, fmt::format("importance samples, 1 to {}", kMaxSamples));
+  albedo->add_option("--seed", seed_text, "random seed, 0 to 2^64-1");
 
-  std::string metal;
-  auto* fresnel = app.add_subcommand("fresnel", "conductor Fresnel reflectance 'r g b' of a measured metal");
-  fresnel->add_option("--metal", metal, "metal name (aniso presets lists them)")->required();
-  fresnel->add_option("--theta-deg", theta, "angle of incidence")->check(CLI::Range(0.0, 90.0));
-  bool schlick = false;
-  fresnel->add_flag("--schlick", schlick, "Schlick's approximation from the metal's F0 instead of the exact equations");
+  FresnelArgs fa;
+  auto* fresnel = app.add_subcommand("fresnel", "conductor Fresnel reflectance 'r g b' of a measured metal or of a given eta, k");
+  fresnel->add_option("--metal", fa.metal, "metal name (`aniso metals` lists them)");
+  fresnel->add_option("--eta", fa.eta, "real part of the complex index, R G B")->expected(3);
+  fresnel->add_option("--k", fa.k, "extinction coefficient, R G B")->expected(3);
+  fresnel->add_option("--theta-deg", fa.theta, "angle of incidence")->check(finite_range(0.0, 90.0));
+  fresnel->add_flag("--schlick", fa.schlick, "Schlick's approximation from the metal's F0 instead of the exact equations");
+
+  auto* metals_cmd = app.add_subcommand("metals", "list the measured metals: RGB eta, k, F0 and the data source");
 
   std::string show;
   auto* presets_cmd = app.add_subcommand("presets", "list the named materials");
-  presets_cmd->add_option("--show", show, "print one preset's JSON");
+  auto* show_opt = presets_cmd->add_option("--show", show, "print one preset as resolved (every key, defaults filled in)");
 
   auto* models = app.add_subcommand("models", "list the models and their parameter tables");
   bool markdown = false;
   std::string only_model;
   models->add_flag("--markdown", markdown, "print the tables as markdown (as docs/models/*.md quote them)");
-  models->add_option("--model", only_model, "only this model");
+  auto* model_opt = models->add_option("--model", only_model, "only this model");
 
   RenderArgs ra;
   auto* render_cmd = app.add_subcommand(
@@ -361,14 +477,14 @@ int main(int argc, char** argv) {
                          "output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance); default aniso-gallery.png, "
                          "aniso-preview.png or <scene>.png");
   render_cmd->add_option("--material,-m", ra.material, "render the preview scene with this material (preset, JSON file or inline JSON)");
-  render_cmd->add_option("--spp", ra.spp, "samples per pixel (default: the scene's)")->check(CLI::Range(1, 1 << 20));
-  render_cmd->add_option("--width", ra.width, "image width in pixels")->check(CLI::Range(16, 16384));
-  render_cmd->add_option("--height", ra.height, "image height in pixels")->check(CLI::Range(16, 16384));
-  render_cmd->add_option("--threads", ra.threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-  render_cmd->add_option("--seed", ra.seed, "random seed (same seed, same image, whatever the thread count)");
+  render_cmd->add_option("--spp", ra.spp, "samples per pixel (default: the scene's)")->transform(whole_range(1, 1 << 20));
+  render_cmd->add_option("--width", ra.width, "image width in pixels")->transform(whole_range(16, 16384));
+  render_cmd->add_option("--height", ra.height, "image height in pixels")->transform(whole_range(16, 16384));
+  render_cmd->add_option("--threads", ra.threads, "worker threads (default: all cores)")->transform(whole_range(1, 1024));
+  render_cmd->add_option("--seed", ra.seed, "random seed (same seed, same image, whatever the thread count)")->transform(seed_value());
   render_cmd->add_option("--strategy", ra.strategy, "mis (default), bsdf or light")->check(CLI::IsMember({"mis", "bsdf", "light"}));
-  render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")->check(CLI::Range(1, 1024));
-  render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(CLI::Range(-30.0, 30.0));
+  render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")->transform(whole_range(1, 1024));
+  render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(finite_range(-30.0, 30.0));
   render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp")->check(CLI::IsMember({"aces", "clamp"}));
   render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
 
@@ -395,19 +511,29 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   try {
-    if (eval->parsed()) return cmd_eval(material);
-    if (sample->parsed()) return cmd_sample(material, wo, count, seed);
-    if (albedo->parsed()) return cmd_albedo(material, theta, phi, samples, seed);
-    if (fresnel->parsed()) return cmd_fresnel(metal, theta, schlick);
-    if (presets_cmd->parsed()) return cmd_presets(show);
-    if (models->parsed()) return cmd_models(markdown, only_model);
-    if (render_cmd->parsed()) return cmd_render(ra);
+    int rc = 1;
+    if (eval->parsed()) rc = cmd_eval(material, angles);
+    else if (sample->parsed())
+      rc = cmd_sample(material, wo, parse_unsigned(count_text, kMaxCount, "--count"), parse_unsigned(seed_text, UINT64_MAX, "--seed"));
+    else if (albedo->parsed()) {
+      const uint64_t n = parse_unsigned(samples_text, kMaxSamples, "--samples");
+      if (n == 0) throw InputError(fmt::format("--samples: expected a whole number in [1, {}], got 0", kMaxSamples));
+      rc = cmd_albedo(material, theta, phi, n, parse_unsigned(seed_text, UINT64_MAX, "--seed"));
+    } else if (fresnel->parsed()) rc = cmd_fresnel(fa);
+    else if (metals_cmd->parsed()) rc = cmd_metals();
+    else if (presets_cmd->parsed()) rc = cmd_presets(show, show_opt->count() > 0);
+    else if (models->parsed()) rc = cmd_models(markdown, only_model, model_opt->count() > 0);
+    else if (render_cmd->parsed()) rc = cmd_render(ra);
+    flush_stdout();
+    return rc;
   } catch (const InputError& e) {
     fmt::print(stderr, "aniso: error: {}\n", e.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "aniso: error: out of memory\n");
+    return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "aniso: error: {}\n", e.what());
     return 1;
   }
-  return 1;
 }

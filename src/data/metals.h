@@ -23,7 +23,10 @@ struct MetalData {
 };
 
 std::span<const MetalData> metal_table();
+// Exact name or an accepted alternative spelling ("aluminum", io/names.h).
 const MetalData* find_metal(std::string_view name);
+// "unknown metal \"gld\" (did you mean \"gold\"?); the metals are ...".
+std::string unknown_metal_message(std::string_view name);
 std::string metal_names();  // "\"gold\", \"silver\", ..." for error messages
 
 }  // namespace aniso

@@ -16,18 +16,19 @@ namespace aniso::gl {
 namespace {
 
 // Table entries the host resolves before the GPU sees them: they have no slot of their own.
+// Shorthands ("alpha", "n", "cxy": ParamSpec::sets) are copied by the reader into the pair they
+// set, which has its slots; the rest are listed here.
 struct HostResolved {
   std::string_view table, key, why;
 };
 constexpr HostResolved kHostResolved[] = {
-    {"lobes[i]", "cxy", "the reader copies it into cx and cy"},
-    {"directional_diffuse", "cxy", "the reader copies it into cx and cy"},
     {"metal", "metal", "the host looks the metal up and fills eta and k"},
 };
 
-bool host_resolved(const ModelSpec& spec, std::string_view key) {
+bool host_resolved(const ModelSpec& spec, const ParamSpec& p) {
+  if (!p.sets[0].empty()) return true;
   for (const HostResolved& h : kHostResolved)
-    if (h.table == spec.name && h.key == key) return true;
+    if (h.table == spec.name && h.key == p.name) return true;
   return false;
 }
 
@@ -41,7 +42,7 @@ struct Walker {
     for (const ParamSpec* p : spec.params()) {
       const std::string name = name_prefix + std::string(p->name);
       const std::string key = key_prefix + std::string(p->name);
-      if (host_resolved(spec, p->name)) continue;
+      if (host_resolved(spec, *p)) continue;
       GlslSlot s;
       s.name = name;
       s.table_key = key;

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "data/metals.h"
+#include "io/json_read.h"
 #include "io/presets.h"
 
 namespace aniso {
@@ -40,18 +41,18 @@ ParamValue read_value(const json& v, const ParamSpec& p, const std::string& wher
   switch (p.kind) {
     case ParamKind::Scalar:
       if (!v.is_number() || !in_range(p, v.get<double>())) fail(where, p.name, expected());
-      return v.get<double>();
+      return v.get<double>() + 0.0;  // + 0.0 turns -0 into +0 (docs/conventions.md, "Numbers")
     case ParamKind::Color: {
       if (v.is_number()) {
         if (!in_range(p, v.get<double>())) fail(where, p.name, expected());
-        return glm::dvec3(v.get<double>());
+        return glm::dvec3(v.get<double>() + 0.0);
       }
       if (!v.is_array() || v.size() != 3) fail(where, p.name, expected());
       glm::dvec3 c;
       for (int i = 0; i < 3; ++i) {
         if (!v[i].is_number() || !in_range(p, v[i].get<double>()))
           fail(where, p.name, fmt::format("element {}: expected {}, got {}", i, describe_range(p), json_type_name(v[i])));
-        c[i] = v[i].get<double>();
+        c[i] = v[i].get<double>() + 0.0;
       }
       return c;
     }
@@ -80,9 +81,7 @@ ParamValue read_value(const json& v, const ParamSpec& p, const std::string& wher
       bool ok = false;
       for (auto c : p.choices) ok = ok || c == model;
       if (!ok) fail(where, fmt::format("{}.model", p.name), expected());
-      json rest = v;
-      rest.erase("model");
-      auto out = std::make_shared<ParamValues>(read_params(rest, metal_lobe_spec(model), fmt::format("{}: {}", where, p.name)));
+      auto out = std::make_shared<ParamValues>(read_params(v, metal_lobe_spec(model), fmt::format("{}: {}", where, p.name), "model"));
       out->values["model"] = model;
       return out;
     }
@@ -105,24 +104,39 @@ std::string allowed_keys(const ModelSpec& spec) {
   return s;
 }
 
-// "cxy" sets cx and cy; it may not be given together with either.
-void resolve_cxy(ParamValues& pv, const json& obj) {
-  if (!pv.has("cxy")) return;
-  if (obj.contains("cx") || obj.contains("cy")) pv.fail("cxy", "cannot be given together with \"cx\" or \"cy\"");
-  pv.values["cx"] = pv.values["cxy"];
-  pv.values["cy"] = pv.values["cxy"];
-  pv.values.erase("cxy");
+// Anisotropic pairs and their shorthands (docs/conventions.md, "Anisotropic pairs"): a shorthand
+// ("alpha", "n", "cxy") sets both halves and excludes them; a half given without its partner is an
+// error naming the partner (a default the user never sees would make the material anisotropic).
+void resolve_pairs(ParamValues& pv, const json& obj, const ModelSpec& spec) {
+  for (const ParamSpec* p : spec.params()) {
+    if (p->sets[0].empty() || !obj.contains(p->name)) continue;
+    for (const std::string_view half : p->sets)
+      if (obj.contains(half))
+        pv.fail(p->name, fmt::format("sets \"{}\" and \"{}\": cannot be given together with \"{}\"", p->sets[0], p->sets[1], half));
+    const ParamValue v = pv.values.at(std::string(p->name));
+    pv.values[std::string(p->sets[0])] = v;
+    pv.values[std::string(p->sets[1])] = v;
+    pv.values.erase(std::string(p->name));
+  }
+  for (const ParamSpec* p : spec.params()) {
+    if (p->partner.empty() || !obj.contains(p->name) || obj.contains(p->partner)) continue;
+    std::string shorthand;
+    for (const ParamSpec* q : spec.params())
+      if (q->sets[0] == p->name || q->sets[1] == p->name) shorthand = fmt::format(", or \"{}\" alone for an isotropic value", q->name);
+    pv.fail(p->name, fmt::format("given without its partner \"{}\": give both{}", p->partner, shorthand));
+  }
 }
 
 }  // namespace
 
-ParamValues read_params(const json& obj, const ModelSpec& spec, const std::string& where) {
+ParamValues read_params(const json& obj, const ModelSpec& spec, const std::string& where, std::string_view tag_key) {
   ParamValues pv;
   pv.where = where;
   if (!obj.is_object()) throw InputError(fmt::format("{}: expected a JSON object, got {}", where, json_type_name(obj)));
   for (const auto& [key, value] : obj.items()) {
+    if (key == tag_key) continue;  // "model": read by the caller
     if (!spec.find(key))
-      throw InputError(fmt::format("{}: unknown key \"{}\" for {}; allowed keys: {}", where, key, spec.name,
+      throw InputError(fmt::format("{}: unknown key \"{}\" for {}; allowed keys: {}", where, text_escape(key), spec.name,
                                    allowed_keys(spec)));
   }
   for (const ParamSpec* p : spec.params()) {
@@ -144,7 +158,7 @@ ParamValues read_params(const json& obj, const ModelSpec& spec, const std::strin
       default: break;  // optional objects, strings and lists have no default: absent
     }
   }
-  if (spec.find("cxy")) resolve_cxy(pv, obj);
+  resolve_pairs(pv, obj, spec);
   return pv;
 }
 
@@ -158,9 +172,7 @@ MaterialDesc parse_material(const json& obj, const std::string& where) {
     throw InputError(fmt::format("{}: key \"model\": expected one of {}, got {}", where, models, json_type_name(*it)));
   MaterialDesc d;
   d.model = it->get<std::string>();
-  json rest = obj;
-  rest.erase("model");
-  d.params = read_params(rest, *find_model_spec(d.model), where);
+  d.params = read_params(obj, *find_model_spec(d.model), where, "model");
   d.json = obj;
   // Cross-key rules the tables cannot express.
   if (d.model == "lafortune") {
@@ -187,27 +199,55 @@ MaterialDesc parse_material(const json& obj, const std::string& where) {
       d.params.fail(d.params.has("eta") ? "k" : (d.params.has("k") ? "eta" : "metal"),
                     "missing: a metal needs \"metal\" (a name) or both \"eta\" and \"k\"");
     if (named && !find_metal(d.params.text("metal")))
-      d.params.fail("metal", fmt::format("unknown metal \"{}\"; expected one of {}", d.params.text("metal"), metal_names()));
+      d.params.fail("metal", unknown_metal_message(d.params.text("metal")));
   }
   return d;
 }
 
-MaterialDesc load_material(const std::string& name_or_path) {
-  if (const auto preset = find_preset(name_or_path)) return parse_material(*preset, fmt::format("preset {}", name_or_path));
+MaterialDesc load_material(const std::string& spec) {
+  // An inline JSON object (scripts, and users of Mitsuba's dict API, pass materials this way).
+  const size_t first = spec.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && spec[first] == '{') return parse_material(parse_json_text(spec, "inline material"), "inline material");
+  if (const auto preset = find_preset(spec)) return parse_material(*preset, fmt::format("preset {}", spec));
+  if (spec.empty()) throw InputError("material: empty name; expected a preset name, a JSON file or an inline JSON object");
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::is_regular_file(name_or_path, ec)) {
-    throw InputError(fmt::format(
-        "material \"{}\": neither a preset (see `aniso presets`) nor a readable JSON file", name_or_path));
+  if (!fs::exists(spec, ec)) {
+    // Neither a preset nor a file: suggest the nearest preset names.
+    const std::string near = nearest_preset_names(spec);
+    throw InputError(fmt::format("material \"{}\": neither a preset (see `aniso presets`) nor an existing file{}",
+                                 text_escape(spec), near.empty() ? "" : fmt::format("; did you mean {}?", near)));
   }
-  std::ifstream in(name_or_path);
-  json obj;
-  try {
-    obj = json::parse(in);
-  } catch (const json::exception& e) {  // parse errors, and numbers that overflow a double (1e999)
-    throw InputError(fmt::format("{}: invalid JSON: {}", name_or_path, e.what()));
+  return parse_material(read_json_file(spec), spec);
+}
+
+namespace {
+
+json values_to_json(const ParamValues& pv) {
+  json out = json::object();
+  for (const auto& [key, v] : pv.values) {
+    if (const double* d = std::get_if<double>(&v)) out[key] = *d;
+    else if (const glm::dvec3* c = std::get_if<glm::dvec3>(&v)) {
+      if (c->x == c->y && c->y == c->z) out[key] = c->x;  // grey: one number, as the presets write it
+      else out[key] = {c->x, c->y, c->z};
+    } else if (const bool* b = std::get_if<bool>(&v)) out[key] = *b;
+    else if (const std::string* s = std::get_if<std::string>(&v)) out[key] = *s;
+    else if (const auto* o = std::get_if<std::shared_ptr<ParamValues>>(&v)) out[key] = values_to_json(**o);
+    else if (const auto* l = std::get_if<std::vector<ParamValues>>(&v)) {
+      json arr = json::array();
+      for (const ParamValues& item : *l) arr.push_back(values_to_json(item));
+      out[key] = std::move(arr);
+    }
   }
-  return parse_material(obj, name_or_path);
+  return out;
+}
+
+}  // namespace
+
+json resolved_json(const MaterialDesc& d) {
+  json out = values_to_json(d.params);
+  out["model"] = d.model;
+  return out;
 }
 
 // --- builders: one per model, each a plain copy from the validated values --------------------

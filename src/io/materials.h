@@ -24,12 +24,19 @@ struct MaterialDesc {
 std::string json_type_name(const nlohmann::json& v);
 
 // Validates obj against spec; `where` prefixes error messages ("gold.json", "preset clay").
-ParamValues read_params(const nlohmann::json& obj, const ModelSpec& spec, const std::string& where);
+// `tag_key` ("model") is skipped: the caller has read it.
+ParamValues read_params(const nlohmann::json& obj, const ModelSpec& spec, const std::string& where,
+                        std::string_view tag_key = {});
 
 MaterialDesc parse_material(const nlohmann::json& obj, const std::string& where);
 
-// A preset name (`aniso presets`) or a path to a JSON file.
-MaterialDesc load_material(const std::string& name_or_path);
+// A preset name (`aniso presets`), a path to a JSON file, or an inline JSON object ("{...}";
+// messages then say "inline material").
+MaterialDesc load_material(const std::string& spec);
+
+// The material as resolved: every key of its table with defaults filled in and shorthands ("alpha",
+// "cxy") expanded. Valid input to parse_material, giving the same material (`aniso presets --show`).
+nlohmann::json resolved_json(const MaterialDesc& desc);
 
 template <typename T> MaterialT<T> build_material(const MaterialDesc& desc);
 extern template MaterialT<float> build_material<float>(const MaterialDesc&);

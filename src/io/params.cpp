@@ -21,8 +21,15 @@ constexpr ParamSpec reflectance(std::string_view name, double def, std::string_v
 // the lobe's peak 1 / (pi alpha^2) and the exponent (h.t / alpha)^2 leave the float range near
 // the horizon; above 1 the Gaussian / GGX lobes no longer describe a surface (Ward: "mostly
 // diffuse" past 0.2).
-constexpr ParamSpec roughness(std::string_view name, double def, std::string_view doc) {
-  return ParamSpec{.name = name, .kind = ParamKind::Scalar, .doc = doc, .min = 1e-3, .max = 1.0, .default_value = def};
+constexpr ParamSpec roughness(std::string_view name, double def, std::string_view doc, std::string_view partner) {
+  return ParamSpec{.name = name, .kind = ParamKind::Scalar, .doc = doc, .min = 1e-3, .max = 1.0, .default_value = def,
+                   .partner = partner};
+}
+// "alpha": the isotropic shorthand for alpha_x = alpha_y.
+constexpr ParamSpec roughness_shorthand() {
+  return ParamSpec{.name = "alpha", .kind = ParamKind::Scalar,
+                   .doc = "sets alpha_x = alpha_y (isotropic); excludes alpha_x and alpha_y", .min = 1e-3, .max = 1.0,
+                   .default_value = NAN, .sets = {"alpha_x", "alpha_y"}};
 }
 
 // --- lambert -------------------------------------------------------------------------------
@@ -49,8 +56,9 @@ constexpr ParamSpec kWardColours[] = {
     reflectance("ks", 0.5, "specular albedo (scales the normalised Gaussian lobe)"),
 };
 constexpr ParamSpec kWardLobe[] = {
-    roughness("alpha_x", 0.15, "RMS slope along the tangent t"),
-    roughness("alpha_y", 0.15, "RMS slope along the bitangent b"),
+    roughness("alpha_x", 0.15, "RMS slope along the tangent t", "alpha_y"),
+    roughness("alpha_y", 0.15, "RMS slope along the bitangent b", "alpha_x"),
+    roughness_shorthand(),
     {.name = "form", .kind = ParamKind::Choice,
      .doc = "exponential term: vector (exact, h unnormalised), angle (exact, Ward 1992 Eq. 5a), "
             "approx (Ward 1992 Eq. 5b)",
@@ -73,9 +81,11 @@ constexpr ParamSpec kASColours[] = {
 };
 constexpr ParamSpec kASLobe[] = {
     {.name = "n_u", .kind = ParamKind::Scalar, .doc = "Phong-like exponent along the tangent t", .min = 0.0,
-     .max = kHuge, .default_value = 100.0},
+     .max = kHuge, .default_value = 100.0, .partner = "n_v"},
     {.name = "n_v", .kind = ParamKind::Scalar, .doc = "Phong-like exponent along the bitangent b", .min = 0.0,
-     .max = kHuge, .default_value = 100.0},
+     .max = kHuge, .default_value = 100.0, .partner = "n_u"},
+    {.name = "n", .kind = ParamKind::Scalar, .doc = "sets n_u = n_v (isotropic); excludes n_u and n_v", .min = 0.0,
+     .max = kHuge, .default_value = NAN, .sets = {"n_u", "n_v"}},
 };
 constexpr std::span<const ParamSpec> kASParts[] = {kASColours, kASLobe};
 constexpr std::span<const ParamSpec> kASLobeParts[] = {kASLobe};
@@ -85,11 +95,11 @@ constexpr std::span<const ParamSpec> kASLobeParts[] = {kASLobe};
 // for moderate n.
 constexpr ParamSpec kLafortuneLobe[] = {
     {.name = "cx", .kind = ParamKind::Color, .doc = "C_x: weight of wi.x wo.x (per channel)", .min = -100.0,
-     .max = 100.0, .default_value = -1.0},
+     .max = 100.0, .default_value = -1.0, .partner = "cy"},
     {.name = "cy", .kind = ParamKind::Color, .doc = "C_y: weight of wi.y wo.y (per channel)", .min = -100.0,
-     .max = 100.0, .default_value = -1.0},
+     .max = 100.0, .default_value = -1.0, .partner = "cx"},
     {.name = "cxy", .kind = ParamKind::Color, .doc = "sets C_x = C_y (isotropic); excludes cx and cy", .min = -100.0,
-     .max = 100.0, .default_value = NAN},
+     .max = 100.0, .default_value = NAN, .sets = {"cx", "cy"}},
     {.name = "cz", .kind = ParamKind::Color, .doc = "C_z: weight of wi.z wo.z (per channel)", .min = -100.0,
      .max = 100.0, .default_value = 1.0},
     {.name = "n", .kind = ParamKind::Color, .doc = "lobe exponent (per channel)", .min = 0.0, .max = kHuge,
@@ -113,8 +123,9 @@ constexpr ParamSpec kGGXColours[] = {
     reflectance("f0", 0.04, "Schlick's reflectance at normal incidence"),
 };
 constexpr ParamSpec kGGXLobe[] = {
-    roughness("alpha_x", 0.2, "GGX roughness along the tangent t"),
-    roughness("alpha_y", 0.2, "GGX roughness along the bitangent b"),
+    roughness("alpha_x", 0.2, "GGX roughness along the tangent t", "alpha_y"),
+    roughness("alpha_y", 0.2, "GGX roughness along the bitangent b", "alpha_x"),
+    roughness_shorthand(),
 };
 constexpr std::span<const ParamSpec> kGGXParts[] = {kGGXColours, kGGXLobe};
 constexpr std::span<const ParamSpec> kGGXLobeParts[] = {kGGXLobe};
@@ -131,11 +142,11 @@ constexpr ParamSpec kDirectionalDiffuse[] = {
      .doc = "lobe albedo at normal incidence, multiplied by the metal's F0 colour", .min = 0.0, .max = 1.0,
      .default_value = 0.1},
     {.name = "cx", .kind = ParamKind::Scalar, .doc = "C_x of the lobe", .min = -100.0, .max = 100.0,
-     .default_value = -1.0},
+     .default_value = -1.0, .partner = "cy"},
     {.name = "cy", .kind = ParamKind::Scalar, .doc = "C_y of the lobe", .min = -100.0, .max = 100.0,
-     .default_value = -1.0},
+     .default_value = -1.0, .partner = "cx"},
     {.name = "cxy", .kind = ParamKind::Scalar, .doc = "sets C_x = C_y; excludes cx and cy", .min = -100.0,
-     .max = 100.0, .default_value = NAN},
+     .max = 100.0, .default_value = NAN, .sets = {"cx", "cy"}},
     {.name = "cz", .kind = ParamKind::Scalar, .doc = "C_z of the lobe", .min = -100.0, .max = 100.0,
      .default_value = 1.0},
     {.name = "n", .kind = ParamKind::Scalar, .doc = "lobe exponent (broad: 1 to 20)", .min = 0.0, .max = kHuge,
@@ -211,6 +222,18 @@ const ModelSpec& metal_lobe_spec(std::string_view model) {
   return kGGXLobeSpec;
 }
 
+std::string default_text(const ParamSpec& p) {
+  if (p.required) return "required";
+  if (!p.sets[0].empty()) return "(shorthand)";
+  switch (p.kind) {
+    case ParamKind::Scalar:
+    case ParamKind::Color: return std::isnan(p.default_value) ? "none" : fmt::format("{:g}", p.default_value);
+    case ParamKind::Bool: return p.default_value != 0.0 ? "true" : "false";
+    case ParamKind::Choice: return fmt::format("\"{}\"", p.choices[0]);
+    default: return "none";
+  }
+}
+
 std::string describe_range(const ParamSpec& p) {
   switch (p.kind) {
     case ParamKind::Scalar:
@@ -239,16 +262,6 @@ std::string describe_range(const ParamSpec& p) {
 
 namespace {
 
-std::string default_text(const ParamSpec& p) {
-  if (p.required) return "required";
-  switch (p.kind) {
-    case ParamKind::Scalar:
-    case ParamKind::Color: return std::isnan(p.default_value) ? "none" : fmt::format("{:g}", p.default_value);
-    case ParamKind::Bool: return p.default_value != 0.0 ? "true" : "false";
-    case ParamKind::Choice: return fmt::format("\"{}\"", p.choices[0]);
-    default: return "none";
-  }
-}
 
 // A '|' inside a cell would end it.
 std::string cell(std::string_view text) {

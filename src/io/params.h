@@ -50,6 +50,13 @@ struct ParamSpec {
   std::span<const std::string_view> choices = {};  // Choice; choices[0] is the default
   const ModelSpec* sub = nullptr;                   // Object, List
   int max_items = 0;                                // List
+  // Anisotropic pairs (alpha_x / alpha_y, n_u / n_v, cx / cy): the other half. Giving one half
+  // without the other is an error naming the partner (docs/conventions.md, "Anisotropic pairs").
+  std::string_view partner = {};
+  // A shorthand key that sets both halves of a pair to its value ("alpha", "n", "cxy"); it may not
+  // be given together with either half. Shorthands are input only: the kernels, the GLSL uniforms
+  // and fitted output use the two halves.
+  std::array<std::string_view, 2> sets = {};
 };
 
 // A model's table: its parts are spans of parameters, so that a lobe shared by two models (the
@@ -94,6 +101,8 @@ const ModelSpec& metal_lobe_spec(std::string_view model);  // ward | ashikhmin-s
 const ModelSpec& directional_diffuse_spec();
 
 std::string describe_range(const ParamSpec& p);
+// "0.15", "\"vector\"", "required", "(shorthand)" or "none" (optional, no default).
+std::string default_text(const ParamSpec& p);
 
 // The parameter table of a model as markdown, with the tables of its nested objects (lobes) after
 // it: what docs/models/<name>.md quote (a test keeps them equal).

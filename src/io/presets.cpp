@@ -7,6 +7,7 @@
 
 #include "data/fits.h"
 #include "data/metals.h"
+#include "io/names.h"
 #include "io/params.h"
 
 namespace aniso {
@@ -155,10 +156,19 @@ const std::vector<PresetInfo>& presets() {
   return all;
 }
 
-std::optional<json> find_preset(std::string_view name) {
+std::optional<json> find_preset(std::string_view name_in) {
+  for (const PresetInfo& p : presets())
+    if (p.name == name_in) return p.json;
+  const std::string name = canonical_spelling(name_in);  // "aluminum" -> "aluminium" (io/names.h)
   for (const PresetInfo& p : presets())
     if (p.name == name) return p.json;
   return std::nullopt;
+}
+
+std::string nearest_preset_names(std::string_view name) {
+  std::vector<std::string> names;
+  for (const PresetInfo& p : presets()) names.push_back(p.name);
+  return nearest_names(name, names);
 }
 
 }  // namespace aniso

@@ -19,6 +19,9 @@ struct PresetInfo {
 // All presets, in listing order: the lecture's matte steel, pbrt-v1's Lafortune fits, the metals,
 // Ngan et al. 2005's fits of the MERL materials.
 const std::vector<PresetInfo>& presets();
+// Exact name, or an accepted alternative spelling (io/names.h: "aluminum").
 std::optional<nlohmann::json> find_preset(std::string_view name);
+// "\"gold\", \"brushed-gold\"": the presets nearest to a mistyped name, for "did you mean" messages.
+std::string nearest_preset_names(std::string_view name);
 
 }  // namespace aniso

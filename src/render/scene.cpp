@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
+#include "io/json_read.h"
 #include "io/materials.h"
 #include "io/presets.h"
 #include "render/image.h"
@@ -525,18 +526,7 @@ Scene parse_scene(const json& doc, const std::string& source, const std::string&
 }
 
 Scene load_scene(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(fmt::format("{}: no such file", path));
-  if (fs::is_directory(path, ec)) throw InputError(fmt::format("{}: is a directory, expected a scene file", path));
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open for reading", path));
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const json::exception& e) {
-    throw InputError(fmt::format("{}: invalid JSON: {}", path, e.what()));
-  }
-  return parse_scene(doc, path, fs::path(path).parent_path().string());
+  return parse_scene(parse_json_text(read_text_file(path, "a scene file"), path), path, fs::path(path).parent_path().string());
 }
 
 }  // namespace aniso::render

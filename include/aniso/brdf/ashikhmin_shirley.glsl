@@ -109,9 +109,9 @@ float AshikhminShirley_pdf(AshikhminShirley self, vec3 wi, vec3 wo) {
 }
 BSDFSample sample_diffuse_specular(AshikhminShirley model, AshikhminShirleyLobe lobe, float p_spec, vec3 wo,
                                    float uc, vec2 u) {
-  if (!(wo.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wo)) return BSDFSample_none();
   vec3 wi = uc < p_spec ? AshikhminShirleyLobe_sample(lobe, wo, u) : sample_cosine_hemisphere(u);
-  if (!(wi.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wi)) return BSDFSample_none();
   return make_sample(wi, AshikhminShirley_f(model, wi, wo), AshikhminShirley_pdf(model, wi, wo));
 }
 BSDFSample AshikhminShirley_sample(AshikhminShirley self, vec3 wo, float uc, vec2 u) {

@@ -33,7 +33,10 @@ float F_Conductor(float cos_theta, float eta, float k) {
   float t3 = cos2 * a2_plus_b2 + sin2 * sin2;
   float t4 = t2 * sin2;
   float rp = rs * (t3 - t4) / (t3 + t4);
-  return 0.5 * (rp + rs);
+  // Clamp at 0: for an index matched to air (eta = 1, k = 0) the true reflectance is 0, and the
+  // differences t1 - t2 and t3 - t4 cancel to a rounding-size value of either sign.
+  float f = 0.5 * (rp + rs);
+  return f > 0.0 ? f : 0.0;
 }
 
 vec3 F_Conductor(float cos_theta, vec3 eta, vec3 k) {

@@ -42,7 +42,10 @@ template <typename T> ANISO_INLINE T F_Conductor(T cos_theta, T eta, T k) {
   const T t3 = cos2 * a2_plus_b2 + sin2 * sin2;
   const T t4 = t2 * sin2;
   const T rp = rs * (t3 - t4) / (t3 + t4);
-  return T(0.5) * (rp + rs);
+  // Clamp at 0: for an index matched to air (eta = 1, k = 0) the true reflectance is 0, and the
+  // differences t1 - t2 and t3 - t4 cancel to a rounding-size value of either sign (-1e-12 seen).
+  const T f = T(0.5) * (rp + rs);
+  return f > T(0) ? f : T(0);
 }
 
 template <typename T> ANISO_INLINE RGBT<T> F_Conductor(T cos_theta, const RGBT<T>& eta, const RGBT<T>& k) {

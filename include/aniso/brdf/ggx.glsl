@@ -92,9 +92,9 @@ float GGX_pdf(GGX self, vec3 wi, vec3 wo) {
   return pdf_diffuse_specular(GGX_specular_probability(self, wo), self.lobe, wi, wo);
 }
 BSDFSample sample_diffuse_specular(GGX model, GGXLobe lobe, float p_spec, vec3 wo, float uc, vec2 u) {
-  if (!(wo.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wo)) return BSDFSample_none();
   vec3 wi = uc < p_spec ? GGXLobe_sample(lobe, wo, u) : sample_cosine_hemisphere(u);
-  if (!(wi.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wi)) return BSDFSample_none();
   return make_sample(wi, GGX_f(model, wi, wo), GGX_pdf(model, wi, wo));
 }
 BSDFSample GGX_sample(GGX self, vec3 wo, float uc, vec2 u) {

@@ -11,8 +11,13 @@
 // Kernels allocate nothing, so the lobe count has a fixed ceiling. Published fits use 1 to 3 lobes.
 const int kLafortuneMaxLobes = 8;
 
-// One lobe's value for one channel: max(Cx wi.x wo.x + Cy wi.y wo.y + Cz wi.z wo.z, 0)^n.
-float Lafortune_Lobe(float base, float n) { return base > 0.0 ? pow(base, n) : 0.0; }
+// One lobe's value for one channel: scale max(Cx wi.x wo.x + Cy wi.y wo.y + Cz wi.z wo.z, 0)^n,
+// computed as exp(n log(base) + log(scale)): the product is what the reader bounds
+// (scale max|C|^n <= 1e30), its factors alone need not be finite (lafortune.h). A scale of 0
+// switches the lobe off.
+float Lafortune_Lobe(float base, float n, float scale) {
+  return base > 0.0 && scale > 0.0 ? exp(n * log(base) + log(scale)) : 0.0;
+}
 
 struct LafortuneLobe {
   vec3 cx;
@@ -26,7 +31,7 @@ vec3 LafortuneLobe_eval(LafortuneLobe self, vec3 wi, vec3 wo) {
   vec3 p = wi * wo;  // component-wise: the diagonal matrix acts on wi.x wo.x, ...
   vec3 outv;
   for (int c = 0; c < 3; ++c) {
-    outv[c] = self.scale[c] * Lafortune_Lobe(self.cx[c] * p.x + self.cy[c] * p.y + self.cz[c] * p.z, self.n[c]);
+    outv[c] = Lafortune_Lobe(self.cx[c] * p.x + self.cy[c] * p.y + self.cz[c] * p.z, self.n[c], self.scale[c]);
   }
   return outv;
 }
@@ -41,8 +46,9 @@ vec3 LafortuneLobe_axis(LafortuneLobe self, vec3 wo, int c) {
 float LafortuneLobe_channel_weight(LafortuneLobe self, vec3 wo, int c) {
   vec3 a = LafortuneLobe_axis(self, wo, c);
   float len = sqrt(dot(a, a));
-  if (!(len > 0.0) || !(self.scale[c] > 0.0) || !(a.z > 0.0)) return 0.0;
-  return self.scale[c] * pow(len, self.n[c]) * (a.z / len) * 2.0 * kPi / ((self.n[c] + 1.0) * 3.0);
+  if (!(len > 0.0) || !(a.z > 0.0)) return 0.0;
+  // scale |a|^n through Lafortune_Lobe: |a| <= max|C|, so the same bound keeps it finite.
+  return Lafortune_Lobe(len, self.n[c], self.scale[c]) * (a.z / len) * 2.0 * kPi / ((self.n[c] + 1.0) * 3.0);
 }
 
 float LafortuneLobe_channel_pdf(LafortuneLobe self, vec3 wi, vec3 wo, int c) {
@@ -106,7 +112,7 @@ float Lafortune_pdf(Lafortune self, vec3 wi, vec3 wo) {
 }
 
 BSDFSample Lafortune_sample(Lafortune self, vec3 wo, float uc, vec2 u) {
-  if (!(wo.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wo)) return BSDFSample_none();
   Lafortune_SamplingWeights w = Lafortune_sampling_weights(self, wo);
   // Walk the cumulative weights with uc: cosine first, then each (lobe, channel). Rounding that
   // leaves target >= 0 after the last lobe picks the last positive-weight candidate.
@@ -126,6 +132,6 @@ BSDFSample Lafortune_sample(Lafortune self, vec3 wo, float uc, vec2 u) {
     vec3 a = LafortuneLobe_axis(self.lobes[lobe], wo, channel);
     wi = sample_cosine_power(a / sqrt(dot(a, a)), self.lobes[lobe].n[channel], u);
   }
-  if (!(wi.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wi)) return BSDFSample_none();
   return make_sample(wi, Lafortune_f(self, wi, wo), Lafortune_pdf(self, w, wi, wo));
 }

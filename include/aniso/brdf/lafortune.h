@@ -21,10 +21,17 @@ namespace aniso {
 // Kernels allocate nothing, so the lobe count has a fixed ceiling. Published fits use 1 to 3 lobes.
 inline constexpr int kLafortuneMaxLobes = 8;
 
-// One lobe's value for one channel: max(Cx wi.x wo.x + Cy wi.y wo.y + Cz wi.z wo.z, 0)^n.
-template <typename T> ANISO_INLINE T Lafortune_Lobe(T base, T n) {
-  using std::pow;
-  return base > T(0) ? pow(base, n) : T(0);
+// One lobe's value for one channel: scale max(Cx wi.x wo.x + Cy wi.y wo.y + Cz wi.z wo.z, 0)^n,
+// computed as exp(n log(base) + log(scale)). The product is what the reader bounds
+// (scale max|C|^n <= 1e30, src/io/materials.cpp), but its factors alone need not be finite:
+// C_z = 100, n = 160 gives base^n = inf in double, and a scale of 1e-300 then made inf * 1e-300 or
+// 0 * inf = NaN. In log space the exponent is at most ln(1e30) = 69, so the result is finite for
+// every material the reader accepts, in float and double. A scale of 0 (or one that rounds to 0 in
+// float) switches the lobe off.
+template <typename T> ANISO_INLINE T Lafortune_Lobe(T base, T n, T scale) {
+  using std::exp;
+  using std::log;
+  return base > T(0) && scale > T(0) ? exp(n * log(base) + log(scale)) : T(0);
 }
 
 template <typename T> struct LafortuneLobeT {
@@ -38,7 +45,7 @@ template <typename T> struct LafortuneLobeT {
     const Vec3T<T> p = wi * wo;  // component-wise: the diagonal matrix acts on wi.x wo.x, ...
     RGBT<T> out;
     for (int c = 0; c < 3; ++c) {
-      out[c] = scale[c] * Lafortune_Lobe(cx[c] * p.x + cy[c] * p.y + cz[c] * p.z, n[c]);
+      out[c] = Lafortune_Lobe(cx[c] * p.x + cy[c] * p.y + cz[c] * p.z, n[c], scale[c]);
     }
     return out;
   }
@@ -51,12 +58,12 @@ template <typename T> struct LafortuneLobeT {
   // the upper hemisphere; without this factor, fits like pbrt-v1's clay with C_z < 0 waste almost
   // every sample), divided by 3 so that a grey lobe weighs as much as its three channels together.
   ANISO_HD T channel_weight(const Vec3T<T>& wo, int c) const {
-    using std::pow;
     using std::sqrt;
     const Vec3T<T> a = axis(wo, c);
     const T len = sqrt(glm::dot(a, a));
-    if (!(len > T(0)) || !(scale[c] > T(0)) || !(a.z > T(0))) return T(0);
-    return scale[c] * pow(len, n[c]) * (a.z / len) * T(2) * kPi<T> / ((n[c] + T(1)) * T(3));
+    if (!(len > T(0)) || !(a.z > T(0))) return T(0);
+    // scale |a|^n through Lafortune_Lobe: |a| <= max|C|, so the same bound keeps it finite.
+    return Lafortune_Lobe(len, n[c], scale[c]) * (a.z / len) * T(2) * kPi<T> / ((n[c] + T(1)) * T(3));
   }
 
   ANISO_HD T channel_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, int c) const {
@@ -115,7 +122,7 @@ template <typename T> struct LafortuneT {
   }
 
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
-    if (!(wo.z > T(0))) return {};
+    if (!above_horizon(wo)) return {};
     const SamplingWeights w = sampling_weights(wo);
     // Walk the cumulative weights with uc: cosine first, then each (lobe, channel). Rounding that
     // leaves target >= 0 after the last lobe picks the last positive-weight candidate.
@@ -135,7 +142,7 @@ template <typename T> struct LafortuneT {
       const Vec3T<T> a = lobes[lobe].axis(wo, channel);
       wi = sample_cosine_power(a / std::sqrt(glm::dot(a, a)), lobes[lobe].n[channel], u);
     }
-    if (!(wi.z > T(0))) return {};
+    if (!above_horizon(wi)) return {};
     return make_sample(wi, f(wi, wo), pdf(w, wi, wo));
   }
 };

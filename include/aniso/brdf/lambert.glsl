@@ -16,7 +16,7 @@ float Lambert_pdf(Lambert self, vec3 wi, vec3 wo) {
   return cosine_hemisphere_pdf(wi.z);
 }
 BSDFSample Lambert_sample(Lambert self, vec3 wo, float uc, vec2 u) {
-  if (!(wo.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wo)) return BSDFSample_none();
   vec3 wi = sample_cosine_hemisphere(u);
   return make_sample(wi, Lambert_f(self, wi, wo), Lambert_pdf(self, wi, wo));
 }

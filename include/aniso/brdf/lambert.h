@@ -19,7 +19,7 @@ template <typename T> struct LambertT {
     return cosine_hemisphere_pdf(wi.z);
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T /*uc*/, const Vec2T<T>& u) const {
-    if (!(wo.z > T(0))) return {};
+    if (!above_horizon(wo)) return {};
     const Vec3T<T> wi = sample_cosine_hemisphere(u);
     return make_sample(wi, f(wi, wo), pdf(wi, wo));
   }

@@ -75,7 +75,7 @@ float Metal_pdf(Metal self, vec3 wi, vec3 wo) {
   return p;
 }
 BSDFSample Metal_sample(Metal self, vec3 wo, float uc, vec2 u) {
-  if (!(wo.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wo)) return BSDFSample_none();
   float ps = Metal_specular_probability(self, wo);
   vec3 wi;
   if (uc < ps) {
@@ -102,6 +102,6 @@ BSDFSample Metal_sample(Metal self, vec3 wo, float uc, vec2 u) {
     vec3 a = LafortuneLobe_axis(self.directional_diffuse, wo, chosen);
     wi = sample_cosine_power(a / sqrt(dot(a, a)), self.directional_diffuse.n[chosen], u);
   }
-  if (!(wi.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wi)) return BSDFSample_none();
   return make_sample(wi, Metal_f(self, wi, wo), Metal_pdf(self, wi, wo));
 }

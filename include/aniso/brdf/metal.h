@@ -89,7 +89,7 @@ template <typename T> struct MetalT {
     return p;
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
-    if (!(wo.z > T(0))) return {};
+    if (!above_horizon(wo)) return {};
     const T ps = specular_probability(wo);
     Vec3T<T> wi;
     if (uc < ps) {
@@ -109,7 +109,7 @@ template <typename T> struct MetalT {
       const Vec3T<T> a = directional_diffuse.axis(wo, chosen);
       wi = sample_cosine_power(a / std::sqrt(glm::dot(a, a)), directional_diffuse.n[chosen], u);
     }
-    if (!(wi.z > T(0))) return {};
+    if (!above_horizon(wi)) return {};
     return make_sample(wi, f(wi, wo), pdf(wi, wo));
   }
 };

@@ -50,9 +50,9 @@ float Phong_pdf(Phong self, vec3 wi, vec3 wo) {
   return pdf_diffuse_specular(Phong_specular_probability(self, wo), self.lobe, wi, wo);
 }
 BSDFSample sample_diffuse_specular(Phong model, PhongLobe lobe, float p_spec, vec3 wo, float uc, vec2 u) {
-  if (!(wo.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wo)) return BSDFSample_none();
   vec3 wi = uc < p_spec ? PhongLobe_sample(lobe, wo, u) : sample_cosine_hemisphere(u);
-  if (!(wi.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wi)) return BSDFSample_none();
   return make_sample(wi, Phong_f(model, wi, wo), Phong_pdf(model, wi, wo));
 }
 BSDFSample Phong_sample(Phong self, vec3 wo, float uc, vec2 u) {

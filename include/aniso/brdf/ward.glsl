@@ -156,9 +156,9 @@ float Ward_pdf(Ward self, vec3 wi, vec3 wo) {
   return pdf_diffuse_specular(Ward_specular_probability(self, wo), self.lobe, wi, wo);
 }
 BSDFSample sample_diffuse_specular(Ward model, WardLobe lobe, float p_spec, vec3 wo, float uc, vec2 u) {
-  if (!(wo.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wo)) return BSDFSample_none();
   vec3 wi = uc < p_spec ? WardLobe_sample(lobe, wo, u) : sample_cosine_hemisphere(u);
-  if (!(wi.z > 0.0)) return BSDFSample_none();
+  if (!above_horizon(wi)) return BSDFSample_none();
   return make_sample(wi, Ward_f(model, wi, wo), Ward_pdf(model, wi, wo));
 }
 BSDFSample Ward_sample(Ward self, vec3 wo, float uc, vec2 u) {

@@ -19,9 +19,9 @@ ANISO_INLINE T pdf_diffuse_specular(T p_spec, const Lobe& lobe, const Vec3T<T>& 
 template <typename T, typename Model, typename Lobe>
 ANISO_INLINE BSDFSampleT<T> sample_diffuse_specular(const Model& model, const Lobe& lobe, T p_spec,
                                                     const Vec3T<T>& wo, T uc, const Vec2T<T>& u) {
-  if (!(wo.z > T(0))) return {};
+  if (!above_horizon(wo)) return {};
   const Vec3T<T> wi = uc < p_spec ? lobe.sample(wo, u) : sample_cosine_hemisphere(u);
-  if (!(wi.z > T(0))) return {};
+  if (!above_horizon(wi)) return {};
   return make_sample(wi, model.f(wi, wo), model.pdf(wi, wo));
 }
 

@@ -21,8 +21,19 @@ float copysign_one(float x) { return (floatBitsToUint(x) & 0x80000000u) != 0u ? 
 // Local shading frame (docs/conventions.md): z = n, x = t, y = b.
 float cos_theta(vec3 w) { return w.z; }
 
-// Both directions strictly above the horizon: the BRDFs are defined there and nowhere else.
-bool same_upper_hemisphere(vec3 wi, vec3 wo) { return wi.z > 0.0 && wo.z > 0.0; }
+// The horizon (docs/conventions.md, "The horizon"; math.h HorizonCos): a unit direction whose
+// cos(theta) is at or below horizon_cos() is on the horizon, where every BRDF and pdf is 0 and
+// sampling gives no sample. The float threshold 1e-6 (theta = 89.99994 deg): below it a float
+// unit vector's z is mostly rounding, and the normalisations (1 / cos, 1 / (h.n)^4) stay below
+// ~1e25 with alpha >= 1e-3.
+const float HorizonCos = 1e-6;
+float horizon_cos() { return HorizonCos; }
+
+// w strictly above the horizon (see HorizonCos).
+bool above_horizon(vec3 w) { return w.z > horizon_cos(); }
+
+// Both directions above the horizon: the BRDFs are defined there and nowhere else.
+bool same_upper_hemisphere(vec3 wi, vec3 wo) { return above_horizon(wi) && above_horizon(wo); }
 
 // Mirror of w about the unit vector h: 2 (w.h) h - w.
 vec3 reflect_about(vec3 w, vec3 h) { return 2.0 * dot(w, h) * h - w; }

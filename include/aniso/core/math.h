@@ -40,9 +40,33 @@ template <typename T> ANISO_INLINE T max_component(const Vec3T<T>& c) {
 // Local shading frame (docs/conventions.md): z = n, x = t, y = b.
 template <typename T> ANISO_INLINE T cos_theta(const Vec3T<T>& w) { return w.z; }
 
-// Both directions strictly above the horizon: the BRDFs are defined there and nowhere else.
+// The horizon (docs/conventions.md, "The horizon"): a unit direction whose cos(theta) is at or
+// below HorizonCos is treated as on the horizon, where every BRDF is 0, every pdf 0 and sample()
+// gives no sample. Why not 0: the normalisations grow like 1 / cos (Ward 1992, Duer), 1 / (h.n)^4
+// (balanced Ward) or 1 / cos^3 (Walter's half-vector pdf); for cosines a few hundred orders of
+// magnitude below 1 in double, or ~1e-15 in float, those terms overflow or become 0 / 0, and
+// wi + wo of two such directions loses its length to underflow. The thresholds:
+//  - float 1e-6 (theta = 89.99994 deg): the rounding of a float unit vector's z is ~6e-8, so below
+//    1e-6 the cosine is mostly rounding; with alpha >= 1e-3 (params.cpp) every normalisation then
+//    stays below ~1e25, far inside float's 3.4e38.
+//  - double 1e-12: the same margin in double's range (Duer's 1 / (4 pi ax ay cos_i cos_o) <= 1e31).
+// The solid angle lost is about 2 pi HorizonCos sr (6e-6 sr in float), an energy change far below
+// any test's tolerance. tests/test_horizon.cpp sweeps every model and preset down to the smallest
+// subnormal cosine.
+template <typename T> struct HorizonCos {
+  static constexpr double value = 1e-12;
+};
+template <> struct HorizonCos<float> {
+  static constexpr double value = 1e-6;
+};
+template <typename T> ANISO_INLINE T horizon_cos() { return T(HorizonCos<T>::value); }
+
+// w strictly above the horizon (see HorizonCos).
+template <typename T> ANISO_INLINE bool above_horizon(const Vec3T<T>& w) { return w.z > horizon_cos<T>(); }
+
+// Both directions above the horizon: the BRDFs are defined there and nowhere else.
 template <typename T> ANISO_INLINE bool same_upper_hemisphere(const Vec3T<T>& wi, const Vec3T<T>& wo) {
-  return wi.z > T(0) && wo.z > T(0);
+  return above_horizon(wi) && above_horizon(wo);
 }
 
 // Mirror of w about the unit vector h: 2 (w.h) h - w.

@@ -17,7 +17,7 @@ BSDFSample BSDFSample_none() { return BSDFSample(vec3(0.0), vec3(0.0), 0.0, fals
 // cannot use becomes "no sample". Keeps weight == f cos / pdf true by construction.
 BSDFSample make_sample(vec3 wi, vec3 f, float pdf) {
   BSDFSample s = BSDFSample_none();
-  if (!(wi.z > 0.0) || !(pdf > 0.0)) return s;
+  if (!above_horizon(wi) || !(pdf > 0.0)) return s;
   s.wi = wi;
   s.pdf = pdf;
   s.weight = f * (wi.z / pdf);

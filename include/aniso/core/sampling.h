@@ -20,7 +20,7 @@ template <typename T> struct BSDFSampleT {
 template <typename T>
 ANISO_INLINE BSDFSampleT<T> make_sample(const Vec3T<T>& wi, const RGBT<T>& f, T pdf) {
   BSDFSampleT<T> s;
-  if (!(wi.z > T(0)) || !(pdf > T(0))) return s;
+  if (!above_horizon(wi) || !(pdf > T(0))) return s;
   s.wi = wi;
   s.pdf = pdf;
   s.weight = f * (wi.z / pdf);

@@ -1,0 +1,120 @@
+// io/json_read.cpp: JSON documents with duplicate-key and depth checks, and file-kind messages.
+#include "io/json_read.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <vector>
+
+#include <sys/stat.h>
+
+#include <fmt/format.h>
+
+#include "io/params.h"
+
+namespace aniso {
+
+std::string text_escape(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c == '\n') out += "\\n";
+    else if (c == '\t') out += "\\t";
+    else if (c == '\r') out += "\\r";
+    else if (c < 0x20 || c == 0x7f) out += fmt::format("\\u{:04x}", c);
+    else out += ch;
+  }
+  return out;
+}
+
+namespace {
+
+// The parser callback sees every event with the current depth; a stack of frames tracks the JSON
+// path and, per object, the keys seen so far.
+struct Frame {
+  bool is_object = false;
+  std::set<std::string> keys;
+  std::string key;   // the object's current key
+  long index = -1;   // the array's current element
+};
+
+std::string path_of(const std::vector<Frame>& stack) {
+  std::string p;
+  for (const Frame& f : stack) {
+    if (f.is_object) {
+      if (!f.key.empty()) p += (p.empty() ? "" : ".") + text_escape(f.key);
+    } else if (f.index >= 0) {
+      p += fmt::format("[{}]", f.index);
+    }
+  }
+  return p;
+}
+
+}  // namespace
+
+nlohmann::json parse_json_text(std::string_view text, const std::string& where) {
+  using json = nlohmann::json;
+  std::vector<Frame> stack;
+  // An element starts: in an array it is the next index.
+  const auto element = [&] {
+    if (!stack.empty() && !stack.back().is_object) ++stack.back().index;
+  };
+  const json::parser_callback_t cb = [&](int depth, json::parse_event_t event, json& parsed) -> bool {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        element();
+        if (depth >= kMaxJsonDepth)
+          throw InputError(fmt::format("{}: {}: nested deeper than {} levels (no material or scene needs more)", where,
+                                       path_of(stack).empty() ? "top level" : path_of(stack), kMaxJsonDepth));
+        stack.push_back(Frame{event == json::parse_event_t::object_start, {}, {}, -1});
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        if (!stack.empty()) stack.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        Frame& f = stack.back();
+        const std::string k = parsed.get<std::string>();
+        f.key = k;
+        if (!f.keys.insert(k).second)
+          throw InputError(fmt::format("{}: {}: duplicate key \"{}\" (each key may appear once in an object)", where,
+                                       path_of(stack), text_escape(k)));
+        break;
+      }
+      case json::parse_event_t::value: element(); break;
+    }
+    return true;
+  };
+  try {
+    return json::parse(text.begin(), text.end(), cb);
+  } catch (const json::exception& e) {  // syntax errors, and numbers that overflow a double (1e999)
+    // nlohmann's message: "[json.exception.parse_error.101] parse error at line 1, column 5: ...".
+    std::string msg = e.what();
+    if (const size_t p = msg.find("] "); p != std::string::npos) msg = msg.substr(p + 2);
+    throw InputError(fmt::format("{}: invalid JSON: {}", where, text_escape(msg)));
+  }
+}
+
+std::string read_text_file(const std::string& path, std::string_view what) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int err = errno;
+    if (err == ENOENT || err == ENOTDIR) throw InputError(fmt::format("{}: no such file (expected {})", path, what));
+    throw InputError(fmt::format("{}: cannot access: {}", path, std::strerror(err)));
+  }
+  if (S_ISDIR(st.st_mode)) throw InputError(fmt::format("{}: is a directory, expected {}", path, what));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open for reading: {}", path, std::strerror(errno)));
+  std::string text;
+  char buf[1 << 16];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) text.append(buf, size_t(in.gcount()));
+  if (in.bad()) throw InputError(fmt::format("{}: read error: {}", path, std::strerror(errno)));
+  return text;
+}
+
+nlohmann::json read_json_file(const std::string& path) { return parse_json_text(read_text_file(path, "a JSON file"), path); }
+
+}  // namespace aniso

@@ -1,0 +1,148 @@
+// The horizon rule (include/aniso/core/math.h, HorizonCos; docs/conventions.md): for every model
+// and every preset, in float and in double, no direction pair gives a non-finite or negative f or
+// pdf, down to the smallest normal (and subnormal) cosines; at or below kHorizonCos everything is 0.
+// Regression tests for issue 13's grazing reproducers (`1 0 1e-170 -1 0 1e-170`, mirror pairs with
+// z <= 1e-120, float pdf NaN at z = 1e-15) and its Lafortune overflow reproducers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "io/presets.h"
+#include "test_util.h"
+
+namespace aniso::test {
+namespace {
+
+// Cosines from the smallest subnormal up to 0.1, a few per decade, plus the threshold itself and
+// its neighbours.
+template <typename T> std::vector<T> tiny_cosines() {
+  std::vector<T> z;
+  for (T v = std::numeric_limits<T>::denorm_min(); v < T(0.1); v *= T(1000)) z.push_back(v);
+  z.push_back(std::numeric_limits<T>::min());
+  const T h = horizon_cos<T>();
+  z.push_back(h);
+  z.push_back(std::nextafter(h, T(1)));
+  z.push_back(std::nextafter(h, T(0)));
+  z.push_back(T(2) * h);
+  return z;
+}
+
+template <typename T> Vec3T<T> at(T z, double phi) {
+  const T r = std::sqrt(T(1) - z * z);
+  return Vec3T<T>(T(r * std::cos(phi)), T(r * std::sin(phi)), z);
+}
+
+template <typename T> void check_material(const std::string& name, const MaterialT<T>& m) {
+  const auto ok = [&](const Vec3T<T>& wi, const Vec3T<T>& wo) {
+    const RGBT<T> f = m.f(wi, wo);
+    const T pdf = m.pdf(wi, wo);
+    for (int c = 0; c < 3; ++c)
+      ASSERT_TRUE(std::isfinite(f[c]) && f[c] >= T(0))
+          << name << " f[" << c << "] = " << f[c] << " at wi.z " << wi.z << " wo.z " << wo.z;
+    ASSERT_TRUE(std::isfinite(pdf) && pdf >= T(0)) << name << " pdf = " << pdf << " at wi.z " << wi.z << " wo.z " << wo.z;
+    if (!above_horizon(wi) || !above_horizon(wo)) {
+      ASSERT_EQ(f, RGBT<T>(T(0))) << name << ": below kHorizonCos f must be 0";
+      ASSERT_EQ(pdf, T(0)) << name;
+    }
+  };
+  const std::vector<T> zs = tiny_cosines<T>();
+  const T u1 = std::nextafter(T(1), T(0));
+  for (T zi : zs) {
+    for (T zo : {zi, T(0.5), T(1)}) {
+      ok(at(zi, 0.0), at(zo, M_PI));  // mirror azimuth (h = n when zi == zo)
+      ok(at(zi, 0.0), at(zo, 0.0));   // wi = wo when zi == zo
+      ok(at(zi, 0.3), at(zo, 2.0));
+      ok(at(zo, 1.0), at(zi, 1.0 + M_PI));
+    }
+    const Vec3T<T> wo = at(zi, 0.7);
+    for (T uc : {T(0), T(0.5), u1})
+      for (T a : {T(0), T(0.5), u1}) {
+        const BSDFSampleT<T> s = m.sample(wo, uc, Vec2T<T>(a, T(0.25)));
+        if (!s.valid) continue;
+        for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(s.weight[c]) && s.weight[c] >= T(0)) << name;
+        ASSERT_TRUE(std::isfinite(s.pdf) && s.pdf > T(0)) << name;
+        ASSERT_TRUE(above_horizon(s.wi)) << name;
+      }
+  }
+}
+
+TEST(Horizon, EveryModelFiniteDownToTheSmallestCosines) {
+  for (const NamedMaterial& nm : all_model_materials()) {
+    check_material(nm.name + " (float)", build<float>(nm.json));
+    check_material(nm.name + " (double)", build<double>(nm.json));
+  }
+}
+
+TEST(Horizon, EveryPresetFiniteDownToTheSmallestCosines) {
+  for (const PresetInfo& p : presets()) {
+    check_material(p.name + " (float)", build<float>(p.json));
+    check_material(p.name + " (double)", build<double>(p.json));
+  }
+}
+
+// Issue 13: `1 0 1e-170 -1 0 1e-170` gave NaN for 196 of 461 presets in double.
+TEST(Horizon, ReproducerGrazingOppositePairIsZero) {
+  const Vec3d wi(1, 0, 1e-170), wo(-1, 0, 1e-170);
+  for (const PresetInfo& p : presets()) {
+    const MaterialT<double> m = build<double>(p.json);
+    EXPECT_EQ(m.f(wi, wo), Vec3d(0.0)) << p.name;
+    EXPECT_EQ(m.pdf(wi, wo), 0.0) << p.name;
+  }
+}
+
+TEST(Horizon, ThresholdIsExactlyTheDocumentedValue) {
+  const MaterialT<double> d = build<double>({{"model", "lambert"}, {"kd", 1.0}});
+  const Vec3d n(0, 0, 1);
+  EXPECT_EQ(d.f(Vec3d(1, 0, 1e-12), n), Vec3d(0.0));
+  EXPECT_GT(d.f(Vec3d(1, 0, 1.0000001e-12), n).x, 0.0);
+  const MaterialT<float> f = build<float>({{"model", "lambert"}, {"kd", 1.0}});
+  EXPECT_EQ(f.f(Vec3(1, 0, 1e-6f), Vec3(0, 0, 1)), Vec3(0.0f));
+  EXPECT_GT(f.f(Vec3(1, 0, 1.001e-6f), Vec3(0, 0, 1)).x, 0.0f);
+}
+
+// Issue 13: Lafortune materials the reader accepts gave inf / NaN: base^n overflowed before the
+// scale (log-space evaluation now, lafortune.h Lafortune_Lobe).
+TEST(LafortuneOverflow, AcceptedMaterialsAreFinite) {
+  using nlohmann::json;
+  const json cases[] = {
+      {{"model", "lafortune"}, {"lobes", json::array({{{"cz", 100}, {"n", 160}, {"scale", 1e-300}}})}},
+      {{"model", "lafortune"}, {"lobes", json::array({{{"cz", 100}, {"n", 160}, {"scale", 0}}})}},
+      {{"model", "lafortune"}, {"lobes", json::array({{{"cz", 100}, {"n", 37}, {"scale", 1e-300}}})}},
+      {{"model", "lafortune"}, {"lobes", json::array({{{"cxy", -100}, {"cz", 100}, {"n", 14}, {"scale", 1e-10}}})}},
+  };
+  Rng rng(17);
+  for (const json& j : cases) {
+    const MaterialT<double> md = build<double>(j);
+    const MaterialT<float> mf = build<float>(j);
+    for (int i = 0; i < 2000; ++i) {
+      const Vec3d wi = random_upper<double>(rng), wo = random_upper<double>(rng);
+      const Vec3d fd = md.f(wi, wo);
+      const Vec3 ff = mf.f(Vec3(wi), Vec3(wo));
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(std::isfinite(fd[c]) && fd[c] >= 0.0) << j.dump();
+        ASSERT_TRUE(std::isfinite(ff[c]) && ff[c] >= 0.0f) << j.dump();
+      }
+      ASSERT_TRUE(std::isfinite(md.pdf(wi, wo)) && std::isfinite(mf.pdf(Vec3(wi), Vec3(wo)))) << j.dump();
+      const BSDFSampleT<double> s = md.sample(wo, rng.uniform(), Vec2T<double>(rng.uniform(), rng.uniform()));
+      if (s.valid) {
+        for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(s.weight[c])) << j.dump();
+      }
+    }
+  }
+  // The value itself: 1e-300 * (100 * 1 * 1)^37 = 1e-226 at wi = wo = n, in double.
+  const MaterialT<double> m = build<double>(cases[2]);
+  EXPECT_NEAR(m.f(Vec3d(0, 0, 1), Vec3d(0, 0, 1)).x / 1e-226, 1.0, 1e-12);
+}
+
+// Issue 13: eta = 1, k = 0 (index matched to air) gave f = -1e-12 from rounding.
+TEST(FresnelConductor, IndexMatchedToAirIsZeroNotNegative) {
+  for (double c = 0.0; c <= 1.0; c += 1.0 / 64) {
+    EXPECT_GE(F_Conductor(c, 1.0, 0.0), 0.0) << c;
+    EXPECT_GE(F_Conductor(float(c), 1.0f, 0.0f), 0.0f) << c;
+  }
+}
+
+}  // namespace
+}  // namespace aniso::test
