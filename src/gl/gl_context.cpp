@@ -163,11 +163,42 @@ void ComputeProgram::set(const std::string& name, const glm::vec3& v) const {
   glProgramUniform3f(id_, glGetUniformLocation(id_, name.c_str()), v.x, v.y, v.z);
 }
 
+void ComputeProgram::bind_block(const std::string& block, unsigned binding) const {
+  const GLuint index = glGetUniformBlockIndex(id_, block.c_str());
+  if (index == GL_INVALID_INDEX) throw GlError(fmt::format("no active uniform block \"{}\"", block));
+  glUniformBlockBinding(id_, index, binding);
+}
+
+std::vector<int> ComputeProgram::member_offsets(const std::vector<std::string>& names) const {
+  std::vector<const char*> ptrs;
+  for (const auto& n : names) ptrs.push_back(n.c_str());
+  std::vector<GLuint> indices(names.size(), GL_INVALID_INDEX);
+  glGetUniformIndices(id_, GLsizei(names.size()), ptrs.data(), indices.data());
+  std::vector<int> out(names.size(), -1);
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (indices[i] == GL_INVALID_INDEX) continue;
+    GLint offset = -1;
+    glGetActiveUniformsiv(id_, 1, &indices[i], GL_UNIFORM_OFFSET, &offset);
+    out[i] = offset;
+  }
+  return out;
+}
+
 void ComputeProgram::dispatch(unsigned groups_x) const {
   glUseProgram(id_);
   glDispatchCompute(groups_x, 1, 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   if (const GLenum err = glGetError(); err != GL_NO_ERROR) throw GlError(fmt::format("glDispatchCompute: GL error 0x{:x}", err));
+}
+
+UniformBuffer::UniformBuffer(unsigned binding, size_t bytes, const void* data) {
+  GlContext::get();
+  glCreateBuffers(1, &id_);
+  glNamedBufferData(id_, GLsizeiptr(bytes), data, GL_STATIC_DRAW);
+  glBindBufferBase(GL_UNIFORM_BUFFER, binding, id_);
+}
+UniformBuffer::~UniformBuffer() {
+  if (id_) glDeleteBuffers(1, &id_);
 }
 
 StorageBuffer::StorageBuffer(unsigned binding, size_t bytes, const void* data) {

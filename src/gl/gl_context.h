@@ -60,6 +60,10 @@ class ComputeProgram {
   void set(const std::string& name, float v) const;
   void set(const std::string& name, int v) const;
   void set(const std::string& name, const glm::vec3& v) const;
+  // Binds the uniform block `block` to uniform-buffer binding point `binding`.
+  void bind_block(const std::string& block, unsigned binding) const;
+  // The byte offsets GL assigned to the named block members (-1 where a name is not active).
+  std::vector<int> member_offsets(const std::vector<std::string>& names) const;
   // Runs groups_x work groups (glDispatchCompute(groups_x, 1, 1)) and a storage barrier.
   void dispatch(unsigned groups_x) const;
 
@@ -75,6 +79,18 @@ class StorageBuffer {
   StorageBuffer(const StorageBuffer&) = delete;
   StorageBuffer& operator=(const StorageBuffer&) = delete;
   void read(void* out, size_t bytes) const;
+
+ private:
+  unsigned id_ = 0;
+};
+
+// A uniform buffer bound at `binding` (glBindBufferBase(GL_UNIFORM_BUFFER, binding, ...)).
+class UniformBuffer {
+ public:
+  UniformBuffer(unsigned binding, size_t bytes, const void* data);
+  ~UniformBuffer();
+  UniformBuffer(const UniformBuffer&) = delete;
+  UniformBuffer& operator=(const UniformBuffer&) = delete;
 
  private:
   unsigned id_ = 0;

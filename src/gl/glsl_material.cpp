@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <map>
 #include <stdexcept>
 
@@ -269,6 +271,13 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
   out.model_kind = "ModelKind_" + out.model_struct;
   const std::string member = kinds.at(out.model_struct);
 
+  if (storage == GlslStorage::UniformBlock) {
+    out.declarations += fmt::format("layout(std140) uniform {} {{\n", kGlslMaterialBlock);
+    for (const GlslSlot& s : out.slots)
+      out.declarations += fmt::format("  {} {}{};  // {}\n", glsl_type(s.type), prefix, s.name, s.table_key);
+    // A block needs at least one member (GLSL); lambert has one, every model has some.
+    out.declarations += "};\n";
+  }
   for (const GlslSlot& s : out.slots) {
     if (storage == GlslStorage::Uniform)
       out.declarations += fmt::format("uniform {} {}{};\n", glsl_type(s.type), prefix, s.name);
@@ -293,6 +302,42 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
       "  return aniso_f(vec3(dot(L, X), dot(L, Y), dot(L, N)), vec3(dot(V, X), dot(V, Y), dot(V, N)));\n}}\n",
       M, b, out.model_kind, member);
   return out;
+}
+
+Std140Block pack_std140(const GlslMaterial& material) {
+  Std140Block b;
+  size_t offset = 0;
+  for (const GlslSlot& s : material.slots) {
+    const size_t align = s.type == GlslSlot::Type::Vec3 ? 16 : 4;
+    offset = (offset + align - 1) / align * align;
+    b.offsets.push_back(offset);
+    offset += s.type == GlslSlot::Type::Vec3 ? 12 : 4;
+  }
+  // The block's size rounds up to a vec4 (std140 rule 9 for structures; drivers report it so).
+  b.bytes.assign((offset + 15) / 16 * 16, 0);
+  for (size_t i = 0; i < material.slots.size(); ++i) {
+    const GlslSlot& s = material.slots[i];
+    unsigned char* at = b.bytes.data() + b.offsets[i];
+    switch (s.type) {
+      case GlslSlot::Type::Float: {
+        const float v = float(s.value.x);
+        std::memcpy(at, &v, 4);
+        break;
+      }
+      case GlslSlot::Type::Vec3: {
+        const float v[3] = {float(s.value.x), float(s.value.y), float(s.value.z)};
+        std::memcpy(at, v, 12);
+        break;
+      }
+      case GlslSlot::Type::Bool:
+      case GlslSlot::Type::Int: {
+        const int32_t v = int32_t(s.value.x);
+        std::memcpy(at, &v, 4);
+        break;
+      }
+    }
+  }
+  return b;
 }
 
 void set_uniforms(const ComputeProgram& program, const GlslMaterial& material, std::string_view prefix) {

@@ -21,6 +21,8 @@ class ComputeProgram;
 
 enum class GlslStorage {
   Uniform,       // `uniform float <prefix>alpha_x;` set by the host (set_uniforms)
+  UniformBlock,  // the same members in `layout(std140) uniform AnisoMaterialParams { ... };`,
+                 // filled from pack_std140() in one buffer (glBindBufferBase(GL_UNIFORM_BUFFER))
   Const,         // `const float <prefix>alpha_x = 0.15;` (export-glsl)
   BrdfExplorer,  // declared and set by Disney's BRDF Explorer from the .brdf parameter lines
 };
@@ -60,6 +62,16 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
 
 // A float as a GLSL literal that reads back as the same float ("0.150000006", "1.0", "1e+06").
 std::string glsl_float_literal(double x);
+
+// The std140 layout of a UniformBlock material: one offset per slot (in slot order), the block's
+// size, and the bytes to upload. std140 (OpenGL 4.5 core, Sec. 7.6.2.2): float, int and bool
+// (as a 32-bit 0 / 1) take 4 bytes aligned to 4; vec3 takes 12 bytes aligned to 16.
+struct Std140Block {
+  std::vector<size_t> offsets;
+  std::vector<unsigned char> bytes;
+};
+Std140Block pack_std140(const GlslMaterial& material);
+inline constexpr const char* kGlslMaterialBlock = "AnisoMaterialParams";
 
 // Sets every slot of a Uniform-storage material on the program.
 void set_uniforms(const ComputeProgram& program, const GlslMaterial& material, std::string_view prefix);
