@@ -58,6 +58,22 @@ TEST(Docs, GlslExampleCompiles) {
     EXPECT_EQ(glslang_errors(gl::glsl_preamble(d) + gl::glsl_library_source() + example, "frag", "doc"), "");
 }
 
+// Without a GL context the GL tests are reported as skipped, with the reason, not passed: run a
+// GL test in a child process whose EGL platform is forced to one that does not exist.
+TEST(GlslHost, WithoutGlTheGlTestsSkipWithTheReason) {
+  const std::string cmd = "ANISO_GL_PLATFORM=none /proc/" + std::to_string(getpid()) +
+                          "/exe --gtest_filter=GlslFunctions.EachMatchesItsCppTwin 2>&1";
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  char buf[4096];
+  while (fgets(buf, sizeof buf, p)) out += buf;
+  EXPECT_EQ(pclose(p), 0) << out;
+  EXPECT_NE(out.find("[  SKIPPED ] GlslFunctions.EachMatchesItsCppTwin"), std::string::npos) << out;
+  EXPECT_NE(out.find("no OpenGL 4.5 through EGL: ANISO_GL_PLATFORM=none"), std::string::npos) << out;
+  EXPECT_EQ(out.find("[       OK ] GlslFunctions"), std::string::npos) << out;
+}
+
 // --- the material's parameters from the tables ------------------------------------------------
 
 std::vector<NamedMaterial> materials_with_presets() {

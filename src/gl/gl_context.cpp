@@ -38,6 +38,10 @@ EGLDisplay open_display(std::string& platform, std::string& why) {
   }
   const char* forced = std::getenv("ANISO_GL_PLATFORM");
   const std::string force = forced ? forced : "";
+  if (!force.empty() && force != "device" && force != "surfaceless") {
+    why = fmt::format("ANISO_GL_PLATFORM={}: no such EGL platform (expected device or surfaceless)", force);
+    return EGL_NO_DISPLAY;
+  }
   if ((force.empty() || force == "device") && has_extension(client_ext, "EGL_EXT_platform_device") &&
       has_extension(client_ext, "EGL_EXT_device_enumeration")) {
     EGLDeviceEXT devices[16];
