@@ -204,8 +204,9 @@ TEST_P(GlslExport, ExportGlslCompilesAndMatchesEval) {
       ok = false;
     } else if (cs.valid) {
       // Within 1e-4 of the C++ float sampler, except where that sampler is itself more than 1e-5
-      // from double: for u.z near 0 the half-vector samplers take sin(theta_h) from 1 - cos^2 with
-      // cos within 1e-6 of 1, which keeps only a few bits in float (Ashikhmin-Shirley, u.z = 7e-5,
+      // from double: for u.z near 0 the pow-based samplers (AS_SampleHalf, sample_cosine_power) take
+      // sin(theta) from 1 - cos^2 with cos within 1e-6 of 1, which keeps only a few bits in float
+      // (Ashikhmin-Shirley, u.z = 7e-5,
       // grazing wo: C++ float is 2.6e-5 from double in wi.z, llvmpipe's pow puts GLSL at 1.05e-4).
       // There GLSL is held to 8 times the C++ float error, against double. A weakness of the
       // kernels (C++ and GLSL alike), not a drift between them.
