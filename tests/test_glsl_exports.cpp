@@ -378,3 +378,23 @@ TEST(GlslExportErrors, BadMaterialsAreRejectedLikeEvalAndWriteNoFile) {
 
 }  // namespace
 }  // namespace aniso::test
+
+namespace aniso::test {
+namespace {
+
+// An inline JSON material written over several lines: its name in the header comments must not
+// break the GLSL or the .brdf.
+TEST(GlslExportInline, MultiLineInlineMaterial) {
+  const std::string inline_json = "{\"model\": \"ward\",\n \"alpha_x\": 0.1,\n \"alpha_y\": 0.3}";
+  const CliRun g = run_cli("export-glsl -m " + quote(inline_json));
+  ASSERT_EQ(g.code, 0) << g.err;
+  if (!std::string(ANISO_GLSLANG).empty())
+    EXPECT_EQ(glslang_errors(gl::glsl_preamble(gl::GlslDialect::Core330) + g.out + "void main() {}\n", "frag", "inline"), "");
+  const CliRun b = run_cli("export-brdf -m " + quote(inline_json));
+  ASSERT_EQ(b.code, 0) << b.err;
+  const BrdfFile f = parse_brdf(b.out);
+  EXPECT_EQ(f.params.size(), 6u);  // kd, ks, alpha_x, alpha_y, form, normalization
+}
+
+}  // namespace
+}  // namespace aniso::test
