@@ -20,6 +20,11 @@ packages=(
   libstb-dev          # stb_image (PNG, HDR), stb_image_write, stb_truetype
   libtinyobjloader-dev  # .obj meshes
   fonts-dejavu-core   # DejaVu Sans, embedded at build time for the gallery's labels
+  # The GLSL twin (src/gl, docs/glsl.md): a headless GL host and the shader compiler the tests use.
+  libegl-dev libgl-dev libopengl-dev  # EGL and GL headers (glvnd)
+  libegl-mesa0 libgl1-mesa-dri        # Mesa's EGL (surfaceless platform) and llvmpipe
+  libepoxy-dev        # GL entry points through eglGetProcAddress (works without GLX)
+  glslang-tools       # glslangValidator: the library compiles as GLSL 3.30 core and ES 3.00
 )
 # Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
 if [[ "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then

@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "aniso/batch/batch.h"
+#include "commands.h"
 #include "data/metals.h"
 #include "io/json_read.h"
 #include "io/materials.h"
@@ -513,6 +514,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(finite_range(-30.0, 30.0));
   render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp")->check(CLI::IsMember({"aces", "clamp"}));
   render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
+
+  add_export_commands(app);
 
   // An unknown command would otherwise be reported by CLI11 as "A subcommand is required".
   if (argc > 1 && argv[1][0] != '-') {

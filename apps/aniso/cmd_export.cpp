@@ -1,0 +1,89 @@
+// apps/aniso/cmd_export.cpp: `aniso export-glsl` and `aniso export-brdf` (docs/glsl.md).
+// The material is read and built exactly as `aniso eval` reads it, so both reject the same
+// materials with the same InputError; the file is written to a temporary name and renamed, so a
+// failure leaves no partial file.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include "commands.h"
+#include "gl/glsl_export.h"
+#include "io/materials.h"
+
+namespace aniso {
+namespace {
+
+void write_atomically(const std::string& path, const std::string& text) {
+  if (path.empty() || path == "-") {
+    std::fwrite(text.data(), 1, text.size(), stdout);
+    return;
+  }
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(fmt::format("-o {}: is a directory", path));
+  const std::string tmp = fmt::format("{}.tmp{}", path, getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(fmt::format("-o {}: cannot open for writing", path));
+    out.write(text.data(), std::streamsize(text.size()));
+    out.close();
+    if (!out) {
+      fs::remove(tmp, ec);
+      throw InputError(fmt::format("-o {}: write failed", path));
+    }
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw InputError(fmt::format("-o {}: cannot rename the temporary file into place", path));
+  }
+}
+
+// Runs a command inside CLI11's callback with main()'s error conventions: InputError exits 2 with
+// "aniso: error: <message>"; success ends parsing with exit code 0 (CLI::Success).
+template <typename Fn> void run_command(Fn&& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    fmt::print(stderr, "aniso: error: {}\n", e.what());
+    throw CLI::RuntimeError(2);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "aniso: error: {}\n", e.what());
+    throw CLI::RuntimeError(1);
+  }
+  throw CLI::Success();
+}
+
+// As cmd_eval: load (validate) and build (the builder's own checks), then generate.
+MaterialDesc load_checked(const std::string& material) {
+  MaterialDesc d = load_material(material);
+  (void)build_material<double>(d);
+  return d;
+}
+
+}  // namespace
+
+void add_export_commands(CLI::App& app) {
+  struct Args {
+    std::string material, output;
+  };
+  auto args = std::make_shared<Args>();
+  auto* glsl = app.add_subcommand("export-glsl", "write the material as one self-contained GLSL source (aniso_f, aniso_pdf, "
+                                                 "aniso_sample, aniso_f_world)");
+  glsl->add_option("--material,-m", args->material, "preset name or JSON file")->required();
+  glsl->add_option("-o,--output", args->output, "output file (default: stdout)");
+  glsl->callback([args] {
+    run_command([&] { write_atomically(args->output, gl::export_glsl(load_checked(args->material), args->material)); });
+  });
+  auto* brdf = app.add_subcommand("export-brdf", "write the material as a Disney BRDF Explorer .brdf file");
+  brdf->add_option("--material,-m", args->material, "preset name or JSON file")->required();
+  brdf->add_option("-o,--output", args->output, "output file (default: stdout)");
+  brdf->callback([args] {
+    run_command([&] { write_atomically(args->output, gl::export_brdf(load_checked(args->material), args->material)); });
+  });
+}
+
+}  // namespace aniso
