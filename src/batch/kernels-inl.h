@@ -4,9 +4,12 @@
 // Every function here names its scalar twin and repeats its arithmetic in the same order (same
 // operations, same association, no fused multiply-adds the scalar code does not have), so that the
 // two differ only where a function of the C library is replaced by its Highway version:
-//   exp, log, acos, sin, cos    hwy/contrib/math (1 to 4 ulp; glibc's are correctly rounded or 1 ulp)
-//   pow(x, y), x > 0            exp(y log x): the error of log x is multiplied by |y log x|
-//   tan                         sin / cos (Highway 1.0 has no Tan)
+//   exp, log, acos, atan, sin, cos   hwy/contrib/math (1 to 4 ulp by Highway's documentation)
+//   pow(x, y), x > 0                 exp(y log x): the error of log x is multiplied by |y log x|
+//   tan                              sin / cos (Highway 1.0 has no Tan)
+//   atan2 and sin / cos of atan      algebra (Ward's sampler, WardLobeK::Sample)
+// (CMakeLists.txt compiles this with -ffp-contract=off so that the compiler does not fuse a * b + c
+// either; batch.cpp flushes subnormals while it runs.)
 // Branches become masks: both sides are computed for every lane and the mask picks one. Lanes
 // whose inputs are outside a term's domain (below the horizon) compute garbage, NaN included, that
 // the caller's mask discards; no floating-point exception is observed, so that is harmless.

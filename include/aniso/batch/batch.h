@@ -6,11 +6,12 @@
 // model struct: `batch::evaluate(MaterialT<float>(ward), ...)`), float or double.
 //
 // The numbers are the scalar kernels' (include/aniso/brdf) within 1e-5 relative (tests/test_batch.cpp):
-// evaluate and pdf run Google Highway twins of the scalar terms (src/batch/kernels-inl.h, one
-// binary, the instruction set chosen at run time: AVX2, AVX-512, ...); sample runs the scalar
-// sampler on each element. Threads::All splits the N elements into fixed blocks that oneTBB runs
-// on all cores; every element's result depends only on its inputs, so the output is the same bit
-// for bit whatever the thread count and the block order.
+// evaluate, pdf and sample run Google Highway twins of the scalar terms (src/batch/kernels-inl.h,
+// one binary, the instruction set chosen at run time: AVX2, AVX-512, ...); the sampler fed the
+// same uniforms gives the scalar sampler's directions to ~1e-5 (other sin / cos / log code).
+// Threads::All splits the N elements into fixed blocks that oneTBB runs on all cores; every
+// element's result depends only on its inputs, so the output is the same bit for bit whatever the
+// thread count and the block order. docs/performance.md has the details and the measurements.
 //
 // Host-only (not under nvcc); implemented in src/batch/batch.cpp (library aniso_batch).
 #pragma once
