@@ -45,6 +45,8 @@ CliRun run_cli(const std::string& args, const std::string& stdin_text = "") {
   r.code = WIFEXITED(st) ? WEXITSTATUS(st) : 128;
   r.out = slurp(out);
   r.err = slurp(err);
+  std::error_code ec;
+  fs::remove_all(dir, ec);
   return r;
 }
 
@@ -55,15 +57,11 @@ struct CliMaterial {
   std::string name, arg;
 };
 
+// The test materials go inline (`-m '{...}'`): no files, so nothing is left in the temporary
+// directory by the many processes ctest starts (each one registers these parameters).
 std::vector<CliMaterial> cli_materials() {
   std::vector<CliMaterial> v;
-  const fs::path dir = fs::path(::testing::TempDir()) / fmt::format("aniso_glsl_mats_{}", getpid());
-  fs::create_directories(dir);
-  for (const NamedMaterial& m : all_model_materials()) {
-    const fs::path p = dir / (m.name + ".json");
-    std::ofstream(p) << m.json.dump();
-    v.push_back({m.name, p.string()});
-  }
+  for (const NamedMaterial& m : all_model_materials()) v.push_back({m.name, m.json.dump()});
   for (const char* p : {"matte-steel", "clay", "gold", "brushed-copper"}) v.push_back({std::string("preset_") + p, p});
   return v;
 }
@@ -374,6 +372,8 @@ TEST(GlslExportErrors, BadMaterialsAreRejectedLikeEvalAndWriteNoFile) {
         EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << "left behind " << e.path();
     }
   }
+  std::error_code ec;
+  fs::remove_all(dir, ec);
 }
 
 }  // namespace
