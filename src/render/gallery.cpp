@@ -116,6 +116,7 @@ GalleryResult render_gallery(const GalleryOptions& opt) {
     sj["film"]["width"] = cell_w;
     sj["film"]["height"] = cell_h;
     if (opt.spp > 0) sj["film"]["spp"] = opt.spp;
+    if (!opt.sampler.empty()) sj["integrator"]["sampler"] = opt.sampler;
     const Scene scene = parse_scene(sj, fmt::format("embedded gallery, cell {}", c), "");
     RenderOptions ro = opt.render;
     if (opt.render.progress)

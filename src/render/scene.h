@@ -15,6 +15,7 @@
 #include "aniso/brdf/material.h"
 #include "aniso/tangent/fields.h"
 #include "render/environment.h"
+#include "render/sampler.h"
 
 namespace aniso::render {
 
@@ -34,6 +35,7 @@ struct Film {
 struct IntegratorSettings {
   int max_depth = 8;  // path vertices after the camera (1 = direct lighting only)
   Strategy strategy = Strategy::Mis;
+  SamplerKind sampler = SamplerKind::Sobol;  // render/sampler.h
 };
 
 enum class LightKind { Point, Directional, Sphere };
