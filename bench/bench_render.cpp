@@ -9,7 +9,11 @@
 //                 all threads: the rate a renderer of these scenes cannot exceed on this machine;
 //                 the renderer's rays per second as a fraction of it.
 //   3. strategies the RMSE of mis, bsdf and light sampling at EQUAL TIME on a brushed-metal scene
-//                 (examples/studio-map.json, small: brushed gold, aluminium and copper under an HDR studio map), against a high-spp MIS reference.
+//                 (examples/studio-map.json, small: brushed gold, aluminium and copper under an
+//                 HDR studio map), against a high-spp MIS reference. "Time" is the process's CPU
+//                 time (all threads), so that equal time holds on a loaded machine too.
+//   5. lights     light selection, one by power vs every light, at equal CPU time: two gallery
+//                 cells (three candidates) and 24 sphere lights over a brushed disc.
 //   4. sampler    the RMSE of Owen-scrambled Sobol' vs independent samples at EQUAL SPP (the
 //                 gallery's 48) on the brushed-metal scene and on two gallery cells (a glossy
 //                 anisotropic sphere, the concentric disc).
@@ -63,7 +67,7 @@ int thread_count(const Args& a) { return a.threads > 0 ? a.threads : int(std::ma
 
 struct Ceiling {
   uint64_t rays = 0, shadow_rays = 0;
-  double seconds = 0.0, seconds_one_thread = 0.0;
+  double seconds = 0.0, seconds_one_thread = 0.0, cpu = 0.0;  // cpu: process CPU seconds of the all-threads replay
 };
 
 // Records the rays of `spp` samples per pixel of one scene, then casts them again.
@@ -90,12 +94,14 @@ void replay_scene(const Scene& scene, int spp, int threads, Ceiling* c) {
     hits += h;
   };
   tbb::task_arena arena(threads);
+  const double c0 = cpu_seconds();
   const auto t0 = std::chrono::steady_clock::now();
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 4096),
                       [&](const tbb::blocked_range<size_t>& r) { cast(r.begin(), r.end()); });
   });
   const auto t1 = std::chrono::steady_clock::now();
+  c->cpu += cpu_seconds() - c0;
   cast(0, rays.size());
   const auto t2 = std::chrono::steady_clock::now();
   c->rays += rays.size();
@@ -115,6 +121,7 @@ void bench_gallery(const Args& a) {
   const GalleryResult g = render_gallery(go);
   const double cpu = cpu_seconds() - c0;
   const double wall = g.stats.seconds;
+  if (!a.images.empty()) write_png((std::filesystem::path(a.images) / "aniso-gallery.png").string(), g.image);
   const int spp = go.spp > 0 ? go.spp : gallery_document().at("common").at("film").at("spp").get<int>();
   fmt::print("## 1. Default gallery\n\n");
   fmt::print("| figure | cells | cell size | spp | threads | wall time | CPU time | CPU / (wall x threads) | paths/s | rays/s | rays per path |\n");
@@ -134,24 +141,29 @@ void bench_gallery(const Args& a) {
     replay_scene(parse_scene(sj, fmt::format("gallery cell {}", cell), ""), rec_spp, threads, &c);
   }
   const double renderer_rate = double(g.stats.rays) / wall, raw = double(c.rays) / c.seconds;
+  const double renderer_cpu_rate = double(g.stats.rays) / cpu, raw_cpu = double(c.rays) / c.cpu;
   fmt::print("## 2. Ray-cast ceiling (the gallery's rays through Embree alone)\n\n");
-  fmt::print("| rays replayed | shadow rays | Embree, {} threads | Embree, 1 thread | renderer, {} threads | renderer / Embree |\n", threads,
-             threads);
-  fmt::print("|---:|---:|---:|---:|---:|---:|\n");
-  fmt::print("| {:.2f} M ({} spp of every cell) | {:.0f}% | {:.2f} M rays/s | {:.2f} M rays/s | {:.2f} M rays/s | {:.1f}% |\n\n",
+  fmt::print("| rays replayed | shadow rays | Embree, {} threads | Embree, 1 thread | renderer, {} threads | renderer / Embree | per CPU second: Embree | renderer | renderer / Embree |\n",
+             threads, threads);
+  fmt::print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  fmt::print("| {:.2f} M ({} spp of every cell) | {:.0f}% | {:.2f} M rays/s | {:.2f} M rays/s | {:.2f} M rays/s | {:.1f}% | {:.2f} M | {:.2f} M | {:.1f}% |\n\n",
              double(c.rays) * 1e-6, rec_spp, 100.0 * double(c.shadow_rays) / double(c.rays), raw * 1e-6,
-             double(c.rays) / c.seconds_one_thread * 1e-6, renderer_rate * 1e-6, 100.0 * renderer_rate / raw);
+             double(c.rays) / c.seconds_one_thread * 1e-6, renderer_rate * 1e-6, 100.0 * renderer_rate / raw, raw_cpu * 1e-6,
+             renderer_cpu_rate * 1e-6, 100.0 * renderer_cpu_rate / raw_cpu);
 }
 
 // --- 3 and 4: noise ------------------------------------------------------------------------------
 
 struct Rendered {
   Image img;
-  double seconds = 0.0;
+  double seconds = 0.0;  // wall clock
+  double cpu = 0.0;      // CPU seconds of the process (all threads): the "time" of equal-time tables
   int spp = 0;
 };
 
-Rendered render_with(Scene scene, Strategy strategy, SamplerKind sampler, int spp, uint64_t seed, int threads) {
+Rendered render_with(Scene scene, Strategy strategy, SamplerKind sampler, int spp, uint64_t seed, int threads,
+                     LightSelection selection = LightSelection::Auto) {
+  scene.integrator.light_selection = selection;
   scene.integrator.strategy = strategy;
   scene.integrator.sampler = sampler;
   RenderOptions o;
@@ -160,7 +172,9 @@ Rendered render_with(Scene scene, Strategy strategy, SamplerKind sampler, int sp
   o.spp = spp;
   RenderStats st;
   Rendered r;
+  const double c0 = cpu_seconds();
   r.img = aniso::render::render(scene, o, &st);
+  r.cpu = cpu_seconds() - c0;
   r.seconds = st.seconds;
   r.spp = spp;
   return r;
@@ -188,7 +202,7 @@ Reference make_reference(const Scene& scene, int spp, int threads) {
   }
   r.noise_mse = d2 / double(a.img.rgb.size()) / 4.0;
   r.mean_value = sum / double(a.img.rgb.size());
-  r.seconds = a.seconds + b.seconds;
+  r.seconds = a.cpu + b.cpu;
   r.spp = a.spp + b.spp;
   return r;
 }
@@ -214,23 +228,23 @@ const char* name_of(Strategy s) { return s == Strategy::Mis ? "mis" : (s == Stra
 
 void bench_strategies(const Args& a, const Scene& scene, const Reference& ref) {
   const int threads = thread_count(a);
-  const double budget = a.quick ? 0.2 : 2.0;  // seconds per strategy
+  const double budget = a.quick ? 0.2 : 3.0;  // CPU seconds per strategy
   fmt::print("## 3. MIS vs BSDF vs light sampling at equal time ({}, {}x{}, max_depth {})\n\n", scene.source, scene.film.width,
              scene.film.height, scene.integrator.max_depth);
-  fmt::print("Reference: MIS, {} spp ({:.1f} s), its own RMS noise {:.2e} (removed from the figures below); mean pixel value {:.4f}.\n\n",
+  fmt::print("Reference: MIS, {} spp ({:.1f} CPU s), its own RMS noise {:.2e} (removed from the figures below); mean pixel value {:.4f}.\n\n",
              ref.spp, ref.seconds, std::sqrt(ref.noise_mse), ref.mean_value);
-  fmt::print("| strategy | spp in {:.1f} s | time | RMSE | relative RMSE | MSE x time (lower is better) | efficiency vs mis |\n", budget);
+  fmt::print("| strategy | spp in {:.1f} CPU s | CPU time | RMSE | relative RMSE | MSE x time (lower is better) | efficiency vs mis |\n", budget);
   fmt::print("|---|---:|---:|---:|---:|---:|---:|\n");
   double mis_eff = 0.0;
   for (Strategy s : {Strategy::Mis, Strategy::Bsdf, Strategy::Light}) {
     fmt::print(stderr, "strategy {}...\n", name_of(s));
     const int calib_spp = a.quick ? 2 : 8;
     const Rendered calib = render_with(scene, s, SamplerKind::Sobol, calib_spp, 7, threads);
-    const int spp = std::max(1, int(std::lround(calib_spp * budget / std::max(calib.seconds, 1e-6))));
+    const int spp = std::max(1, int(std::lround(calib_spp * budget / std::max(calib.cpu, 1e-6))));
     const Rendered r = render_with(scene, s, SamplerKind::Sobol, spp, 77, threads);
-    const double e = rmse(r.img, ref), eff = e * e * r.seconds;
+    const double e = rmse(r.img, ref), eff = e * e * r.cpu;
     if (s == Strategy::Mis) mis_eff = eff;
-    fmt::print("| {} | {} | {:.2f} s | {:.4f} | {:.1f}% | {:.2e} | {:.2f}x |\n", name_of(s), spp, r.seconds, e, 100.0 * e / ref.mean_value,
+    fmt::print("| {} | {} | {:.2f} s | {:.4f} | {:.1f}% | {:.2e} | {:.2f}x |\n", name_of(s), spp, r.cpu, e, 100.0 * e / ref.mean_value,
                eff, mis_eff / eff);
     if (!a.images.empty()) {
       ToneMapOptions tm;
@@ -243,16 +257,16 @@ void bench_strategies(const Args& a, const Scene& scene, const Reference& ref) {
 
 void bench_samplers(const Args& a, const Scene& brushed, const Reference& brushed_ref) {
   const int threads = thread_count(a);
-  const int spp = a.quick ? 8 : 48, ref_spp = a.quick ? 256 : 1024, cell_px = a.quick ? 48 : 96;
+  const int spp = a.quick ? 8 : 48, ref_spp = a.quick ? 256 : 512, cell_px = a.quick ? 48 : 96;
   fmt::print("## 4. Owen-scrambled Sobol' vs independent samples at equal spp ({} spp, MIS)\n\n", spp);
-  fmt::print("| scene | size | RMSE, independent | RMSE, Sobol' | MSE ratio (independent / Sobol') | time, independent | time, Sobol' |\n");
+  fmt::print("| scene | size | RMSE, independent | RMSE, Sobol' | MSE ratio (independent / Sobol') | CPU time, independent | CPU time, Sobol' |\n");
   fmt::print("|---|---|---:|---:|---:|---:|---:|\n");
   const auto row = [&](const std::string& name, const Scene& scene, const Reference& ref) {
     const Rendered ind = render_with(scene, Strategy::Mis, SamplerKind::Independent, spp, 5, threads);
     const Rendered sob = render_with(scene, Strategy::Mis, SamplerKind::Sobol, spp, 5, threads);
     const double ei = rmse(ind.img, ref), es = rmse(sob.img, ref);
     fmt::print("| {} | {}x{} | {:.4f} | {:.4f} | {:.2f} | {:.2f} s | {:.2f} s |\n", name, scene.film.width, scene.film.height, ei, es,
-               (ei * ei) / std::max(es * es, 1e-30), ind.seconds, sob.seconds);
+               (ei * ei) / std::max(es * es, 1e-30), ind.cpu, sob.cpu);
   };
   row(brushed.source, brushed, brushed_ref);
   for (const size_t cell : {size_t(1), size_t(8)}) {  // "Ward, anisotropic" and "Disc, concentric tangents"
@@ -264,6 +278,58 @@ void bench_samplers(const Args& a, const Scene& brushed, const Reference& brushe
     const Reference ref = make_reference(sc, ref_spp, threads);
     row("gallery: " + sj.at("name").get<std::string>(), sc, ref);
   }
+  fmt::print("\n");
+}
+
+// Many lights: a brushed plate under a ring of 24 small sphere lights of different colours and
+// powers, and a dim sky.
+Scene many_lights_scene(int px) {
+  json lights = json::array();
+  for (int i = 0; i < 24; ++i) {
+    const double a = 2.0 * 3.14159265358979 * i / 24.0;
+    const double r = 2.2 + 0.4 * (i % 3);
+    lights.push_back({{"type", "sphere"}, {"center", {r * std::cos(a), 0.6 + 0.3 * (i % 4), r * std::sin(a)}}, {"radius", 0.08},
+                      {"radiance", {40.0 + 30.0 * (i % 5), 40.0 + 20.0 * (i % 3), 60.0}}});
+  }
+  const json sj = {{"camera", {{"position", {0, 3.2, 3.2}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 40}}},
+                   {"film", {{"width", px}, {"height", px}, {"spp", 16}}},
+                   {"integrator", {{"max_depth", 4}}},
+                   {"environment", {{"type", "sky"}, {"zenith", 0.05}, {"horizon", 0.08}, {"ground", 0.02}, {"resolution", 64}}},
+                   {"lights", lights},
+                   {"objects", json::array({{{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"radius", 2.0},
+                                             {"tangent", {{"field", "concentric"}}}, {"material", "brushed-aluminium"}},
+                                            {{"shape", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "brushed-gold"}}})}};
+  return parse_scene(sj, "24 sphere lights over a brushed disc", "");
+}
+
+void bench_light_selection(const Args& a) {
+  const int threads = thread_count(a);
+  const int px = a.quick ? 32 : 96, ref_spp = a.quick ? 128 : 512;
+  const double budget = a.quick ? 0.1 : 1.5;  // CPU seconds
+  fmt::print("## 5. Light selection: one light by power vs every light, at equal time (MIS, Sobol')\n\n");
+  fmt::print("| scene | candidates | mode | spp in {:.1f} CPU s | RMSE | MSE x CPU time | efficiency vs all |\n", budget);
+  fmt::print("|---|---:|---|---:|---:|---:|---:|\n");
+  const auto rows = [&](const std::string& name, const Scene& scene) {
+    fmt::print(stderr, "light selection: {}...\n", name);
+    const Reference ref = make_reference(scene, ref_spp, threads);
+    double eff_all = 0.0;
+    for (LightSelection sel : {LightSelection::All, LightSelection::Power}) {
+      const Rendered calib = render_with(scene, Strategy::Mis, SamplerKind::Sobol, 4, 7, threads, sel);
+      const int spp = std::max(1, int(std::lround(4 * budget / std::max(calib.cpu, 1e-6))));
+      const Rendered r = render_with(scene, Strategy::Mis, SamplerKind::Sobol, spp, 77, threads, sel);
+      const double e = rmse(r.img, ref), eff = e * e * r.cpu;
+      if (sel == LightSelection::All) eff_all = eff;
+      fmt::print("| {} | {} | {} | {} | {:.4f} | {:.2e} | {:.2f}x |\n", name, scene.lights.size() + (scene.environment.is_black() ? 0 : 1),
+                 sel == LightSelection::All ? "all" : "power", spp, e, eff, eff_all / eff);
+    }
+  };
+  for (const size_t cell : {size_t(1), size_t(8)}) {
+    json sj = gallery_cell_scene(cell);
+    sj["film"]["width"] = px;
+    sj["film"]["height"] = px;
+    rows("gallery: " + sj.at("name").get<std::string>(), parse_scene(sj, "gallery cell", ""));
+  }
+  rows("24 sphere lights, brushed disc", many_lights_scene(px));
   fmt::print("\n");
 }
 
@@ -291,11 +357,12 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     fmt::print("# aniso_bench_render{}\n\n", a.quick ? " --quick" : "");
     bench_gallery(a);
-    const Scene brushed = small_scene(a.scene, a.quick ? 64 : 200);
+    const Scene brushed = small_scene(a.scene, a.quick ? 64 : 160);
     fmt::print(stderr, "reference for {}...\n", a.scene);
-    const Reference ref = make_reference(brushed, a.quick ? 256 : 1024, thread_count(a));
+    const Reference ref = make_reference(brushed, a.quick ? 256 : 512, thread_count(a));
     bench_strategies(a, brushed, ref);
     bench_samplers(a, brushed, ref);
+    bench_light_selection(a);
     fmt::print("(benchmark run took {:.0f} s)\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   } catch (const std::exception& e) {

@@ -538,7 +538,8 @@ TEST(RenderLights, OneLightChosenByPowerMatchesTheSumOverAllLights) {
           acc += irradiance((2 * (x + (a + 0.5) / 4) / W - 1) * half, (2 * (y + (b + 0.5) / 4) / W - 1) * half);
       ref[size_t(y * W + x)] = kd / M_PI * acc / 16;
     }
-  // Selection probabilities are in proportion to power (integrator.h's table).
+  // Selection probabilities are in proportion to power (integrator.h's table): "auto" picks one
+  // light by power with this many candidates.
   {
     const Scene sc = scene_from(j);
     SceneGeometry geo(sc);
@@ -550,8 +551,10 @@ TEST(RenderLights, OneLightChosenByPowerMatchesTheSumOverAllLights) {
     for (size_t i = 0; i <= sc.lights.size(); ++i) total += pt.light_probability(i);
     EXPECT_NEAR(total, 1.0, 1e-6);
   }
-  for (const char* strategy : {"mis", "light"}) {
-    j["integrator"]["strategy"] = strategy;
+  for (const char* strategy : {"mis", "light", "mis/all"}) {
+    // mis/all: every light at every vertex (light_selection "all"), the same image in expectation.
+    j["integrator"]["strategy"] = std::string(strategy).substr(0, 3) == "mis" ? "mis" : "light";
+    j["integrator"]["light_selection"] = std::string(strategy) == "mis/all" ? "all" : "auto";
     const Image img = render_json(j, 21);
     double sum_err = 0, sum_got = 0, sum_ref = 0, worst = 0;
     for (int i = 0; i < W * W; ++i) {
@@ -573,7 +576,8 @@ TEST(RenderLights, OneLightChosenByPowerMatchesTheSumOverAllLights) {
 }
 
 // Many sphere lights of different power and a sky (seven candidates): the three estimators agree
-// in expectation (z-test over seeds, as RenderEstimators above), with one light chosen per vertex.
+// in expectation (z-test over seeds, as RenderEstimators above), with one light chosen per vertex
+// by power ("auto" with seven candidates), and with every light sampled ("all").
 TEST(RenderLights, EstimatorsAgreeWithManyLightsAndAnEnvironment) {
   json base = sphere_scene({{"model", "ward"}, {"kd", 0.3}, {"ks", 0.4}, {"alpha_x", 0.1}, {"alpha_y", 0.3}}, 16, 16);
   base["environment"] = {{"type", "sky"}, {"zenith", 0.3}, {"horizon", 0.6}, {"ground", 0.1}, {"resolution", 64}};
@@ -587,9 +591,10 @@ TEST(RenderLights, EstimatorsAgreeWithManyLightsAndAnEnvironment) {
   base["integrator"]["max_depth"] = 3;
   const int seeds = 10;
   std::map<std::string, std::pair<double, double>> est;  // image mean over seeds, its variance
-  for (const char* strategy : {"mis", "bsdf", "light"}) {
+  for (const char* strategy : {"mis", "bsdf", "light", "mis/all"}) {
     json j = base;
-    j["integrator"]["strategy"] = strategy;
+    j["integrator"]["strategy"] = std::string(strategy) == "mis/all" ? "mis" : strategy;
+    if (std::string(strategy) == "mis/all") j["integrator"]["light_selection"] = "all";
     std::vector<double> means;
     for (int s = 0; s < seeds; ++s) {
       const Image img = render_json(j, uint64_t(300 + s));
@@ -602,7 +607,7 @@ TEST(RenderLights, EstimatorsAgreeWithManyLightsAndAnEnvironment) {
     for (double m : means) var += (m - mean) * (m - mean) / (seeds - 1);
     est[strategy] = {mean, var / seeds};
   }
-  for (const char* other : {"bsdf", "light"}) {
+  for (const char* other : {"bsdf", "light", "mis/all"}) {
     const double d = est["mis"].first - est[other].first, sd = std::sqrt(est["mis"].second + est[other].second);
     EXPECT_LT(std::fabs(d), 4.0 * sd) << "mis " << est["mis"].first << " vs " << other << " " << est[other].first;
   }

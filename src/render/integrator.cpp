@@ -140,6 +140,13 @@ PathTracer::PathTracer(const Scene& scene, const SceneGeometry& geometry) : scen
     light_cdf_[i + 1] = float(acc / total);
   }
   light_cdf_.back() = 1.0f;  // exactly: every u < 1 finds a candidate
+  // "all": every candidate with power is sampled at every vertex, its "probability" 1.
+  size_t candidates = 0;
+  for (float p : light_prob_) candidates += p > 0.0f ? 1 : 0;
+  sample_all_ = scene.integrator.light_selection == LightSelection::All ||
+                (scene.integrator.light_selection == LightSelection::Auto && candidates <= kAutoAllCandidates);
+  if (sample_all_)
+    for (float& p : light_prob_) p = p > 0.0f ? 1.0f : 0.0f;
 }
 
 int PathTracer::pick_light(float u) const {
@@ -224,18 +231,26 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         const float w = (delta || strategy == Strategy::Light) ? 1.0f : power_heuristic(light_pdf, m.pdf(wi, wo));
         L += beta * f * li * (wi.z * w / light_pdf);
       };
-      // One emitter, chosen by power (integrator.h); both requests are made whatever is chosen,
-      // so that every path consumes the same sample dimensions.
-      const int chosen = pick_light(rng.uniform());
-      const Vec2 ul = rng.uniform2();
-      if (chosen >= 0 && size_t(chosen) < scene_.lights.size()) {
-        LightSample ls;
-        const float p_choice = light_prob_[size_t(chosen)];
-        if (sample_light(scene_.lights[size_t(chosen)], hit.p, ul, &ls))
-          add_direct(ls.wi, ls.li, ls.pdf * p_choice, ls.delta, ls.dist);
-      } else if (chosen >= 0) {
-        const EnvSample es = env.sample(ul);
-        if (es.pdf > 0.0f) add_direct(es.w, es.radiance, es.pdf * env_prob, false, INFINITY);
+      // One sample of candidate i (a light, or the environment for i == lights.size()).
+      const auto sample_candidate = [&](size_t i, const Vec2& ul) {
+        const float p_choice = light_prob_[i];
+        if (i < scene_.lights.size()) {
+          LightSample ls;
+          if (sample_light(scene_.lights[i], hit.p, ul, &ls)) add_direct(ls.wi, ls.li, ls.pdf * p_choice, ls.delta, ls.dist);
+        } else {
+          const EnvSample es = env.sample(ul);
+          if (es.pdf > 0.0f) add_direct(es.w, es.radiance, es.pdf * p_choice, false, INFINITY);
+        }
+      };
+      if (sample_all_) {
+        for (size_t i = 0; i < light_prob_.size(); ++i)
+          if (light_prob_[i] > 0.0f) sample_candidate(i, rng.uniform2());
+      } else {
+        // One emitter, chosen by power (integrator.h); both requests are made whatever is chosen,
+        // so that every path consumes the same sample dimensions.
+        const int chosen = pick_light(rng.uniform());
+        const Vec2 ul = rng.uniform2();
+        if (chosen >= 0) sample_candidate(size_t(chosen), ul);
       }
     }
 

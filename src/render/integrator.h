@@ -5,9 +5,10 @@
 // Ch. 9; pbrt-v4 PathIntegrator). Russian roulette from the fourth vertex on. The integrator knows
 // nothing of the models: it sees a MaterialT and a shading frame.
 //
-// Light selection: next-event estimation picks ONE emitter per vertex, the lights and the
-// environment being the candidates, with probability proportional to its power (pbrt-v4
-// PowerLightSampler; PBR 4th ed., Sec. 12.6.2), luminance-weighted:
+// Light selection (integrator.light_selection, scene.h). "power": next-event estimation picks ONE
+// emitter per vertex, the lights and the environment being the candidates, with probability
+// proportional to its power (pbrt-v4 PowerLightSampler; PBR 4th ed., Sec. 12.6.2),
+// luminance-weighted:
 //   point        4 pi I                     (intensity I over the sphere)
 //   sphere       pi L * 4 pi r^2            (exitance pi L over its area)
 //   directional  pi R^2 E                   (irradiance E through the scene's bounding disc)
@@ -16,7 +17,11 @@
 // included). The sample's contribution is divided by the probability of its light, and the MIS
 // weight of emission found by BRDF sampling uses P(light) * pdf(direction), so the estimator is
 // unbiased for any positive probabilities (tests/test_render.cpp, RenderLights.*); the power only
-// decides the variance.
+// decides the variance. "all": one sample of every emitter at every vertex (probability 1 each).
+// "auto" (default): all when there are at most kAutoAllCandidates candidates, else power. Why:
+// with few lights a highlight lit by one of them loses a share of its samples to the others
+// under power selection; measured at equal time (docs/benchmarks.md, "Light selection") "all"
+// is the better estimator with the gallery's three candidates and "power" with 25.
 //
 // Strategies: mis (both techniques, weighted), bsdf (emission found by BRDF sampling only: point
 // and directional lights are invisible to it, having zero area), light (next-event estimation
@@ -87,6 +92,7 @@ class PathTracer {
   const Scene& scene_;
   const SceneGeometry& geo_;
   std::vector<float> light_prob_, light_cdf_;  // lights, then the environment
+  bool sample_all_ = false;                    // every candidate at every vertex (light_prob_ all 1)
 };
 
 }  // namespace aniso::render

@@ -510,6 +510,8 @@ Scene parse_scene(const json& doc, const std::string& source, const std::string&
     s.integrator.strategy = st == "bsdf" ? Strategy::Bsdf : (st == "light" ? Strategy::Light : Strategy::Mis);
     const std::string sm = in.choice("sampler", {"sobol", "independent"}, false, "sobol");
     s.integrator.sampler = sm == "independent" ? SamplerKind::Independent : SamplerKind::Sobol;
+    const std::string ls = in.choice("light_selection", {"auto", "power", "all"}, false, "auto");
+    s.integrator.light_selection = ls == "all" ? LightSelection::All : (ls == "power" ? LightSelection::Power : LightSelection::Auto);
     in.finish();
   }
   if (top.has("environment")) s.environment = read_environment(Node(top.get("environment"), source, "environment"), base_dir);
