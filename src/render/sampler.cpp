@@ -34,24 +34,32 @@ uint32_t laine_karras_permutation(uint32_t x, uint32_t seed) {
 
 // The second Sobol' dimension's direction numbers (primitive polynomial x + 1, m_1 = 1):
 // v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1) (Pascal's triangle mod 2; Joe & Kuo's table, dimension 2).
+// The generator matrix is applied a byte at a time: table[b][x] is the XOR of v[8 b + j] over the
+// set bits j of x (the shuffled index is a full 32-bit number, so a bit loop would take ~32 steps).
 struct SobolDim1 {
   uint32_t v[32];
-  constexpr SobolDim1() : v{} {
+  uint32_t table[4][256];
+  constexpr SobolDim1() : v{}, table{} {
     v[0] = 0x80000000u;
     for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+    for (int b = 0; b < 4; ++b)
+      for (int x = 0; x < 256; ++x)
+        for (int j = 0; j < 8; ++j)
+          if (x & (1 << j)) table[b][x] ^= v[8 * b + j];
+  }
+  constexpr uint32_t operator()(uint32_t i) const {
+    return table[0][i & 255u] ^ table[1][(i >> 8) & 255u] ^ table[2][(i >> 16) & 255u] ^ table[3][i >> 24];
   }
 };
 constexpr SobolDim1 kSobolDim1{};
 static_assert(kSobolDim1.v[1] == 0xc0000000u && kSobolDim1.v[2] == 0xa0000000u && kSobolDim1.v[4] == 0x88000000u);
+static_assert(kSobolDim1(3u) == (0x80000000u ^ 0xc0000000u));
 
 }  // namespace
 
 uint32_t Sampler::sobol(uint32_t index, int dim) {
   if (dim == 0) return reverse_bits(index);  // van der Corput (direction numbers 2^(31 - k))
-  uint32_t x = 0;
-  for (int k = 0; index != 0; ++k, index >>= 1)
-    if (index & 1u) x ^= kSobolDim1.v[k];
-  return x;
+  return kSobolDim1(index);
 }
 
 uint32_t Sampler::nested_uniform_scramble(uint32_t x, uint32_t seed) {
@@ -63,7 +71,7 @@ Sampler::Sampler(uint64_t seed, uint64_t pixel, uint64_t sample, SamplerKind kin
   x ^= splitmix64(x) + pixel;
   if (kind == SamplerKind::Sobol) {
     key_ = splitmix64(x);
-    index_ = uint32_t(sample);
+    index_reversed_ = reverse_bits(uint32_t(sample));
     return;
   }
   x ^= splitmix64(x) + sample;
@@ -93,9 +101,11 @@ float Sampler::uniform() {
   if (kind_ == SamplerKind::Independent) return to_unit(next_u32_pcg());
   // Burley 2020, Listing 4 in one dimension: shuffle the index, then scramble its van der Corput
   // point, each with a seed of its own.
+  // Written out with fewer bit reversals: the shuffled index's van der Corput point sobol(i, 0) =
+  // reverse(i) is LK(reverse(index)), and its scramble reverse(LK(reverse(.))) = reverse(LK(i)).
   const DimensionSeeds s = dimension_seeds();
-  const uint32_t i = nested_uniform_scramble(index_, s.shuffle);
-  return to_unit(nested_uniform_scramble(sobol(i, 0), s.x));
+  const uint32_t i = reverse_bits(laine_karras_permutation(index_reversed_, s.shuffle));  // shuffled index
+  return to_unit(reverse_bits(laine_karras_permutation(i, s.x)));
 }
 
 Vec2 Sampler::uniform2() {
@@ -104,9 +114,10 @@ Vec2 Sampler::uniform2() {
     return Vec2(a, to_unit(next_u32_pcg()));
   }
   // Listing 4 in two dimensions: one shuffled index, its two Sobol' coordinates scrambled apart.
+  // (The first coordinate as in uniform(); the second through the table of sobol(., 1).)
   const DimensionSeeds s = dimension_seeds();
-  const uint32_t i = nested_uniform_scramble(index_, s.shuffle);
-  return Vec2(to_unit(nested_uniform_scramble(sobol(i, 0), s.x)), to_unit(nested_uniform_scramble(sobol(i, 1), s.y)));
+  const uint32_t i = reverse_bits(laine_karras_permutation(index_reversed_, s.shuffle));
+  return Vec2(to_unit(reverse_bits(laine_karras_permutation(i, s.x))), to_unit(nested_uniform_scramble(kSobolDim1(i), s.y)));
 }
 
 }  // namespace aniso::render

@@ -51,7 +51,7 @@ class Sampler {
 
   SamplerKind kind_;
   uint64_t key_ = 0;        // hash of (seed, pixel)
-  uint32_t index_ = 0;      // the sample index within the pixel
+  uint32_t index_reversed_ = 0;  // the sample index within the pixel, bits reversed
   uint32_t dimension_ = 0;  // requests made so far
   uint64_t state_ = 0, inc_ = 1;  // PCG32 (independent)
 };
