@@ -13,7 +13,7 @@
 //                 HDR studio map), against a high-spp MIS reference. "Time" is the process's CPU
 //                 time (all threads), so that equal time holds on a loaded machine too.
 //   5. lights     light selection, one by power vs every light, at equal CPU time: two gallery
-//                 cells (three candidates) and 24 sphere lights over a brushed disc.
+//                 cells (three candidates) and 6, 12 and 24 sphere lights over a brushed disc.
 //   4. sampler    the RMSE of Owen-scrambled Sobol' vs independent samples at EQUAL SPP (the
 //                 gallery's 48) on the brushed-metal scene and on two gallery cells (a glossy
 //                 anisotropic sphere, the concentric disc).
@@ -24,7 +24,8 @@
 // of the MSE against the true image, since x is independent of the reference).
 //
 // Options: --quick (smaller everything, for a smoke test: ctest aniso_bench_render_quick),
-// --threads N, --images DIR (write the strategy comparison renders as PNG), --scene FILE.
+// --threads N, --only SECTION (1 to 5), --images DIR (write the gallery and the strategy
+// comparison renders as PNG), --scene FILE (the scene of sections 3 and 4).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -56,6 +57,7 @@ namespace {
 struct Args {
   bool quick = false;
   int threads = 0;
+  int only = 0;  // 0: every section; else just that one (1 and 2 go together)
   std::string images, scene = std::string(ANISO_SOURCE_DIR) + "/examples/studio-map.json";
 };
 
@@ -246,12 +248,13 @@ void bench_strategies(const Args& a, const Scene& scene, const Reference& ref) {
     if (s == Strategy::Mis) mis_eff = eff;
     fmt::print("| {} | {} | {:.2f} s | {:.4f} | {:.1f}% | {:.2e} | {:.2f}x |\n", name_of(s), spp, r.cpu, e, 100.0 * e / ref.mean_value,
                eff, mis_eff / eff);
-    if (!a.images.empty()) {
-      ToneMapOptions tm;
-      write_png((std::filesystem::path(a.images) / fmt::format("strategy-{}.png", name_of(s))).string(), tonemap(r.img, tm));
-    }
+    if (!a.images.empty())
+      write_png((std::filesystem::path(a.images) / fmt::format("strategy-{}-{}.png", scene.film.width, name_of(s))).string(),
+                tonemap(r.img, ToneMapOptions{}));
   }
-  if (!a.images.empty()) write_png((std::filesystem::path(a.images) / "strategy-reference.png").string(), tonemap(ref.mean, ToneMapOptions{}));
+  if (!a.images.empty())
+    write_png((std::filesystem::path(a.images) / fmt::format("strategy-{}-reference.png", scene.film.width)).string(),
+              tonemap(ref.mean, ToneMapOptions{}));
   fmt::print("\n");
 }
 
@@ -281,12 +284,12 @@ void bench_samplers(const Args& a, const Scene& brushed, const Reference& brushe
   fmt::print("\n");
 }
 
-// Many lights: a brushed plate under a ring of 24 small sphere lights of different colours and
-// powers, and a dim sky.
-Scene many_lights_scene(int px) {
+// Many lights: a brushed disc and a brushed-gold sphere under a ring of n small sphere lights of
+// different colours and powers, and a dim sky.
+Scene many_lights_scene(int px, int n) {
   json lights = json::array();
-  for (int i = 0; i < 24; ++i) {
-    const double a = 2.0 * 3.14159265358979 * i / 24.0;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * 3.14159265358979 * i / n;
     const double r = 2.2 + 0.4 * (i % 3);
     lights.push_back({{"type", "sphere"}, {"center", {r * std::cos(a), 0.6 + 0.3 * (i % 4), r * std::sin(a)}}, {"radius", 0.08},
                       {"radiance", {40.0 + 30.0 * (i % 5), 40.0 + 20.0 * (i % 3), 60.0}}});
@@ -299,7 +302,7 @@ Scene many_lights_scene(int px) {
                    {"objects", json::array({{{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"radius", 2.0},
                                              {"tangent", {{"field", "concentric"}}}, {"material", "brushed-aluminium"}},
                                             {{"shape", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "brushed-gold"}}})}};
-  return parse_scene(sj, "24 sphere lights over a brushed disc", "");
+  return parse_scene(sj, fmt::format("{} sphere lights over a brushed disc", n), "");
 }
 
 void bench_light_selection(const Args& a) {
@@ -329,7 +332,7 @@ void bench_light_selection(const Args& a) {
     sj["film"]["height"] = px;
     rows("gallery: " + sj.at("name").get<std::string>(), parse_scene(sj, "gallery cell", ""));
   }
-  rows("24 sphere lights, brushed disc", many_lights_scene(px));
+  for (int n : {6, 12, 24}) rows(fmt::format("{} sphere lights, brushed disc", n), many_lights_scene(px, n));
   fmt::print("\n");
 }
 
@@ -343,12 +346,14 @@ int main(int argc, char** argv) {
       a.quick = true;
     } else if (s == "--threads" && i + 1 < argc) {
       a.threads = std::atoi(argv[++i]);
+    } else if (s == "--only" && i + 1 < argc) {
+      a.only = std::atoi(argv[++i]);
     } else if (s == "--images" && i + 1 < argc) {
       a.images = argv[++i];
     } else if (s == "--scene" && i + 1 < argc) {
       a.scene = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: aniso_bench_render [--quick] [--threads N] [--images DIR] [--scene FILE]\n");
+      std::fprintf(stderr, "usage: aniso_bench_render [--quick] [--threads N] [--only SECTION] [--images DIR] [--scene FILE]\n");
       return 2;
     }
   }
@@ -356,13 +361,24 @@ int main(int argc, char** argv) {
     if (!a.images.empty()) std::filesystem::create_directories(a.images);
     const auto t0 = std::chrono::steady_clock::now();
     fmt::print("# aniso_bench_render{}\n\n", a.quick ? " --quick" : "");
-    bench_gallery(a);
-    const Scene brushed = small_scene(a.scene, a.quick ? 64 : 160);
-    fmt::print(stderr, "reference for {}...\n", a.scene);
-    const Reference ref = make_reference(brushed, a.quick ? 256 : 512, thread_count(a));
-    bench_strategies(a, brushed, ref);
-    bench_samplers(a, brushed, ref);
-    bench_light_selection(a);
+    const auto want = [&](int section) { return a.only == 0 || a.only == section || (a.only == 1 && section == 2); };
+    if (want(1)) bench_gallery(a);
+    if (want(3) || want(4)) {
+      const Scene brushed = small_scene(a.scene, a.quick ? 64 : 160);
+      fmt::print(stderr, "reference for {}...\n", a.scene);
+      const Reference ref = make_reference(brushed, a.quick ? 256 : 512, thread_count(a));
+      if (want(3)) {
+        bench_strategies(a, brushed, ref);
+        // And a gallery cell lit by its two sphere lights and the sky: brushed gold.
+        json sj = gallery_cell_scene(5);
+        sj["film"]["width"] = sj["film"]["height"] = a.quick ? 48 : 128;
+        Scene cell = parse_scene(sj, "gallery cell: Brushed gold", "");
+        fmt::print(stderr, "reference for the brushed-gold cell...\n");
+        bench_strategies(a, cell, make_reference(cell, a.quick ? 256 : 512, thread_count(a)));
+      }
+      if (want(4)) bench_samplers(a, brushed, ref);
+    }
+    if (want(5)) bench_light_selection(a);
     fmt::print("(benchmark run took {:.0f} s)\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   } catch (const std::exception& e) {

@@ -246,11 +246,19 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         for (size_t i = 0; i < light_prob_.size(); ++i)
           if (light_prob_[i] > 0.0f) sample_candidate(i, rng.uniform2());
       } else {
-        // One emitter, chosen by power (integrator.h); both requests are made whatever is chosen,
-        // so that every path consumes the same sample dimensions.
-        const int chosen = pick_light(rng.uniform());
-        const Vec2 ul = rng.uniform2();
-        if (chosen >= 0) sample_candidate(size_t(chosen), ul);
+        // One emitter, chosen by power (integrator.h), from the same 2D sample that then places
+        // the point on it: u.x picks the candidate whose cdf interval holds it and is rescaled to
+        // [0, 1) within that interval (PBR 4th ed., Sec. 2.2.2's sample remapping). A pixel's
+        // stratified (u.x, u.y) pairs stay stratified over each light's own square, where a
+        // separate 1D pick would hand each light a random subset of the 2D points.
+        Vec2 ul = rng.uniform2();
+        const int chosen = pick_light(ul.x);
+        if (chosen >= 0) {
+          const float lo = light_cdf_[size_t(chosen)], width = light_cdf_[size_t(chosen) + 1] - lo;
+          ul.x = width > 0.0f ? std::min((ul.x - lo) / width, 0x1.fffffep-1f) : 0.0f;  // [0, 1): below 1
+          ul.x = std::max(ul.x, 0.0f);  // u.x == lo - 1 ulp can only come from rounding of the cdf
+          sample_candidate(size_t(chosen), ul);
+        }
       }
     }
 
