@@ -104,6 +104,11 @@ TEST_F(RenderCli, RendersAScenePngExrAndPfm) {
   // Default name: the scene's stem.
   EXPECT_EQ(run("render scene.json --spp 1").code, 0);
   EXPECT_TRUE(fs::exists(dir_ / "scene.png"));
+  // --sampler: both kinds render; another name is refused by the option parser.
+  EXPECT_EQ(run("render scene.json --spp 2 --sampler independent -o s.pfm").code, 0);
+  EXPECT_EQ(run("render scene.json --spp 2 --sampler sobol -o s.pfm").code, 0);
+  EXPECT_NE(run("render scene.json --spp 2 --sampler halton -o t.pfm").code, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "t.pfm"));
 }
 
 // The environment-map example end to end: the .hdr asset is read (stb), importance-sampled and
@@ -193,6 +198,12 @@ TEST_F(RenderCli, UnknownKeyWrongTypeZeroVector) {
   s = good_scene();
   s["objects"][1]["tangent"]["field"] = "spiral";
   expect_rejected(s, "objects[1].tangent.field", "expected one of");
+  s = good_scene();
+  s["integrator"] = {{"sampler", "halton"}};
+  expect_rejected(s, "integrator.sampler", "expected one of");
+  s = good_scene();
+  s["integrator"] = {{"light_selection", "random"}};
+  expect_rejected(s, "integrator.light_selection", "expected one of");
   s = good_scene();
   s["camera"]["fov_deg"] = "wide";
   expect_rejected(s, "camera.fov_deg", "expected a number");

@@ -68,7 +68,7 @@ constexpr const char* kGalleryJson = R"json({
      "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.02,
                   "tangent": {"field": "swirl", "swirl_deg": 45}, "material": "brushed-silver"}]},
     {"label": "Torus, mesh tangents", "detail": "brushed along the ring (dp/du)",
-     "camera": {"position": [0, 2.2, 3.6], "look_at": [0, -0.1, 0], "up": [0, 1, 0], "fov_deg": 30},
+     "camera": {"position": [0, 2.45, 4.05], "look_at": [0, -0.1, 0], "up": [0, 1, 0], "fov_deg": 30},
      "objects": [{"shape": "torus", "center": [0, 0, 0], "major_radius": 0.9, "minor_radius": 0.34,
                   "material": "brushed-copper"}]}
   ]
