@@ -260,7 +260,7 @@ void bench_strategies(const Args& a, const Scene& scene, const Reference& ref) {
 
 void bench_samplers(const Args& a, const Scene& brushed, const Reference& brushed_ref) {
   const int threads = thread_count(a);
-  const int spp = a.quick ? 8 : 48, ref_spp = a.quick ? 256 : 512, cell_px = a.quick ? 48 : 96;
+  const int spp = a.quick ? 8 : 48, ref_spp = a.quick ? 128 : 512, cell_px = a.quick ? 48 : 96;
   fmt::print("## 4. Owen-scrambled Sobol' vs independent samples at equal spp ({} spp, MIS)\n\n", spp);
   fmt::print("| scene | size | RMSE, independent | RMSE, Sobol' | MSE ratio (independent / Sobol') | CPU time, independent | CPU time, Sobol' |\n");
   fmt::print("|---|---|---:|---:|---:|---:|---:|\n");
@@ -307,7 +307,7 @@ Scene many_lights_scene(int px, int n) {
 
 void bench_light_selection(const Args& a) {
   const int threads = thread_count(a);
-  const int px = a.quick ? 32 : 96, ref_spp = a.quick ? 128 : 512;
+  const int px = a.quick ? 32 : 96, ref_spp = a.quick ? 64 : 512;
   const double budget = a.quick ? 0.1 : 1.5;  // CPU seconds
   fmt::print("## 5. Light selection: one light by power vs every light, at equal time (MIS, Sobol')\n\n");
   fmt::print("| scene | candidates | mode | spp in {:.1f} CPU s | RMSE | MSE x CPU time | efficiency vs all |\n", budget);
@@ -366,7 +366,7 @@ int main(int argc, char** argv) {
     if (want(3) || want(4)) {
       const Scene brushed = small_scene(a.scene, a.quick ? 64 : 160);
       fmt::print(stderr, "reference for {}...\n", a.scene);
-      const Reference ref = make_reference(brushed, a.quick ? 256 : 512, thread_count(a));
+      const Reference ref = make_reference(brushed, a.quick ? 128 : 512, thread_count(a));
       if (want(3)) {
         bench_strategies(a, brushed, ref);
         // And a gallery cell lit by its two sphere lights and the sky: brushed gold.
@@ -374,7 +374,7 @@ int main(int argc, char** argv) {
         sj["film"]["width"] = sj["film"]["height"] = a.quick ? 48 : 128;
         Scene cell = parse_scene(sj, "gallery cell: Brushed gold", "");
         fmt::print(stderr, "reference for the brushed-gold cell...\n");
-        bench_strategies(a, cell, make_reference(cell, a.quick ? 256 : 512, thread_count(a)));
+        bench_strategies(a, cell, make_reference(cell, a.quick ? 128 : 512, thread_count(a)));
       }
       if (want(4)) bench_samplers(a, brushed, ref);
     }

@@ -20,8 +20,8 @@
 // decides the variance. "all": one sample of every emitter at every vertex (probability 1 each).
 // "auto" (default): all when there are at most kAutoAllCandidates candidates, else power. Why:
 // with few lights a highlight lit by one of them loses a share of its samples to the others
-// under power selection; measured at equal time (docs/benchmarks.md, "Light selection") "all"
-// is 5-11x more efficient with the gallery's three candidates, "power" 2.2-2.5x with 7 and 13.
+// under power selection. Measured at equal time (docs/benchmarks.md, "Light selection"), "all"
+// wins with the gallery's three candidates and "power" from seven on.
 //
 // Strategies: mis (both techniques, weighted), bsdf (emission found by BRDF sampling only: point
 // and directional lights are invisible to it, having zero area), light (next-event estimation
