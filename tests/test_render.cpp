@@ -340,6 +340,17 @@ TEST(RenderDeterminism, SameImageForAnyThreadCount) {
   const Image a = render_json(j, 42, 1), b = render_json(j, 42, 2), c = render_json(j, 43, 2);
   EXPECT_EQ(a.rgb, b.rgb);
   EXPECT_NE(a.rgb, c.rgb);
+  // Also with one light chosen by power per vertex (six sphere lights and the sky: "auto" picks
+  // by power) and with independent samples.
+  json lights = json::array();
+  for (int i = 0; i < 6; ++i) lights.push_back({{"type", "sphere"}, {"center", {3.0 * std::cos(i), 2.0, 3.0 * std::sin(i)}}, {"radius", 0.3}, {"radiance", 5.0 + i}});
+  j["lights"] = lights;
+  const Image d = render_json(j, 42, 1), e = render_json(j, 42, 2);
+  EXPECT_EQ(d.rgb, e.rgb);
+  j["integrator"]["sampler"] = "independent";
+  const Image f = render_json(j, 42, 1), g = render_json(j, 42, 2);
+  EXPECT_EQ(f.rgb, g.rgb);
+  EXPECT_NE(f.rgb, d.rgb);
 }
 
 TEST(RenderCancel, CancelledRenderIsAWholeImageWithFewerSamples) {
@@ -418,6 +429,21 @@ TEST(RenderSampler, SobolPairsAreStratifiedInEveryElementaryInterval) {
     ++bins[size_t(smp.uniform() * 32.0f)];
   }
   for (int b : bins) EXPECT_EQ(b, 1);
+  // The byte-table second dimension equals the generator matrix applied bit by bit (Joe & Kuo's
+  // dimension 2: v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1)), and dimension 0 is the bit reversal.
+  uint32_t v[32];
+  v[0] = 0x80000000u;
+  for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+  uint32_t x = 12345u;
+  for (int n = 0; n < 2000; ++n) {
+    x = x * 1664525u + 1013904223u;
+    uint32_t want = 0, rev = 0;
+    for (int k = 0; k < 32; ++k) {
+      if (x & (1u << k)) want ^= v[k], rev |= 1u << (31 - k);
+    }
+    ASSERT_EQ(Sampler::sobol(x, 1), want) << x;
+    ASSERT_EQ(Sampler::sobol(x, 0), rev) << x;
+  }
 }
 
 // The scrambles make every value uniform over [0, 1) across pixels (unbiasedness) and the requests
