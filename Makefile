@@ -24,8 +24,10 @@ render: build
 test: build
 	@ctest --preset $(PRESET) -j $(JOBS)
 
+# The kernels (Google Benchmark), then the renderer (a command: gallery, ray ceiling, noise; ~1 min).
 bench: build
 	@$(BIN)/aniso_bench --benchmark_min_time=0.2 $(BENCH_ARGS)
+	@$(BIN)/aniso_bench_render $(BENCH_RENDER_ARGS)
 
 format:
 	@clang-format -i $$(git ls-files '*.h' '*.cpp' '*.cu')

@@ -303,7 +303,7 @@ class ProgressBar {
 };
 
 struct RenderArgs {
-  std::string scene, output, material, strategy, tonemap = "aces";
+  std::string scene, output, material, strategy, sampler, tonemap = "aces";
   int spp = 0, width = 0, height = 0, threads = 0, max_depth = 0;
   uint64_t seed = 1;
   double exposure = 0.0;
@@ -343,6 +343,7 @@ int cmd_render(RenderArgs a) {
     go.width = a.width > 0 ? a.width : 1024;
     go.height = a.height;
     go.spp = a.spp;
+    go.sampler = a.sampler;
     go.tonemap = tm;
     ProgressBar bar("aniso render: gallery");
     go.render = ro;
@@ -383,6 +384,7 @@ int cmd_render(RenderArgs a) {
   if (a.height > 0) scene.film.height = a.height;
   if (a.spp > 0) scene.film.spp = a.spp;
   if (a.max_depth > 0) scene.integrator.max_depth = a.max_depth;
+  if (!a.sampler.empty()) scene.integrator.sampler = a.sampler == "independent" ? SamplerKind::Independent : SamplerKind::Sobol;
   if (!a.strategy.empty())
     scene.integrator.strategy = a.strategy == "bsdf" ? Strategy::Bsdf : (a.strategy == "light" ? Strategy::Light : Strategy::Mis);
   ProgressBar bar(fmt::format("aniso render: {}", source));
@@ -510,6 +512,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--threads", ra.threads, "worker threads (default: all cores)")->transform(whole_range(1, 1024));
   render_cmd->add_option("--seed", ra.seed, "random seed (same seed, same image, whatever the thread count)")->transform(seed_value());
   render_cmd->add_option("--strategy", ra.strategy, "mis (default), bsdf or light")->check(CLI::IsMember({"mis", "bsdf", "light"}));
+  render_cmd->add_option("--sampler", ra.sampler, "sobol (default: Owen-scrambled Sobol') or independent (PCG32)")
+      ->check(CLI::IsMember({"sobol", "independent"}));
   render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")->transform(whole_range(1, 1024));
   render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(finite_range(-30.0, 30.0));
   render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp")->check(CLI::IsMember({"aces", "clamp"}));
