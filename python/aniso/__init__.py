@@ -76,5 +76,10 @@ for _model in models().values():
     _MODEL_CONSTRUCTORS.append(_name)
 del _model, _name, _fn
 
+# Shown as aniso.Material etc. in help() and reprs.
+for _cls in (Material, Frame):
+    _cls.__module__ = "aniso"
+del _cls
+
 __all__ = ["Material", "Frame", "presets", "preset_source", "models", "metals", "fresnel", "render",
            "export_glsl", "export_brdf", "simd_target", "direction", "angles", *_MODEL_CONSTRUCTORS]
