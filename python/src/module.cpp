@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <atomic>
 #include <climits>
 #include <cmath>
@@ -19,6 +20,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -30,6 +32,7 @@
 #include "aniso/brdf/fresnel.h"
 #include "aniso/core/frame.h"
 #include "arrays.h"
+#include "transpose.h"
 #include "data/metals.h"
 #include "gl/glsl_export.h"
 #include "io/json_read.h"
@@ -216,9 +219,28 @@ void gather_as(const RowsView& v, size_t begin, size_t len, T* x, T* y, T* z, ui
 }
 
 // Rows [begin, begin + len) of v as three arrays; bad[i] is set where a value is NaN or infinite.
+// Contiguous rows (a C-ordered (N, 3) array, aligned) take the vectorised loops of transpose.h.
 template <typename T> void gather(const RowsView& v, size_t begin, size_t len, T* x, T* y, T* z, uint8_t* bad) {
+  const size_t item = v.f32 ? sizeof(float) : sizeof(double);
+  const bool contiguous = !v.single && v.col_stride == py::ssize_t(item) && v.row_stride == py::ssize_t(3 * item) &&
+                          reinterpret_cast<uintptr_t>(v.data) % item == 0;
+  if (contiguous && v.f32) return deinterleave(reinterpret_cast<const float*>(v.data) + 3 * begin, len, x, y, z, bad);
+  if constexpr (std::is_same_v<T, double>)
+    if (contiguous) return deinterleave(reinterpret_cast<const double*>(v.data) + 3 * begin, len, x, y, z, bad);
   if (v.f32) gather_as<T, float>(v, begin, len, x, y, z, bad);
   else gather_as<T, double>(v, begin, len, x, y, z, bad);
+}
+
+// The three columns of v as arrays the batch API can read in place: v holds T and each column is
+// contiguous (a Fortran-ordered (N, 3) array, or the transpose of a C-ordered (3, N) one). Sets
+// bad[i] for NaN / Inf rows, as gather() does; false (nothing done) for any other layout.
+template <typename T> bool columns_in_place(const RowsView& v, size_t begin, size_t len, const T** xyz, uint8_t* bad) {
+  if (v.single || v.f32 != std::is_same_v<T, float> || v.row_stride != py::ssize_t(sizeof(T)) ||
+      reinterpret_cast<uintptr_t>(v.data) % sizeof(T) != 0)
+    return false;
+  for (int c = 0; c < 3; ++c) xyz[c] = reinterpret_cast<const T*>(v.data + c * v.col_stride) + begin;
+  mark_nonfinite(xyz[0], xyz[1], xyz[2], len, bad);
+  return true;
 }
 
 template <typename T> py::array_t<T> rows_out(size_t n, bool single, int columns) {
@@ -233,32 +255,67 @@ template <typename T> py::object scalar_or_rows(py::array_t<T> a, bool single) {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-template <typename T> py::array_t<T> eval_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n, bool single) {
-  py::array_t<T> out = rows_out<T>(n, single, 3);
+// The caller's `out` array, checked: the dtype the computation runs in, the result's shape,
+// C-contiguous and writeable. None: a new array.
+template <typename T> py::array_t<T> out_array(const py::object& out, size_t n, bool single, int columns) {
+  if (out.is_none()) {
+    if (columns == 0) return py::array_t<T>(std::vector<py::ssize_t>{single ? 1 : py::ssize_t(n)});
+    return rows_out<T>(n, single, columns);
+  }
+  const char* dtype = std::is_same_v<T, float> ? "float32" : "float64";
+  const std::string shape = columns == 0 ? (single ? "()" : fmt::format("({},)", n))
+                                         : (single ? fmt::format("({},)", columns) : fmt::format("({}, {})", n, columns));
+  const std::string want = fmt::format("out: expected a writeable C- or Fortran-contiguous {} array of shape {} (the inputs' dtype and rows)", dtype, shape);
+  if (!py::isinstance<py::array>(out)) throw py::value_error(fmt::format("{}, got {}", want, std::string(py::str(py::type::of(out).attr("__name__")))));
+  const py::array a = out.cast<py::array>();
+  std::vector<py::ssize_t> expected;
+  if (columns == 0) {
+    if (!single) expected.push_back(py::ssize_t(n));
+  } else {
+    if (!single) expected.push_back(py::ssize_t(n));
+    expected.push_back(columns);
+  }
+  const bool shape_ok = a.ndim() == py::ssize_t(expected.size()) && std::equal(expected.begin(), expected.end(), a.shape());
+  const bool contiguous = (a.flags() & py::array::c_style) || (a.flags() & py::array::f_style);
+  if (!py::isinstance<py::array_t<T>>(a) || !shape_ok || !contiguous || !a.writeable())
+    throw py::value_error(fmt::format("{}, got {} of shape {}{}{}", want, std::string(py::str(a.dtype())), shape_text(a),
+                                      contiguous ? "" : ", not contiguous", a.writeable() ? "" : ", read-only"));
+  if (columns == 0 && single) return py::array_t<T>(a.attr("reshape")(1));  // a view of the 0-d array
+  return py::reinterpret_borrow<py::array_t<T>>(a);  // as it is (array_t's converting constructor would make it C-ordered)
+}
+
+template <typename T>
+py::array_t<T> eval_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n, bool single, const py::object& out_in) {
+  py::array_t<T> out = out_array<T>(out_in, n, single, 3);
   T* f = out.mutable_data();
+  // A Fortran-ordered `out` (columns contiguous) is written in place, without the interleave.
+  const bool out_columns = !single && n > 1 && (out.flags() & py::array::f_style);
   {
     py::gil_scoped_release release;
     for_chunks(n, [&](size_t begin, size_t end) {
       const size_t len = end - begin;
       T* s = scratch<T>(9);
       uint8_t bad[kChunk] = {};
-      gather(wi, begin, len, s, s + kChunk, s + 2 * kChunk, bad);
-      gather(wo, begin, len, s + 3 * kChunk, s + 4 * kChunk, s + 5 * kChunk, bad);
-      T *fr = s + 6 * kChunk, *fg = s + 7 * kChunk, *fb = s + 8 * kChunk;
-      batch::evaluate(m, {s, s + kChunk, s + 2 * kChunk}, {s + 3 * kChunk, s + 4 * kChunk, s + 5 * kChunk}, len,
-                      {fr, fg, fb}, batch::Threads::One);
-      T* o = f + 3 * begin;
-      for (size_t i = 0; i < len; ++i) {
-        const T nan_or_one = bad[i] ? T(kNaN) : T(1);  // NaN rows for NaN / Inf input (docs/python.md)
-        o[3 * i] = fr[i] * nan_or_one, o[3 * i + 1] = fg[i] * nan_or_one, o[3 * i + 2] = fb[i] * nan_or_one;
-      }
+      const T *a[3] = {s, s + kChunk, s + 2 * kChunk}, *b[3] = {s + 3 * kChunk, s + 4 * kChunk, s + 5 * kChunk};
+      if (!columns_in_place(wi, begin, len, a, bad)) gather(wi, begin, len, s, s + kChunk, s + 2 * kChunk, bad);
+      if (!columns_in_place(wo, begin, len, b, bad)) gather(wo, begin, len, s + 3 * kChunk, s + 4 * kChunk, s + 5 * kChunk, bad);
+      T* rgb[3] = {s + 6 * kChunk, s + 7 * kChunk, s + 8 * kChunk};
+      if (out_columns)
+        for (int c = 0; c < 3; ++c) rgb[c] = f + c * n + begin;
+      batch::evaluate(m, {a[0], a[1], a[2]}, {b[0], b[1], b[2]}, len, {rgb[0], rgb[1], rgb[2]}, batch::Threads::One);
+      // NaN rows for NaN / Inf input (docs/python.md).
+      if (out_columns)
+        for (int c = 0; c < 3; ++c) mark_bad(rgb[c], len, bad);
+      else
+        interleave(f + 3 * begin, len, rgb[0], rgb[1], rgb[2], bad);
     });
   }
   return out;
 }
 
-template <typename T> py::array_t<T> pdf_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n, bool single) {
-  py::array_t<T> out(std::vector<py::ssize_t>{single ? 1 : py::ssize_t(n)});
+template <typename T>
+py::array_t<T> pdf_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n, bool single, const py::object& out_in) {
+  py::array_t<T> out = out_array<T>(out_in, n, single, 0);
   T* p = out.mutable_data();
   {
     py::gil_scoped_release release;
@@ -266,31 +323,35 @@ template <typename T> py::array_t<T> pdf_typed(const MaterialT<T>& m, const Rows
       const size_t len = end - begin;
       T* s = scratch<T>(6);
       uint8_t bad[kChunk] = {};
-      gather(wi, begin, len, s, s + kChunk, s + 2 * kChunk, bad);
-      gather(wo, begin, len, s + 3 * kChunk, s + 4 * kChunk, s + 5 * kChunk, bad);
-      batch::pdf(m, {s, s + kChunk, s + 2 * kChunk}, {s + 3 * kChunk, s + 4 * kChunk, s + 5 * kChunk}, len, p + begin,
-                 batch::Threads::One);
-      for (size_t i = 0; i < len; ++i)
-        if (bad[i]) p[begin + i] = T(kNaN);
+      const T *a[3] = {s, s + kChunk, s + 2 * kChunk}, *b[3] = {s + 3 * kChunk, s + 4 * kChunk, s + 5 * kChunk};
+      if (!columns_in_place(wi, begin, len, a, bad)) gather(wi, begin, len, s, s + kChunk, s + 2 * kChunk, bad);
+      if (!columns_in_place(wo, begin, len, b, bad)) gather(wo, begin, len, s + 3 * kChunk, s + 4 * kChunk, s + 5 * kChunk, bad);
+      batch::pdf(m, {a[0], a[1], a[2]}, {b[0], b[1], b[2]}, len, p + begin, batch::Threads::One);
+      mark_bad(p + begin, len, bad);
     });
   }
   return out;
 }
 
-py::object material_eval(const PyMaterial& m, const py::object& wi_in, const py::object& wo_in) {
+py::object material_eval(const PyMaterial& m, const py::object& wi_in, const py::object& wo_in, const py::object& out) {
   const RowsView wi = rows_view(wi_in, "wi"), wo = rows_view(wo_in, "wo");
   const size_t n = common_rows({{"wi", &wi}, {"wo", &wo}});
   const bool single = wi.single && wo.single;
-  if (all_f32({&wi, &wo})) return eval_typed<float>(m.mf, wi, wo, n, single);
-  return eval_typed<double>(m.md, wi, wo, n, single);
+  if (all_f32({&wi, &wo})) return eval_typed<float>(m.mf, wi, wo, n, single, out);
+  return eval_typed<double>(m.md, wi, wo, n, single, out);
 }
 
-py::object material_pdf(const PyMaterial& m, const py::object& wi_in, const py::object& wo_in) {
+py::object material_pdf(const PyMaterial& m, const py::object& wi_in, const py::object& wo_in, const py::object& out) {
   const RowsView wi = rows_view(wi_in, "wi"), wo = rows_view(wo_in, "wo");
   const size_t n = common_rows({{"wi", &wi}, {"wo", &wo}});
   const bool single = wi.single && wo.single;
-  if (all_f32({&wi, &wo})) return scalar_or_rows(pdf_typed<float>(m.mf, wi, wo, n, single), single);
-  return scalar_or_rows(pdf_typed<double>(m.md, wi, wo, n, single), single);
+  if (!out.is_none()) {  // the caller's array, as given (0-d for one pair)
+    if (all_f32({&wi, &wo})) pdf_typed<float>(m.mf, wi, wo, n, single, out);
+    else pdf_typed<double>(m.md, wi, wo, n, single, out);
+    return out;
+  }
+  if (all_f32({&wi, &wo})) return scalar_or_rows(pdf_typed<float>(m.mf, wi, wo, n, single, out), single);
+  return scalar_or_rows(pdf_typed<double>(m.md, wi, wo, n, single, out), single);
 }
 
 template <typename T>
@@ -326,13 +387,10 @@ py::tuple sample_typed(const MaterialT<T>& m, const RowsView& wo, const RowsView
       batch::Samples<T> out{s + 6 * kChunk, s + 7 * kChunk, s + 8 * kChunk, s + 9 * kChunk, s + 10 * kChunk,
                             s + 11 * kChunk, s + 12 * kChunk, valid};
       batch::sample(m, {ox, oy, oz}, uc, u0, u1, len, out, batch::Threads::One);
-      for (size_t i = 0; i < len; ++i) {
-        const T k = bad[i] ? T(kNaN) : T(1);
-        const size_t o = 3 * (begin + i);
-        wi[o] = out.wi_x[i] * k, wi[o + 1] = out.wi_y[i] * k, wi[o + 2] = out.wi_z[i] * k;
-        w[o] = out.weight_r[i] * k, w[o + 1] = out.weight_g[i] * k, w[o + 2] = out.weight_b[i] * k;
-        p[begin + i] = out.pdf[i] * k;
-      }
+      interleave(wi + 3 * begin, len, out.wi_x, out.wi_y, out.wi_z, bad);
+      interleave(w + 3 * begin, len, out.weight_r, out.weight_g, out.weight_b, bad);
+      std::copy(out.pdf, out.pdf + len, p + begin);
+      mark_bad(p + begin, len, bad);
     });
   }
   if (const size_t row = first_out_of_range.load(); row != SIZE_MAX) {
@@ -692,14 +750,16 @@ PYBIND11_MODULE(_aniso, m) {
            py::arg("indent") = 2, "to_dict() as JSON text: a material file the CLI reads.")
       .def("__eq__", [](const PyMaterial& a, const PyMaterial& b) { return a.resolved() == b.resolved(); })
       .def("__repr__", [](const PyMaterial& self) { return fmt::format("aniso.Material({})", self.resolved().dump()); })
-      .def("eval", &material_eval, py::arg("wi"), py::arg("wo"),
+      .def("eval", &material_eval, py::arg("wi"), py::arg("wo"), py::kw_only(), py::arg("out") = py::none(),
            "f(wi, wo), the BRDF without the cosine, per RGB channel.\n\n"
            "wi (towards the light) and wo (towards the viewer) are unit directions in the local frame\n"
            "(z = normal, x = tangent), arrays of shape (N, 3) or (3,) (a (3,) argument is used for every\n"
            "row of the other). Returns (N, 3), or (3,) when both are (3,). float32 when both are float32,\n"
-           "else float64. Rows with a NaN or infinite input are NaN.")
-      .def("pdf", &material_pdf, py::arg("wi"), py::arg("wo"),
-           "The solid-angle density of sample() producing wi for this wo: (N,) (a scalar for (3,) inputs).")
+           "else float64. Rows with a NaN or infinite input are NaN. out: an array to write the result\n"
+           "into (C-contiguous, that dtype and shape), returned; saves allocating one per call.")
+      .def("pdf", &material_pdf, py::arg("wi"), py::arg("wo"), py::kw_only(), py::arg("out") = py::none(),
+           "The solid-angle density of sample() producing wi for this wo: (N,) (a scalar for (3,) inputs).\n"
+           "out: as for eval(), of shape (N,) (0-d for (3,) inputs).")
       .def("sample", &material_sample, py::arg("wo"), py::arg("u"),
            "Importance-samples wi for the viewing direction wo.\n\n"
            "wo: (N, 3) or (3,); u: uniforms in [0, 1), (N, 3) or (3,): u[:, 0] picks the lobe, u[:, 1:] the\n"

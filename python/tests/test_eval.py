@@ -37,7 +37,7 @@ def test_eval_and_pdf_equal_the_cli(material):
 
 @pytest.mark.parametrize("material", MATERIALS[:4])
 def test_eval_and_pdf_equal_the_cpp_batch_path_bit_for_bit(material, tmp):
-    # The same pairs through batch::evaluate / batch::pdf from C++ (python/batch_eval_cpp.cpp):
+    # The same pairs through batch::evaluate / batch::pdf from C++ (python/bench/batch_eval_cpp.cpp):
     # the chunking and transposition of the bindings change nothing, in float and in double.
     n = 10_000  # more than two chunks, the last one partial
     wi, wo = random_pairs(n, seed=5, grazing=True)
@@ -217,3 +217,43 @@ def test_the_gil_is_released_while_computing():
     worker.join()
     # With the GIL held, the main thread would get to run only between the calls.
     assert ticks > 2 * calls, (ticks, calls)
+
+
+def test_out_arrays_and_column_major_layouts():
+    m = aniso.Material("brushed-gold")
+    wi, wo = random_pairs(9000, seed=12)
+    wi[5, 0] = np.nan
+    ref, pref = m.eval(wi, wo), m.pdf(wi, wo)
+    for dtype in (np.float32, np.float64):
+        a, b = wi.astype(dtype), wo.astype(dtype)
+        want, pwant = m.eval(a, b), m.pdf(a, b)
+        # Column-major inputs are read in place; a Fortran-ordered out is written in place.
+        fa, fb = np.asfortranarray(a), np.asfortranarray(b)
+        for order in "CF":
+            out = np.empty((9000, 3), dtype, order=order)
+            assert m.eval(fa, fb, out=out) is out
+            np.testing.assert_array_equal(out, want)
+            np.testing.assert_array_equal(m.eval(a, fb, out=out), want)
+        pout = np.empty(9000, dtype)
+        assert m.pdf(fa, fb, out=pout) is pout
+        np.testing.assert_array_equal(pout, pwant)
+        assert np.isnan(out[5]).all() and np.isnan(pout[5])
+        # The transpose of a (3, N) array is column-major too.
+        np.testing.assert_array_equal(m.eval(np.ascontiguousarray(a.T).T, np.ascontiguousarray(b.T).T), want)
+    np.testing.assert_allclose(m.eval(wi.astype(np.float32), wo.astype(np.float32)), ref, rtol=2e-4, atol=1e-6)
+    one = np.empty(3)
+    assert m.eval(wi[0], wo[0], out=one) is one
+    p0 = np.empty(())
+    assert m.pdf(wi[1], wo[1], out=p0) is p0 and p0 == pref[1]
+    with pytest.raises(ValueError, match=r"out: expected a writeable C- or Fortran-contiguous float64 array of shape \(9000, 3\)"):
+        m.eval(wi, wo, out=np.empty((9000, 3), np.float32))
+    with pytest.raises(ValueError, match=r"got float64 of shape \(9000, 6\)"):
+        m.eval(wi, wo, out=np.empty((9000, 6)))
+    with pytest.raises(ValueError, match="not contiguous"):
+        m.eval(wi, wo, out=np.empty((9000, 6))[:, :3])
+    ro = np.empty((9000, 3))
+    ro.flags.writeable = False
+    with pytest.raises(ValueError, match="read-only"):
+        m.eval(wi, wo, out=ro)
+    with pytest.raises(ValueError, match=r"shape \(9000,\)"):
+        m.pdf(wi, wo, out=np.empty(10))

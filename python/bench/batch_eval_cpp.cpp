@@ -1,14 +1,16 @@
-// python/batch_eval_cpp.cpp: the C++ side of the Python bindings' benchmark and tests. Reads N
+// python/bench/batch_eval_cpp.cpp: the C++ side of the Python bindings' benchmark and tests. Reads N
 // direction pairs (float64, "wi.x wi.y wi.z wo.x wo.y wo.z" per row, raw, as NumPy's tofile writes
 // them), converts them once into the batch API's structure of arrays, and
 //   time PAIRS.bin MATERIAL REPS   times batch::evaluate (Threads::All, the SIMD kernels) on all N,
-//                                  REPS times, and prints "float_best float_median double_best
-//                                  double_median target" in seconds (python/bench_eval.py)
+//                                  REPS times after a warm-up call, and prints the best wall-clock
+//                                  and the best process CPU seconds, for float and then double:
+//                                  "wall cpu wall cpu target" (python/bench/bench_eval.py)
 //   dump PAIRS.bin MATERIAL OUT    writes batch::evaluate's f (N x 3, row by row) and batch::pdf
 //                                  (N) in float, then in double, raw (python/tests/test_eval.py)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -30,18 +32,28 @@ template <typename T> struct Pairs {
   }
 };
 
+// CPU time of the whole process (every thread): what the work costs, whatever else the machine runs.
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// {best wall-clock seconds, best process CPU seconds} of `reps` calls after one warm-up call.
 template <typename T> std::vector<double> time_evaluate(const MaterialDesc& desc, const std::vector<double>& rows, int reps) {
   const MaterialT<T> m = build_material<T>(desc);
   const Pairs<T> p(rows);
   batch::ColorArray<T> f(p.n);
-  std::vector<double> seconds;
+  batch::evaluate(m, p.wi.view(), p.wo.view(), p.n, f.view());
+  double wall = 1e300, cpu = 1e300;
   for (int k = 0; k < reps; ++k) {
+    const double cpu_start = process_cpu_seconds();
     const auto start = std::chrono::steady_clock::now();
     batch::evaluate(m, p.wi.view(), p.wo.view(), p.n, f.view());
-    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    wall = std::min(wall, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    cpu = std::min(cpu, process_cpu_seconds() - cpu_start);
   }
-  std::sort(seconds.begin(), seconds.end());
-  return {seconds.front(), seconds[seconds.size() / 2]};
+  return {wall, cpu};
 }
 
 template <typename T> void dump(const MaterialDesc& desc, const std::vector<double>& rows, std::ofstream& out) {
