@@ -27,9 +27,9 @@ test: build
 bench: build
 	@$(BIN)/aniso_bench --benchmark_min_time=0.2 $(BENCH_ARGS)
 
-# Python bindings vs the C++ batch path on a million pairs (python/bench_eval.py, docs/python.md).
+# Python bindings vs the C++ batch path on a million pairs (python/bench/bench_eval.py, docs/python.md).
 bench-python: build
-	@PYTHONPATH=build/$(PRESET)/python ANISO_BATCH_EVAL_CPP=$(BIN)/aniso_batch_eval_cpp /usr/bin/python3 python/bench_eval.py $(BENCH_ARGS)
+	@PYTHONPATH=build/$(PRESET)/python ANISO_BATCH_EVAL_CPP=$(BIN)/aniso_batch_eval_cpp /usr/bin/python3 python/bench/bench_eval.py $(BENCH_ARGS)
 
 format:
 	@clang-format -i $$(git ls-files '*.h' '*.cpp' '*.cu')

@@ -87,7 +87,12 @@ json from_py(const py::handle& h, const std::string& where, const std::string& p
     if (overflow == 0) return int64_t(v);
     return PyLong_AsDouble(h.ptr());  // beyond int64: a (huge) number, which the range check rejects
   }
-  if (py::isinstance<py::float_>(h)) return h.cast<double>();
+  if (py::isinstance<py::float_>(h)) {
+    // JSON has no NaN or infinity (RFC 8259 Sec. 6): the same error as any value no file can hold.
+    const double v = h.cast<double>();
+    if (!std::isfinite(v)) fail(fmt::format("expected a finite number, got {}", v));
+    return v;
+  }
   if (py::isinstance<py::str>(h)) return h.cast<std::string>();
   if (py::isinstance<py::dict>(h)) {
     json obj = json::object();

@@ -118,8 +118,10 @@ def test_bad_python_values_are_value_errors():
         aniso.Material(3.5)
     with pytest.raises(ValueError, match="expected a preset name"):
         aniso.Material()
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="inline material: kd: expected a finite number, got nan"):
         aniso.Material({"model": "ward", "kd": float("nan")})
+    with pytest.raises(ValueError, match=r"inline material: ks\[2\]: expected a finite number, got inf"):
+        aniso.Material({"model": "ward", "ks": [0.1, 0.2, np.inf]})
     with pytest.raises(ValueError):
         aniso.ward(kd=10**30)  # beyond int64: a number out of range
 
