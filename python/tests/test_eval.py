@@ -257,3 +257,25 @@ def test_out_arrays_and_column_major_layouts():
         m.eval(wi, wo, out=ro)
     with pytest.raises(ValueError, match=r"shape \(9000,\)"):
         m.pdf(wi, wo, out=np.empty(10))
+
+
+def test_concurrent_calls_from_threads_give_the_same_results():
+    # Each oneTBB task copies its chunk into scratch arrays of its own thread: calls from several
+    # Python threads at once (the GIL released) must not share them.
+    m = aniso.Material("brushed-gold")
+    wi, wo = random_pairs(50_000, seed=21)
+    u = np.random.default_rng(2).random((50_000, 3))
+    ref = m.eval(wi, wo), m.pdf(wi, wo), m.sample(wo, u)[1]
+    results = [None] * 6
+
+    def work(k):
+        results[k] = m.eval(wi, wo), m.pdf(wi, wo), m.sample(wo, u)[1]
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(6)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for r in results:
+        for a, b in zip(r, ref):
+            np.testing.assert_array_equal(a, b)

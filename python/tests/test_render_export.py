@@ -66,3 +66,26 @@ def test_export_glsl_and_brdf_equal_the_cli():
     assert "aniso_f" in src and "aniso_pdf" in src
     with pytest.raises(ValueError):
         aniso.export_glsl({"model": "ward", "kd": 5})
+
+
+def test_ctrl_c_stops_a_render_with_keyboard_interrupt():
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    # 64 tiles of 16 x 16 pixels, 1024 samples per pixel per pass: the render takes minutes, and the
+    # cancel flag is read before every tile (a fraction of a second each).
+    code = ("import aniso, sys\n"
+            "print('ready', flush=True)\n"
+            "try:\n"
+            "    aniso.render(material='clay', spp=1 << 14, width=128, height=128, progress=False)\n"
+            "    print('finished')\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted')\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, env=dict(os.environ))
+    assert p.stdout.readline().strip() == "ready"
+    time.sleep(1.0)  # into the render
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=120)
+    assert out.strip() == "interrupted"
