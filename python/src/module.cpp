@@ -689,8 +689,10 @@ py::array_t<float> render_py(const py::object& scene_in, const py::object& mater
   // handler cannot run while this thread is in C++); only the main thread may take SIGINT over.
   const bool main_thread = py::module_::import("threading").attr("current_thread")().is(
       py::module_::import("threading").attr("main_thread")());
-  g_render_interrupted.store(false);
-  ro.cancel = &g_render_interrupted;
+  // Renders in other threads get a flag of their own that nothing sets (Ctrl-C goes to the main thread).
+  std::atomic<bool> never_cancelled{false};
+  if (main_thread) g_render_interrupted.store(false);
+  ro.cancel = main_thread ? &g_render_interrupted : &never_cancelled;
   const bool show = progress ? *progress : isatty(STDERR_FILENO) != 0;
   const std::string what = scene.source;
   if (show)
@@ -709,7 +711,7 @@ py::array_t<float> render_py(const py::object& scene_in, const py::object& mater
   }
   if (main_thread) sigaction(SIGINT, &old_action, nullptr);
   if (show) std::fprintf(stderr, "\r\033[K");
-  if (g_render_interrupted.load()) {
+  if (main_thread && g_render_interrupted.load()) {
     PyErr_SetNone(PyExc_KeyboardInterrupt);
     throw py::error_already_set();
   }
