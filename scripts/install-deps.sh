@@ -25,10 +25,15 @@ packages=(
   libegl-mesa0 libgl1-mesa-dri        # Mesa's EGL (surfaceless platform) and llvmpipe
   libepoxy-dev        # GL entry points through eglGetProcAddress (works without GLX)
   glslang-tools       # glslangValidator: the library compiles as GLSL 3.30 core and ES 3.00
+  # The Python module (python/, docs/python.md): built for Debian's /usr/bin/python3 and its NumPy,
+  # tested with pytest; the example plots with matplotlib.
+  python3-dev pybind11-dev python3-numpy
+  python3-pytest      # python/tests, run by ctest
+  python3-matplotlib  # examples/python (and its test, headless: MPLBACKEND=Agg)
 )
 # Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
 if [[ "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then
-  packages+=(python3 python3-numpy python3-scipy)
+  packages+=(python3-scipy)
 fi
 
 missing=()
