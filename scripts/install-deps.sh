@@ -14,6 +14,7 @@ packages=(
   libboost-dev        # boost::math::gamma_q for the chi-square p-values in tests
   # The renderer (src/render): ray casting, threads, images, meshes, the label font.
   libembree-dev       # Embree 3 BVH and ray intersection
+  libceres-dev        # Ceres Solver: Levenberg-Marquardt fits of measured data (src/fit)
   libtbb-dev          # oneTBB: parallel tiles, parallel batch evaluation (src/batch)
   libhwy-dev          # Google Highway: SIMD batch evaluation with dynamic dispatch (src/batch)
   libopenexr-dev      # .exr output and input

@@ -172,7 +172,19 @@ MaterialDesc parse_material(const json& obj, const std::string& where) {
     throw InputError(fmt::format("{}: key \"model\": expected one of {}, got {}", where, models, json_type_name(*it)));
   MaterialDesc d;
   d.model = it->get<std::string>();
-  d.params = read_params(obj, *find_model_spec(d.model), where, "model");
+  // "fit": the error figures and provenance `aniso fit` writes beside the material
+  // (docs/fitting.md). Accepted (an object) and ignored: it does not change the material.
+  const auto fit = obj.find("fit");
+  if (fit != obj.end() && !fit->is_object())
+    throw InputError(fmt::format("{}: key \"fit\": expected an object (the provenance `aniso fit` writes), got {}", where,
+                                 json_type_name(*fit)));
+  if (fit != obj.end()) {
+    json body = obj;
+    body.erase("fit");
+    d.params = read_params(body, *find_model_spec(d.model), where, "model");
+  } else {
+    d.params = read_params(obj, *find_model_spec(d.model), where, "model");
+  }
   d.json = obj;
   // Cross-key rules the tables cannot express.
   if (d.model == "lafortune") {
