@@ -175,6 +175,7 @@ TEST_F(MeasuredInput, EveryBadCornellFileIsAnErrorNamingFileLineAndProblem) {
     EXPECT_TRUE(contains(msg, "bad.brdf")) << msg;
   }
   EXPECT_TRUE(contains(error_of("data.txt", "x"), "unknown data format \".txt\""));
+  EXPECT_TRUE(contains(error_of("m.binary", "short"), "m.binary")) << error_of("m.binary", "short");
 }
 
 // The CLI: exit 2, the message on stderr, nothing on stdout, no fitted file.
@@ -189,6 +190,7 @@ TEST_F(MeasuredInput, FitOfBadDataExitsTwoAndWritesNothing) {
       {"n.csv", "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.1,0,0.2,0,1,NaN,1\n", "n.csv: line 2: column g"},
       {"a.csv", "theta_i_deg,phi_i,theta_o,phi_o,r,g,b\n95,0,0.2,0,1,1,1\n", "a.csv: line 2: theta_i_deg = 95"},
       {"c.brdf", "31\n400 410\n", "c.brdf: line 2: the file is truncated"},
+      {"m.binary", std::string("\x5a\0\0\0\x5a\0\0\0", 8), "m.binary"},
   };
   for (const auto& c : cases) {
     const Result r = run({"fit", write(c.name, c.text), "--model", "ward", "-o", out});

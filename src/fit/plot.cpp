@@ -46,18 +46,18 @@ std::optional<double> in_plane_angle(const MeasuredSample& s) {
 
 void write_slices_plot(const std::string& path, const SampleSet& data, const nlohmann::json& material, const std::string& title) {
   const MaterialD m = build_material<double>(parse_material(material, "fitted material"));
-  // The incidence angles: the four most populated (rounded to 1 degree) among in-plane samples.
+  // The incidence angles: four spread over those (rounded to 1 degree) with at least 3 in-plane
+  // samples, from the smallest to the largest.
   std::map<int, int> count;
   for (const MeasuredSample& s : data.samples)
     if (in_plane_angle(s)) ++count[int(std::lround(std::acos(s.wi.z) / kDeg))];
-  std::vector<std::pair<int, int>> by_count;
-  for (const auto& [deg, n] : count) by_count.push_back({n, deg});
-  std::sort(by_count.begin(), by_count.end(), [](auto a, auto b) { return a.first != b.first ? a.first > b.first : a.second < b.second; });
-  std::vector<int> angles;
-  for (size_t i = 0; i < by_count.size() && angles.size() < 4; ++i)
-    if (by_count[i].first >= 3) angles.push_back(by_count[i].second);
+  std::vector<int> populated, angles;
+  for (const auto& [deg, n] : count)
+    if (n >= 3) populated.push_back(deg);
+  if (populated.size() <= 4) angles = populated;
+  else
+    for (int i = 0; i < 4; ++i) angles.push_back(populated[size_t(std::lround(i * double(populated.size() - 1) / 3.0))]);
   if (angles.empty()) angles = {0, 30, 60, 75};
-  std::sort(angles.begin(), angles.end());
 
   // The common y range: log10 f over the fitted curves and the in-plane samples.
   const auto dir = [](double theta, double phi) { return Vec3d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)); };

@@ -11,6 +11,7 @@
 #include "io/json_read.h"
 #include "io/params.h"
 #include "io/text_input.h"
+#include "measured/merl.h"
 #include "measured/spectral.h"
 
 namespace aniso {
@@ -251,11 +252,44 @@ SampleSet read_cornell(const std::string& path) {
   return set;
 }
 
+SampleSet merl_samples(const MerlBrdf& brdf, const std::string& source) {
+  SampleSet set;
+  set.source = source;
+  set.format = "merl";
+  set.samples.reserve(size_t(MerlBrdf::kBins) * 3 / 4);
+  size_t missing = 0;
+  for (int i = 0; i < MerlBrdf::kThetaH; ++i)
+    for (int j = 0; j < MerlBrdf::kThetaD; ++j)
+      for (int k = 0; k < MerlBrdf::kPhiD; ++k) {
+        const auto [wi, wo] = MerlBrdf::bin_directions(i, j, k);
+        if (!(wi.z > 1e-12 && wo.z > 1e-12)) continue;  // the double horizon (docs/conventions.md)
+        if (!brdf.valid(i, j, k)) {
+          ++missing;
+          continue;
+        }
+        const int b = MerlBrdf::index(i, j, k);
+        MeasuredSample s;
+        s.wi = wi;
+        s.wo = wo;
+        for (int c = 0; c < 3; ++c) s.value[c] = brdf.table[size_t(b) + size_t(c) * size_t(MerlBrdf::kBins)];
+        const double theta_h = std::pow((i + 0.5) / MerlBrdf::kThetaH, 2) * (kPiD / 2);
+        const double theta_d = (j + 0.5) / MerlBrdf::kThetaD * (kPiD / 2);
+        s.weight = std::cos(theta_d) * std::sin(theta_h) * std::sin(theta_d) * (2 * i + 1);
+        set.samples.push_back(s);
+      }
+  if (missing > 0)
+    set.warnings.push_back(fmt::format("{}: {} missing bins (negative values) above the horizon skipped", source, missing));
+  if (set.samples.empty()) throw InputError(fmt::format("{}: every bin is missing: nothing to fit", source));
+  return set;
+}
+
 SampleSet read_measured(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".csv") return read_samples_csv(path);
   if (ext == ".brdf") return read_cornell(path);
-  throw InputError(fmt::format("{}: unknown data format \"{}\": expected .csv (samples), .brdf (Cornell)", path, text_escape(ext)));
+  if (ext == ".binary") return merl_samples(read_merl(path), path);
+  throw InputError(fmt::format("{}: unknown data format \"{}\": expected .csv (samples), .brdf (Cornell), .binary (MERL)",
+                               path, text_escape(ext)));
 }
 
 }  // namespace aniso

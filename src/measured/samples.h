@@ -46,7 +46,16 @@ SampleSet read_samples_csv(const std::string& path);
 // (wi), theta_s the viewer (wo).
 SampleSet read_cornell(const std::string& path);
 
-// By extension: .csv, .brdf (Cornell); .binary (MERL) once the MERL reader is in (measured/merl.h).
+struct MerlBrdf;
+// A MERL table's bins as samples (measured/merl.h): each valid bin whose centre has both
+// directions above the horizon, at its centre (MerlBrdf::bin_directions, phi_h = 0), weighted by
+// the solid angle the bin stands for, dw_i dw_o = 4 cos(theta_d) dw_h dw_d (Rusinkiewicz 1998)
+// = 4 cos theta_d sin theta_h sin theta_d dtheta_h dphi_h dtheta_d dphi_d, with the MERL theta_h
+// bin width dtheta_h proportional to (2 i + 1) (theta_h = (i / 90)^2 pi / 2). Missing bins are
+// skipped, and counted in a warning.
+SampleSet merl_samples(const MerlBrdf& brdf, const std::string& source);
+
+// By extension: .csv, .brdf (Cornell), .binary (MERL, measured/merl.h).
 SampleSet read_measured(const std::string& path);
 
 // w = (sin theta cos phi, sin theta sin phi, cos theta).
