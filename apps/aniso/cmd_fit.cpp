@@ -192,7 +192,7 @@ void add_fit_command(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   auto* fit = app.add_subcommand("fit", "fit a model to measured data (MERL .binary, Cornell .brdf, CSV of samples): "
                                         "write the material, print the parameters and errors");
-  fit->add_option("data", a->data, "measured data: .csv (theta_i,phi_i,theta_o,phi_o,r,g,b), .brdf (Cornell)")->required();
+  fit->add_option("data", a->data, "measured data: .binary (MERL), .brdf (Cornell), .csv (theta_i,phi_i,theta_o,phi_o,r,g,b)")->required();
   fit->add_option("--model", a->model, "lafortune | ward | ashikhmin-shirley | ggx | metal");
   fit->add_option("--lobes", a->lobes, "Lafortune: number of lobes, 1 to 8");
   fit->add_flag("--anisotropic", a->anisotropic, "fit C_x != C_y, alpha_x != alpha_y, n_u != n_v");
