@@ -11,7 +11,7 @@
 //     a grey spectrum maps to the same value in every channel.
 // R_c = sum_j W_c(lambda_j) R(lambda_j), with sum_j W_c = 1. Some W_c are negative (the sRGB gamut
 // does not contain the spectral colours): a saturated spectrum can give a channel slightly below 0.
-// tests/test_measured.cpp checks these weights against the Python script's.
+// tests/test_samples.cpp checks these weights against the Python script's.
 #pragma once
 
 #include <array>
