@@ -334,6 +334,27 @@ TEST_F(FitCli, CsvWithExtraColumnsWarnsAndFits) {
   EXPECT_NEAR(j["alpha_x"].get<double>(), 0.15, 1e-4);
 }
 
+// --compare fits every model and ranks them; data from GGX put GGX (or the metal, which contains
+// it) first with an error near 0. --plot writes a PNG.
+TEST_F(FitCli, CompareRanksEveryModelAndPlotWritesAPng) {
+  const json m = {{"model", "ggx"}, {"kd", 0.2}, {"f0", 0.04}, {"alpha_x", 0.2}, {"alpha_y", 0.2}};
+  const SampleSet data = synthetic(m, 400, 200, 0.0, 21);
+  std::string csv = "theta_i,phi_i,theta_o,phi_o,r,g,b\n";
+  for (const MeasuredSample& x : data.samples)
+    csv += fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", std::acos(x.wi.z), std::atan2(x.wi.y, x.wi.x),
+                       std::acos(x.wo.z), std::atan2(x.wo.y, x.wo.x), x.value.x, x.value.y, x.value.z);
+  const std::string png = (dir_ / "slices.png").string(), best = (dir_ / "best.json").string();
+  const Result r = run({"fit", "--compare", write("ggx.csv", csv), "--plot", png, "-o", best, "--starts", "3"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* label : {"lafortune (1 lobe)", "lafortune (3 lobes)", "ward (duer)", "ward (balanced)", "ashikhmin-shirley", "ggx", "metal"})
+    EXPECT_TRUE(contains(r.out, label)) << label << "\n" << r.out;
+  const size_t rank1 = r.out.find("\n1    ");
+  ASSERT_NE(rank1, std::string::npos) << r.out;
+  EXPECT_TRUE(r.out.compare(rank1 + 6, 3, "ggx") == 0 || r.out.compare(rank1 + 6, 5, "metal") == 0) << r.out;
+  EXPECT_EQ(read_file(png).substr(0, 4), "\x89PNG");
+  EXPECT_TRUE(json::parse(read_file(best)).contains("fit"));
+}
+
 TEST_F(FitCli, BadOptionsExitTwoWithoutAFile) {
   const std::string out = (dir_ / "f.json").string();
   for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
