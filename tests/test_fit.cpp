@@ -11,6 +11,7 @@
 
 #include "cli_fixture.h"
 #include "fit/fit.h"
+#include "fit/models.h"
 #include "io/materials.h"
 #include "measured/merl.h"
 #include "stats/rng.h"
@@ -173,6 +174,29 @@ TEST(FitMetal, FittedEtaKRecoverF0AndRoughness) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(f0_got[c], f0_truth[c], 0.01) << c;
   EXPECT_NEAR(r.material["lobe"]["alpha_x"].get<double>(), 0.15, 0.003);
   EXPECT_LT(r.errors.relative_l2cos, 0.01);
+}
+
+// The Lafortune Jacobian is assembled lobe by lobe (fit.cpp, evaluate_by_parts): it must equal the
+// Jacobian of one Jet over every parameter, for every layout and both metrics, at random points.
+TEST(Fit, LafortuneJacobianByPartsEqualsTheWholeJet) {
+  const SampleSet data = synthetic({{"model", "lambert"}, {"kd", 0.5}}, 300, 100, 0.0, 13);
+  Rng rng(17);
+  for (bool aniso : {false, true})
+    for (bool shared : {false, true})
+      for (FitMetric metric : {FitMetric::L2Cos, FitMetric::Log}) {
+        const fit_detail::LafortuneFit model(3, aniso, shared);
+        std::vector<double> x(model.defs.size());
+        for (int c = 0; c < 3; ++c) x[size_t(model.rho(c))] = rng.uniform();
+        for (int k = 0; k < 3; ++k)
+          for (int c = 0; c < 3; ++c) {
+            x[size_t(model.cx(k, c))] = -0.8 - 0.4 * rng.uniform();
+            x[size_t(model.cy(k, c))] = -0.8 - 0.4 * rng.uniform();
+            x[size_t(model.cz(k, c))] = 0.6 + 0.5 * rng.uniform();
+            x[size_t(model.n(k, c))] = 1.0 + 50.0 * rng.uniform();
+          }
+        EXPECT_LT(fit_detail::lafortune_parts_jacobian_difference(3, aniso, shared, metric, data, x), 1e-10)
+            << aniso << shared << int(metric);
+      }
 }
 
 TEST(Fit, SameInputSameOutput) {

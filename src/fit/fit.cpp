@@ -62,8 +62,8 @@ double metric_target(FitMetric metric, double value, double cos_i) {
 // lanes stay 0), the model's f() exactly as rendering calls it.
 template <class Model, int N> class ChunkCost final : public ceres::CostFunction {
  public:
-  ChunkCost(const Model& model, const Prepared* samples, int count, FitMetric metric)
-      : model_(model), samples_(samples), count_(count), metric_(metric), size_(int(model.defs.size())) {
+  ChunkCost(const Model& model, const Prepared* samples, int count, FitMetric metric, bool by_parts = true)
+      : model_(model), samples_(samples), count_(count), metric_(metric), size_(int(model.defs.size())), by_parts_(by_parts) {
     set_num_residuals(3 * count);
     mutable_parameter_block_sizes()->push_back(size_);
   }
@@ -78,6 +78,9 @@ template <class Model, int N> class ChunkCost final : public ceres::CostFunction
         for (int c = 0; c < 3; ++c) residuals[3 * i + c] = metric_residual(metric_, f[c], s.wi.z, s.target[c], s.sqrt_w);
       }
       return all_finite(residuals, 3 * count_);
+    }
+    if constexpr (requires { Model::kHasParts; }) {
+      if (by_parts_) return evaluate_by_parts(x, residuals, jacobians[0]);
     }
     using J = ceres::Jet<double, N>;
     J xj[N];
@@ -99,6 +102,44 @@ template <class Model, int N> class ChunkCost final : public ceres::CostFunction
   }
 
  private:
+  // f = sum of parts with disjoint parameters (models.h, LafortuneFit::kHasParts): each part's
+  // kernel on a Jet of its own parameters gives df/dx for them; the rows are then scaled by the
+  // metric's dr/df, which needs the whole f: (l2cos) cos sqrt(w), (log) sqrt(w) cos / (1 + f cos).
+  bool evaluate_by_parts(const double* x, double* residuals, double* jac) const {
+    constexpr int M = Model::kMaxPartSize;
+    using JP = ceres::Jet<double, M>;
+    std::fill(jac, jac + size_t(3 * count_) * size_t(size_), 0.0);
+    std::vector<double> f(size_t(3 * count_), 0.0);
+    std::vector<JP> full(size_t(size_), JP(0.0));
+    for (int part = 0; part < model_.part_count(); ++part) {
+      const std::vector<int> idx = model_.part_indices(part);
+      for (int p = 0; p < size_; ++p) full[size_t(p)] = JP(x[p]);
+      for (size_t j = 0; j < idx.size(); ++j) full[size_t(idx[j])] = JP(x[idx[j]], int(j));
+      const auto m = model_.template build_part<JP>(part, full.data());
+      for (int i = 0; i < count_; ++i) {
+        const Prepared& s = samples_[i];
+        const Vec3T<JP> wi(JP(s.wi.x), JP(s.wi.y), JP(s.wi.z)), wo(JP(s.wo.x), JP(s.wo.y), JP(s.wo.z));
+        const RGBT<JP> fp = m.f(wi, wo);
+        for (int c = 0; c < 3; ++c) {
+          f[size_t(3 * i + c)] += fp[c].a;
+          double* row = jac + size_t(3 * i + c) * size_t(size_);
+          for (size_t j = 0; j < idx.size(); ++j) row[idx[j]] += fp[c].v[int(j)];
+        }
+      }
+    }
+    for (int i = 0; i < count_; ++i) {
+      const Prepared& s = samples_[i];
+      for (int c = 0; c < 3; ++c) {
+        const double fc = f[size_t(3 * i + c)], cos_i = s.wi.z;
+        residuals[3 * i + c] = metric_residual(metric_, fc, cos_i, s.target[c], s.sqrt_w);
+        const double dr_df = metric_ == FitMetric::Log ? s.sqrt_w * cos_i / (1.0 + fc * cos_i) : s.sqrt_w * cos_i;
+        double* row = jac + size_t(3 * i + c) * size_t(size_);
+        for (int p = 0; p < size_; ++p) row[p] *= dr_df;
+      }
+    }
+    return all_finite(residuals, 3 * count_) && all_finite(jac, 3 * count_ * size_);
+  }
+
   static bool all_finite(const double* v, int n) {
     for (int i = 0; i < n; ++i)
       if (!std::isfinite(v[i])) return false;
@@ -109,6 +150,7 @@ template <class Model, int N> class ChunkCost final : public ceres::CostFunction
   int count_;
   FitMetric metric_;
   int size_;
+  bool by_parts_;
 };
 
 // The model's penalty residuals (LafortuneFit::penalties), differentiated the same way.
@@ -415,6 +457,32 @@ WardNormalization ward_normalization(const std::string& s) {
 }
 
 }  // namespace
+
+namespace fit_detail {
+
+double lafortune_parts_jacobian_difference(int lobes, bool anisotropic, bool shared, FitMetric metric, const SampleSet& data,
+                                           const std::vector<double>& x) {
+  const LafortuneFit model(lobes, anisotropic, shared);
+  std::vector<Prepared> prep;
+  for (const MeasuredSample& s : data.samples) {
+    Prepared p{s.wi, s.wo, {}, 1.0 / std::sqrt(double(data.samples.size()))};
+    for (int c = 0; c < 3; ++c) p.target[c] = metric_target(metric, s.value[c], s.wi.z);
+    prep.push_back(p);
+  }
+  const int n = int(prep.size()), P = int(model.defs.size());
+  const ChunkCost<LafortuneFit, 112> parts(model, prep.data(), n, metric, true), whole(model, prep.data(), n, metric, false);
+  std::vector<double> r1(size_t(3 * n)), r2(size_t(3 * n)), j1(size_t(3 * n * P)), j2(size_t(3 * n * P));
+  const double* params[] = {x.data()};
+  double* jac1[] = {j1.data()};
+  double* jac2[] = {j2.data()};
+  if (!parts.Evaluate(params, r1.data(), jac1) || !whole.Evaluate(params, r2.data(), jac2)) return INFINITY;
+  double worst = 0.0;
+  for (size_t i = 0; i < r1.size(); ++i) worst = std::max(worst, std::abs(r1[i] - r2[i]) / (std::abs(r2[i]) + 1e-12));
+  for (size_t i = 0; i < j1.size(); ++i) worst = std::max(worst, std::abs(j1[i] - j2[i]) / (std::abs(j2[i]) + 1e-12));
+  return worst;
+}
+
+}  // namespace fit_detail
 
 FitErrors fit_errors(const MaterialD& m, const SampleSet& data) {
   FitErrors e;

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "aniso/brdf/material.h"
+#include "fit/fit.h"
 #include "io/materials.h"
 #include "stats/rng.h"
 
@@ -81,6 +82,30 @@ class LafortuneFit {
         const T excess = m > T(1) ? x[n(k, c)] * log(m) - T(kPeakLog) : T(-1);
         out[3 * k + c] = excess > T(0) ? excess : T(0);
       }
+  }
+  // f is a sum of parts that share no parameter: the diffuse term (part 0, rho_d) and each lobe
+  // (part k + 1). The Jacobian is assembled part by part (fit.cpp, ChunkCost), each part the same
+  // kernel with only that term, on a Jet as wide as the part's parameters (at most 12) instead of
+  // all of them (up to 99): the derivatives are the same, the Jet arithmetic a fraction.
+  static constexpr bool kHasParts = true;
+  static constexpr int kMaxPartSize = 12;
+  int part_count() const { return lobes_ + 1; }
+  std::vector<int> part_indices(int part) const {
+    std::vector<int> out;
+    const int first = part == 0 ? 0 : base(part - 1), size = part == 0 ? 3 : stride_;
+    for (int i = 0; i < size; ++i) out.push_back(first + i);
+    return out;
+  }
+  template <typename T> LafortuneT<T> build_part(int part, const T* x) const {
+    LafortuneT<T> m = build(x);
+    if (part == 0) {
+      m.lobe_count = 0;
+      return m;
+    }
+    m.rho_d = RGBT<T>(T(0));
+    m.lobes[0] = m.lobes[part - 1];
+    m.lobe_count = 1;
+    return m;
   }
   Json to_json(const double* x) const;
   std::vector<double> moment_start(const DataMoments& d) const;
@@ -213,5 +238,10 @@ class MetalFit {
   glm::dvec3 eta_{0.0}, k_{0.0};
   SpecularLobeKind lobe_;
 };
+
+// For tests: the largest relative difference between the Lafortune Jacobian assembled by parts
+// and the one from a single Jet over every parameter (fit.cpp), residuals included, at x.
+double lafortune_parts_jacobian_difference(int lobes, bool anisotropic, bool shared, FitMetric metric, const SampleSet& data,
+                                           const std::vector<double>& x);
 
 }  // namespace aniso::fit_detail
