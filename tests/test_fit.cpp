@@ -402,7 +402,8 @@ TEST_F(FitCli, CompareRanksEveryModelAndPlotWritesAPng) {
 TEST_F(FitCli, BadOptionsExitTwoWithoutAFile) {
   const std::string out = (dir_ / "f.json").string();
   for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
-           {"--model", "blinn"}, {"--lobes", "0"}, {"--lobes", "x"}, {"--metric", "l1"}, {"--starts", "0"}, {"--loss", "tukey"}}) {
+           {"--model", "blinn"}, {"--lobes", "0"}, {"--lobes", "x"}, {"--metric", "l1"}, {"--starts", "0"}, {"--loss", "tukey"},
+           {"--loss-scale", "inf"}, {"--loss-scale", "-1"}, {"--seed", "-1"}, {"--threads", "x"}}) {
     std::vector<std::string> cmd = {"fit", kCornell + "cayman.brdf", "-o", out};
     cmd.insert(cmd.end(), args.begin(), args.end());
     const Result r = run(cmd);

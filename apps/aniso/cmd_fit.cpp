@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -20,8 +21,7 @@ namespace {
 
 struct FitArgs {
   std::string data, model = "lafortune", output, plot, metric = "l2cos", normalization = "ward", metal, metal_lobe = "ggx";
-  std::string loss = "none", lobes = "1", starts = "6", seed = "1", threads = "0", max_iterations = "200";
-  double loss_scale = 0.0;
+  std::string loss = "none", lobes = "1", starts = "6", seed = "1", threads = "0", max_iterations = "200", loss_scale = "0";
   bool anisotropic = false, shared_exponents = false, compare = false, quiet = false;
 };
 
@@ -64,8 +64,10 @@ FitOptions options_from(const FitArgs& a) {
   else if (a.metric == "log") o.metric = FitMetric::Log;
   else throw InputError(fmt::format("--metric: expected l2cos or log, got \"{}\"", a.metric));
   o.loss = a.loss;
-  if (!(a.loss_scale >= 0.0)) throw InputError(fmt::format("--loss-scale: expected a number >= 0, got {}", a.loss_scale));
-  o.loss_scale = a.loss_scale;
+  const std::optional<double> scale = parse_decimal(a.loss_scale);
+  if (!scale || !(*scale >= 0.0))
+    throw InputError(fmt::format("--loss-scale: expected a finite decimal number >= 0, got \"{}\"", a.loss_scale));
+  o.loss_scale = *scale;
   o.starts = int(parse_integer(a.starts, 1, 1000, "--starts"));
   o.seed = parse_unsigned(a.seed, UINT64_MAX, "--seed");
   o.threads = int(parse_integer(a.threads, 0, 256, "--threads"));
