@@ -52,8 +52,10 @@ void write_slices_plot(const std::string& path, const SampleSet& data, const nlo
   for (const MeasuredSample& s : data.samples)
     if (in_plane_angle(s)) ++count[int(std::lround(std::acos(s.wi.z) / kDeg))];
   std::vector<int> populated, angles;
+  // At most 85 degrees: nearer the horizon the slices say little and f may grow without bound
+  // (Ward-Duer's 1 / (cos_i cos_o)), which would squash every other panel's scale.
   for (const auto& [deg, n] : count)
-    if (n >= 3) populated.push_back(deg);
+    if (n >= 3 && deg <= 85) populated.push_back(deg);
   if (populated.size() <= 4) angles = populated;
   else
     for (int i = 0; i < 4; ++i) angles.push_back(populated[size_t(std::lround(i * double(populated.size() - 1) / 3.0))]);
@@ -66,20 +68,32 @@ void write_slices_plot(const std::string& path, const SampleSet& data, const nlo
     const Vec3d wo = dir(std::abs(signed_o), signed_o > 0 ? M_PI : 0.0);
     return m.f(wi, wo);
   };
-  double lo = INFINITY, hi = -INFINITY;
+  // The y range: the 0.5th to 99.5th percentile of log10 f over the curves (|theta_o| <= 85 deg) and
+  // the panels' in-plane samples, at most six decades (below that is noise), so that a few grazing
+  // values do not squash the scale; points beyond it are drawn at the frame's edge.
+  std::vector<double> logs;
   const auto include = [&](double v) {
-    if (v > 0.0 && std::isfinite(v)) lo = std::min(lo, std::log10(v)), hi = std::max(hi, std::log10(v));
+    if (v > 0.0 && std::isfinite(v)) logs.push_back(std::log10(v));
   };
   for (int deg : angles)
-    for (int i = -88; i <= 88; ++i) {
+    for (int i = -85; i <= 85; ++i) {
       const RGBT<double> f = fitted(deg, i * kDeg);
       for (int c = 0; c < 3; ++c) include(f[c]);
     }
-  for (const MeasuredSample& s : data.samples)
-    if (in_plane_angle(s))
-      for (int c = 0; c < 3; ++c) include(s.value[c]);
-  if (!std::isfinite(lo)) lo = -3, hi = 1;
-  lo = std::floor(std::max(lo, hi - 6.0));  // at most six decades: below that is noise
+  for (const MeasuredSample& s : data.samples) {
+    if (!in_plane_angle(s)) continue;
+    const double deg = std::acos(s.wi.z) / kDeg;
+    for (int a : angles)
+      if (std::abs(deg - a) <= 1.0)
+        for (int c = 0; c < 3; ++c) include(s.value[c]);
+  }
+  double lo = -3, hi = 1;
+  if (!logs.empty()) {
+    std::sort(logs.begin(), logs.end());
+    lo = logs[size_t(0.005 * double(logs.size() - 1))];
+    hi = logs[size_t(0.995 * double(logs.size() - 1))];
+  }
+  lo = std::floor(std::max(lo, hi - 6.0));
   hi = std::ceil(hi + 1e-9);
   if (hi <= lo) hi = lo + 1;
 
@@ -135,8 +149,8 @@ void write_slices_plot(const std::string& path, const SampleSet& data, const nlo
       if (!a || std::abs(std::acos(s.wi.z) / kDeg - angles[p]) > 1.0) continue;
       for (int c = 0; c < 3; ++c)
         if (s.value[c] > 0.0) {
-          const double y = py(s.value[c]);
-          if (y >= y0 && y <= y0 + kPanelH) dot(img, int(std::lround(px(*a))), int(std::lround(y)), 2, colour[c]);
+          const double y = std::clamp(py(s.value[c]), double(y0), double(y0 + kPanelH));
+          dot(img, int(std::lround(px(*a))), int(std::lround(y)), 2, colour[c]);
         }
     }
   }
