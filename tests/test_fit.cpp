@@ -353,6 +353,8 @@ TEST_F(FitCli, WritesAValidMaterialWithTheFitObjectAndPrintsTheLectureTable) {
   EXPECT_EQ(std::count(e.out.begin(), e.out.end(), '\n'), 2);
   EXPECT_EQ(run({"albedo", "-m", out, "--theta-deg", "30", "--samples", "1000"}).code, 0);
   EXPECT_EQ(run({"export-glsl", "-m", out, "-o", (dir_ / "m.glsl").string()}).code, 0);
+  const Result render = run({"render", "--material", out, "--spp", "1", "--width", "32", "--height", "32", "-o", (dir_ / "r.png").string()});
+  EXPECT_EQ(render.code, 0) << render.err;
   // "fit" must be an object.
   const Result bad = run({"eval", "-m", write("bad.json", R"({"model": "lambert", "kd": 0.5, "fit": 3})")}, "0 0 1 0 0 1\n");
   EXPECT_EQ(bad.code, 2);
