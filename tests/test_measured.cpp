@@ -290,6 +290,23 @@ TEST_F(MeasuredCli, RenderPreviewOfABinaryMaterial) {
   EXPECT_FALSE(contains(r.err, "NaN")) << r.err;
 }
 
+// In a scene: a measured material by path and in JSON form, both relative to the scene's folder.
+TEST_F(MeasuredCli, SceneWithMeasuredMaterialsRelativeToItsFolder) {
+  const Result p = run({"render", "--material", "clay", "--print-scene"});
+  ASSERT_EQ(p.code, 0) << p.err;
+  nlohmann::json scene = nlohmann::json::parse(p.out);
+  ASSERT_EQ(scene["objects"].size(), 2u);
+  scene["objects"][0]["material"] = "ward.binary";
+  scene["objects"][1]["material"] = {{"model", "measured"}, {"file", "ward.binary"}};
+  const fs::path scene_path = fs::path(ward_file()).parent_path() / "scene.json";
+  std::ofstream(scene_path) << scene.dump();
+  const std::string png = (dir_ / "scene.png").string();
+  const Result r = run({"render", scene_path.string(), "--width", "48", "--height", "32", "--spp", "2", "-o", png});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(png));
+  fs::remove(scene_path);
+}
+
 TEST_F(MeasuredCli, ExportGlslOfAMeasuredMaterialSuggestsFit) {
   const Result r = run({"export-glsl", "--material", ward_file()});
   expect_input_error(r, {ward_file(), "no GLSL form", "aniso fit"});
