@@ -136,6 +136,70 @@ std::string sampling_name(const testing::TestParamInfo<std::tuple<int, int>>& in
 INSTANTIATE_TEST_SUITE_P(Tabulated, MeasuredSampling, testing::Combine(testing::Values(0, 1), testing::Values(0, 1, 2, 3)),
                          sampling_name);
 
+// The discrete part of the sampler without quadrature: with uc in the table branch, the half
+// vector of each sample falls in cell (theta_h row, phi_h column) with exactly the probability the
+// tables give (marginal x conditional), whatever wo is within its bin. Pearson's chi-square over
+// the cells with expected count >= 5 (the rest pooled), 1M samples, two views.
+TEST(MeasuredSamplingCells, HalfVectorCellsHaveTheirTableProbabilities) {
+  const MeasuredData& d = *as_data();
+  const MaterialT<double> m = measured_kernel<double>(d);
+  const int H = MerlLayout::kThetaH, P = d.phi_h_bins;
+  for (const View v : {View{37.0, 50.0}, View{72.0, 290.0}}) {
+    const Vec3d wo = spherical(v.theta, v.phi);
+    double c, sn;
+    int o;
+    m.measured.view_frame(wo, c, sn, o);
+    std::vector<double> observed(size_t(H) * P, 0.0), expected(size_t(H) * P, 0.0);
+    const double* mcdf = d.marginal_cdf.data() + size_t(o) * (H + 1);
+    for (int i = 0; i < H; ++i)
+      for (int j = 0; j < P; ++j) {
+        const double* ccdf = d.conditional_cdf.data() + (size_t(o) * H + i) * (P + 1);
+        expected[size_t(i) * P + j] = (mcdf[i + 1] - mcdf[i]) * (ccdf[j + 1] - ccdf[j]);
+      }
+    Rng rng(23);
+    const int n = 1'000'000;
+    int rejected = 0;
+    for (int k = 0; k < n; ++k) {
+      const double uc = m.measured.uniform_fraction + (1.0 - m.measured.uniform_fraction) * rng.uniform();
+      const BSDFSampleT<double> s = m.sample(wo, uc, Vec2T<double>(rng.uniform(), rng.uniform()));
+      if (!s.valid) {
+        ++rejected;
+        continue;
+      }
+      const Vec3d h = glm::normalize(s.wi + wo);
+      const double hx = h.x * c + h.y * sn, hy = -h.x * sn + h.y * c;
+      const int i = merl_theta_half_index(std::atan2(std::sqrt(hx * hx + hy * hy), h.z));
+      double phi = std::atan2(hy, hx);
+      if (phi < 0) phi += 2 * M_PI;
+      const int j = std::min(P - 1, int(phi / (2 * M_PI) * P));
+      observed[size_t(i) * P + j] += 1.0;
+    }
+    double chi2 = 0.0, pooled_e = 0.0, pooled_o = 0.0;
+    int dof = -1;
+    for (size_t q = 0; q < observed.size(); ++q) {
+      const double e = expected[q] * n;
+      if (e == 0.0) {
+        ASSERT_EQ(observed[q], 0.0) << "a sample in a cell of probability 0";
+        continue;
+      }
+      if (e < 5.0) {
+        pooled_e += e, pooled_o += observed[q];
+        continue;
+      }
+      chi2 += (observed[q] - e) * (observed[q] - e) / e;
+      ++dof;
+    }
+    // The rejected draws (h whose reflection of wo is below the horizon) belong to the pooled rest.
+    pooled_o += rejected;
+    chi2 += (pooled_o - pooled_e) * (pooled_o - pooled_e) / std::max(pooled_e, 1.0);
+    ++dof;
+    const double p = boost::math::gamma_q(dof / 2.0, chi2 / 2.0);
+    std::printf("cells, view theta %g: chi2 %.1f dof %d p %.3f rejected %d\n", v.theta, chi2, dof, p, rejected);
+    EXPECT_GT(p, 0.005) << "chi2 " << chi2 << " dof " << dof;
+    EXPECT_LT(rejected, n / 1000);
+  }
+}
+
 // The tabulated material evaluates as the MERL lookup, in float as in double, and through the
 // batch API (its scalar fallback) bit for bit as the scalar kernel.
 TEST(MeasuredMaterial, KernelBatchAndLookupAgree) {
