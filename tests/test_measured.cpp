@@ -401,6 +401,7 @@ TEST_F(MeasuredCli, BadFilesExit2NamingFileAndOffset) {
   std::string big = header + std::string(MerlBrdf::kFileBytes - 12, '\0');
   std::memcpy(big.data() + 12 + 8 * 5000, &nan, 8);
   const std::string nan_path = write("nan.binary", big);
+  const std::string long_path = write("long.binary", big + "x");  // one byte too many
   big.clear();
   const std::vector<std::pair<std::string, std::string>> cases = {
       {empty, "byte offset 0: empty file"},
@@ -409,6 +410,7 @@ TEST_F(MeasuredCli, BadFilesExit2NamingFileAndOffset) {
       {text, "byte offset 0: header: theta_h resolution"},
       {directory, "is a directory"},
       {nan_path, fmt::format("byte offset {}: NaN", 12 + 8 * 5000)},
+      {long_path, "byte offset 34992012: trailing data: the file is 34992013 bytes"},
       {(dir_ / "absent.binary").string(), "no such file"},
   };
   for (const auto& [path, expect] : cases) {
@@ -425,6 +427,7 @@ TEST_F(MeasuredCli, BadFilesExit2NamingFileAndOffset) {
     }
   }
   fs::remove(nan_path);
+  fs::remove(long_path);
 }
 
 }  // namespace
