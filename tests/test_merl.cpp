@@ -265,7 +265,7 @@ TEST(Merl, BadFilesAreErrorsNamingFileAndOffset) {
     fs::remove(p);
   }
   // A NaN and an infinity in the data, named by offset and bin.
-  for (const auto& [value, what] : {std::pair{std::nan(""), "NaN"}, std::pair{HUGE_VAL, "infinite value"}}) {
+  for (const auto& [value, what] : {std::pair{std::nan(""), "NaN"}, std::pair{HUGE_VAL, "infinite value"}, std::pair{1e300, "1e+300"}}) {
     std::string b = bytes;
     const size_t n = size_t(MerlBrdf::kBins) + size_t(MerlBrdf::index(3, 17, 120));  // green
     std::memcpy(b.data() + 12 + 8 * n, &value, 8);
