@@ -91,42 +91,48 @@ TEST_P(MeasuredSampling, ChiSquareMatchesPdf) {
   EXPECT_NEAR(r.pdf_integral, r.accepted_fraction, 5e-3);
 }
 
-TEST_P(MeasuredSampling, WeightIsFCosOverPdf) {
-  const auto [which, view] = GetParam();
-  const auto data = which == 0 ? ward_data() : as_data();
-  const MaterialT<double> m = measured_kernel<double>(*data);
-  const Vec3d wo = spherical(kViews[view].theta, kViews[view].phi);
-  Rng rng(11);
-  int valid = 0;
-  for (int i = 0; i < 20000; ++i) {
-    const BSDFSampleT<double> s = m.sample(wo, rng.uniform(), Vec2T<double>(rng.uniform(), rng.uniform()));
-    if (!s.valid) {
-      EXPECT_EQ(s.pdf, 0.0);
-      continue;
+// The sample record at every view of both materials (one test: the tables are built once).
+TEST(MeasuredSamplingRecord, WeightIsFCosOverPdf) {
+  for (int which = 0; which < 2; ++which)
+    for (const View& v : kViews) {
+      SCOPED_TRACE(fmt::format("{} theta {}", which == 0 ? "ward" : "as", v.theta));
+      const auto data = which == 0 ? ward_data() : as_data();
+      const MaterialT<double> m = measured_kernel<double>(*data);
+      const Vec3d wo = spherical(v.theta, v.phi);
+      Rng rng(11);
+      int valid = 0;
+      for (int i = 0; i < 20000; ++i) {
+        const BSDFSampleT<double> s = m.sample(wo, rng.uniform(), Vec2T<double>(rng.uniform(), rng.uniform()));
+        if (!s.valid) {
+          EXPECT_EQ(s.pdf, 0.0);
+          continue;
+        }
+        ++valid;
+        ASSERT_NEAR(glm::length(s.wi), 1.0, 1e-9);
+        const double pdf = m.pdf(s.wi, wo);
+        ASSERT_NEAR(s.pdf, pdf, 1e-9 * pdf);
+        const Vec3d expected = m.f(s.wi, wo) * s.wi.z / pdf;
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(s.weight[c], expected[c], 1e-9 * (1.0 + expected[c]));
+      }
+      EXPECT_GT(valid, 15000);
     }
-    ++valid;
-    ASSERT_NEAR(glm::length(s.wi), 1.0, 1e-9);
-    const double pdf = m.pdf(s.wi, wo);
-    ASSERT_NEAR(s.pdf, pdf, 1e-9 * pdf);
-    const Vec3d expected = m.f(s.wi, wo) * s.wi.z / pdf;
-    for (int c = 0; c < 3; ++c) ASSERT_NEAR(s.weight[c], expected[c], 1e-9 * (1.0 + expected[c]));
-  }
-  EXPECT_GT(valid, 15000);
 }
 
 // The albedo by the sampler (E[weight]) equals the albedo by uniform hemisphere integration of
 // the same table, within 4 standard errors of the difference; and the sampler's variance is lower.
-TEST_P(MeasuredSampling, AlbedoBySamplingEqualsUniformIntegration) {
-  const auto [which, view] = GetParam();
-  const auto data = which == 0 ? ward_data() : as_data();
-  const MaterialT<double> m = measured_kernel<double>(*data);
-  const Vec3d wo = spherical(kViews[view].theta, kViews[view].phi);
-  const AlbedoEstimate is = albedo_importance(m, wo, 200000, 3), un = albedo_uniform(m, wo, 400000, 5);
-  for (int c = 0; c < 3; ++c) {
-    const double se = std::hypot(is.std_error[c], un.std_error[c]);
-    EXPECT_NEAR(is.mean[c], un.mean[c], 4.0 * se + 1e-6) << "channel " << c;
-  }
-  EXPECT_LT(is.std_error.y * std::sqrt(2.0), un.std_error.y) << "importance sampling no better than uniform";
+TEST(MeasuredSamplingRecord, AlbedoBySamplingEqualsUniformIntegration) {
+  for (int which = 0; which < 2; ++which)
+    for (const View& v : kViews) {
+      SCOPED_TRACE(fmt::format("{} theta {}", which == 0 ? "ward" : "as", v.theta));
+      const MaterialT<double> m = measured_kernel<double>(*(which == 0 ? ward_data() : as_data()));
+      const Vec3d wo = spherical(v.theta, v.phi);
+      const AlbedoEstimate is = albedo_importance(m, wo, 200000, 3), un = albedo_uniform(m, wo, 400000, 5);
+      for (int c = 0; c < 3; ++c) {
+        const double se = std::hypot(is.std_error[c], un.std_error[c]);
+        EXPECT_NEAR(is.mean[c], un.mean[c], 4.0 * se + 1e-6) << "channel " << c;
+      }
+      EXPECT_LT(is.std_error.y * std::sqrt(2.0), un.std_error.y) << "importance sampling no better than uniform";
+    }
 }
 
 std::string sampling_name(const testing::TestParamInfo<std::tuple<int, int>>& info) {
@@ -135,6 +141,70 @@ std::string sampling_name(const testing::TestParamInfo<std::tuple<int, int>>& in
 }
 INSTANTIATE_TEST_SUITE_P(Tabulated, MeasuredSampling, testing::Combine(testing::Values(0, 1), testing::Values(0, 1, 2, 3)),
                          sampling_name);
+
+// The discrete part of the sampler without quadrature: with uc in the table branch, the half
+// vector of each sample falls in cell (theta_h row, phi_h column) with exactly the probability the
+// tables give (marginal x conditional), whatever wo is within its bin. Pearson's chi-square over
+// the cells with expected count >= 5 (the rest pooled), 1M samples, two views.
+TEST(MeasuredSamplingCells, HalfVectorCellsHaveTheirTableProbabilities) {
+  const MeasuredData& d = *as_data();
+  const MaterialT<double> m = measured_kernel<double>(d);
+  const int H = MerlLayout::kThetaH, P = d.phi_h_bins;
+  for (const View v : {View{37.0, 50.0}, View{72.0, 290.0}}) {
+    const Vec3d wo = spherical(v.theta, v.phi);
+    double c, sn;
+    int o;
+    m.measured.view_frame(wo, c, sn, o);
+    std::vector<double> observed(size_t(H) * P, 0.0), expected(size_t(H) * P, 0.0);
+    const double* mcdf = d.marginal_cdf.data() + size_t(o) * (H + 1);
+    for (int i = 0; i < H; ++i)
+      for (int j = 0; j < P; ++j) {
+        const double* ccdf = d.conditional_cdf.data() + (size_t(o) * H + i) * (P + 1);
+        expected[size_t(i) * P + j] = (mcdf[i + 1] - mcdf[i]) * (ccdf[j + 1] - ccdf[j]);
+      }
+    Rng rng(23);
+    const int n = 1'000'000;
+    int rejected = 0;
+    for (int k = 0; k < n; ++k) {
+      const double uc = m.measured.uniform_fraction + (1.0 - m.measured.uniform_fraction) * rng.uniform();
+      const BSDFSampleT<double> s = m.sample(wo, uc, Vec2T<double>(rng.uniform(), rng.uniform()));
+      if (!s.valid) {
+        ++rejected;
+        continue;
+      }
+      const Vec3d h = glm::normalize(s.wi + wo);
+      const double hx = h.x * c + h.y * sn, hy = -h.x * sn + h.y * c;
+      const int i = merl_theta_half_index(std::atan2(std::sqrt(hx * hx + hy * hy), h.z));
+      double phi = std::atan2(hy, hx);
+      if (phi < 0) phi += 2 * M_PI;
+      const int j = std::min(P - 1, int(phi / (2 * M_PI) * P));
+      observed[size_t(i) * P + j] += 1.0;
+    }
+    double chi2 = 0.0, pooled_e = 0.0, pooled_o = 0.0;
+    int dof = -1;
+    for (size_t q = 0; q < observed.size(); ++q) {
+      const double e = expected[q] * n;
+      if (e == 0.0) {
+        ASSERT_EQ(observed[q], 0.0) << "a sample in a cell of probability 0";
+        continue;
+      }
+      if (e < 5.0) {
+        pooled_e += e, pooled_o += observed[q];
+        continue;
+      }
+      chi2 += (observed[q] - e) * (observed[q] - e) / e;
+      ++dof;
+    }
+    // The rejected draws (h whose reflection of wo is below the horizon) belong to the pooled rest.
+    pooled_o += rejected;
+    chi2 += (pooled_o - pooled_e) * (pooled_o - pooled_e) / std::max(pooled_e, 1.0);
+    ++dof;
+    const double p = boost::math::gamma_q(dof / 2.0, chi2 / 2.0);
+    std::printf("cells, view theta %g: chi2 %.1f dof %d p %.3f rejected %d\n", v.theta, chi2, dof, p, rejected);
+    EXPECT_GT(p, 0.005) << "chi2 " << chi2 << " dof " << dof;
+    EXPECT_LT(rejected, n / 1000);
+  }
+}
 
 // The tabulated material evaluates as the MERL lookup, in float as in double, and through the
 // batch API (its scalar fallback) bit for bit as the scalar kernel.
@@ -242,9 +312,10 @@ TEST(MeasuredMaterial, RecognisesMerlFilesBySha256) {
   EXPECT_EQ(merl_material_name("cc036db74087f380747a0746d39dd1e4be359c409fa729214a894bd883a4757e"), "yellow-plastic");
   EXPECT_EQ(merl_material_name("0000000000000000000000000000000000000000000000000000000000000000"), "");
   // sha256 itself: FIPS 180-2's "abc" example.
-  const fs::path p = fs::path(ward_file()).parent_path() / "abc.txt";
+  const fs::path p = fs::temp_directory_path() / ("aniso-sha256-" + std::to_string(::getpid()) + ".txt");
   std::ofstream(p) << "abc";
   EXPECT_EQ(sha256_file(p.string()), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  fs::remove(p);
 }
 
 class MeasuredCli : public Cli {};
@@ -290,6 +361,23 @@ TEST_F(MeasuredCli, RenderPreviewOfABinaryMaterial) {
   EXPECT_FALSE(contains(r.err, "NaN")) << r.err;
 }
 
+// In a scene: a measured material by path and in JSON form, both relative to the scene's folder.
+TEST_F(MeasuredCli, SceneWithMeasuredMaterialsRelativeToItsFolder) {
+  const Result p = run({"render", "--material", "clay", "--print-scene"});
+  ASSERT_EQ(p.code, 0) << p.err;
+  nlohmann::json scene = nlohmann::json::parse(p.out);
+  ASSERT_EQ(scene["objects"].size(), 2u);
+  scene["objects"][0]["material"] = "ward.binary";
+  scene["objects"][1]["material"] = {{"model", "measured"}, {"file", "ward.binary"}};
+  const fs::path scene_path = fs::path(ward_file()).parent_path() / "scene.json";
+  std::ofstream(scene_path) << scene.dump();
+  const std::string png = (dir_ / "scene.png").string();
+  const Result r = run({"render", scene_path.string(), "--width", "48", "--height", "32", "--spp", "2", "-o", png});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(png));
+  fs::remove(scene_path);
+}
+
 TEST_F(MeasuredCli, ExportGlslOfAMeasuredMaterialSuggestsFit) {
   const Result r = run({"export-glsl", "--material", ward_file()});
   expect_input_error(r, {ward_file(), "no GLSL form", "aniso fit"});
@@ -313,6 +401,7 @@ TEST_F(MeasuredCli, BadFilesExit2NamingFileAndOffset) {
   std::string big = header + std::string(MerlBrdf::kFileBytes - 12, '\0');
   std::memcpy(big.data() + 12 + 8 * 5000, &nan, 8);
   const std::string nan_path = write("nan.binary", big);
+  const std::string long_path = write("long.binary", big + "x");  // one byte too many
   big.clear();
   const std::vector<std::pair<std::string, std::string>> cases = {
       {empty, "byte offset 0: empty file"},
@@ -321,6 +410,7 @@ TEST_F(MeasuredCli, BadFilesExit2NamingFileAndOffset) {
       {text, "byte offset 0: header: theta_h resolution"},
       {directory, "is a directory"},
       {nan_path, fmt::format("byte offset {}: NaN", 12 + 8 * 5000)},
+      {long_path, "byte offset 34992012: trailing data: the file is 34992013 bytes"},
       {(dir_ / "absent.binary").string(), "no such file"},
   };
   for (const auto& [path, expect] : cases) {
@@ -337,6 +427,7 @@ TEST_F(MeasuredCli, BadFilesExit2NamingFileAndOffset) {
     }
   }
   fs::remove(nan_path);
+  fs::remove(long_path);
 }
 
 }  // namespace

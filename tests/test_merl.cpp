@@ -175,6 +175,22 @@ TEST(Merl, LookupOfATabulatedWardEqualsTheModelWithinABin) {
   EXPECT_LT(p99, 0.06);
 }
 
+// A missing sample (negative in any channel): valid() is false, the lookup gives 0 in every
+// channel, the file keeps it through a write and a read, and the sampler's tables see 0 there.
+TEST(Merl, MissingSamplesLookUpAsZero) {
+  MerlBrdf t = tabulate_merl(build<double>(kLambert));
+  const int i = 10, j = 20, k = 30;
+  ASSERT_TRUE(t.valid(i, j, k));
+  const size_t before = t.missing_count();
+  t.table[size_t(MerlBrdf::kBins) + size_t(MerlBrdf::index(i, j, k))] = -1.0 * MerlBrdf::kScale[1];  // green only
+  EXPECT_FALSE(t.valid(i, j, k));
+  EXPECT_EQ(t.missing_count(), before + 1);
+  const auto [wi, wo] = MerlBrdf::bin_directions(i, j, k);
+  EXPECT_EQ(t.lookup(wi, wo), Vec3d(0.0));
+  const auto [wi2, wo2] = MerlBrdf::bin_directions(i, j, k + 1);
+  EXPECT_NEAR(t.lookup(wi2, wo2).x, 0.8 / M_PI, 1e-15);
+}
+
 TEST(Merl, WriteThenReadIsBitwise) {
   TempDir dir;
   const MerlBrdf& t = ward_table();
@@ -249,7 +265,7 @@ TEST(Merl, BadFilesAreErrorsNamingFileAndOffset) {
     fs::remove(p);
   }
   // A NaN and an infinity in the data, named by offset and bin.
-  for (const auto& [value, what] : {std::pair{std::nan(""), "NaN"}, std::pair{HUGE_VAL, "infinite value"}}) {
+  for (const auto& [value, what] : {std::pair{std::nan(""), "NaN"}, std::pair{HUGE_VAL, "infinite value"}, std::pair{1e300, "1e+300"}}) {
     std::string b = bytes;
     const size_t n = size_t(MerlBrdf::kBins) + size_t(MerlBrdf::index(3, 17, 120));  // green
     std::memcpy(b.data() + 12 + 8 * n, &value, 8);

@@ -179,8 +179,8 @@ constexpr std::span<const ParamSpec> kMetalParts[] = {kMetal};
 // in .binary given as a material means {"model": "measured", "file": PATH}.
 constexpr ParamSpec kMeasured[] = {
     {.name = "file", .kind = ParamKind::String,
-     .doc = "MERL BRDF database .binary file (90 x 90 x 180 bins, Matusik et al. 2003); relative to the "
-            "working directory, or to the scene file's folder in a scene; no other parameters",
+     .doc = "MERL BRDF database .binary file (90 x 90 x 180 bins, Matusik et al. 2003), relative to the "
+            "folder of the JSON or scene file naming it (else the working directory); no other parameters",
      .required = true},
 };
 constexpr std::span<const ParamSpec> kMeasuredParts[] = {kMeasured};

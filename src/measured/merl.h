@@ -42,7 +42,8 @@ struct MerlBrdf {
   size_t missing_count() const;
 };
 
-// Reads and validates a .binary file: header (90, 90, 180), exact size, every value finite.
+// Reads and validates a .binary file: header (90, 90, 180), exact size, every value finite and
+// at most 1e15 (stored; negative = missing).
 // Throws InputError naming the file and the byte offset of the problem.
 MerlBrdf read_merl(const std::string& path);
 
