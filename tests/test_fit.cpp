@@ -401,6 +401,22 @@ TEST_F(FitCli, CompareRanksEveryModelAndPlotWritesAPng) {
   EXPECT_TRUE(json::parse(read_file(best)).contains("fit"));
 }
 
+// A fit over a second (here: --progress-after 0) shows its progress on stderr (one line a second
+// when stderr is not a terminal), and -q hides it; stdout is the same either way.
+TEST_F(FitCli, ProgressOnStderrForFitsOverASecond) {
+  const std::vector<std::string> args = {"fit", kCornell + "cayman.brdf", "--model", "ggx", "--progress-after", "0",
+                                         "-o", (dir_ / "p.json").string()};
+  const Result r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "fit: start ")) << r.err;
+  EXPECT_TRUE(contains(r.err, "s left")) << r.err;
+  std::vector<std::string> quiet = args;
+  quiet.push_back("-q");
+  const Result q = run(quiet);
+  EXPECT_EQ(q.err, "");
+  EXPECT_EQ(q.out.substr(0, q.out.find("best start")), r.out.substr(0, r.out.find("best start")));
+}
+
 TEST_F(FitCli, BadOptionsExitTwoWithoutAFile) {
   const std::string out = (dir_ / "f.json").string();
   for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{

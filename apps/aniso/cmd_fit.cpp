@@ -21,7 +21,7 @@ namespace {
 
 struct FitArgs {
   std::string data, model = "lafortune", output, plot, metric = "l2cos", normalization = "ward", metal, metal_lobe = "ggx";
-  std::string loss = "none", lobes = "1", starts = "6", seed = "1", threads = "0", max_iterations = "200", loss_scale = "0";
+  std::string loss = "none", lobes = "1", starts = "6", seed = "1", threads = "0", max_iterations = "200", loss_scale = "0", progress_after = "1";
   bool anisotropic = false, shared_exponents = false, compare = false, quiet = false;
 };
 
@@ -29,10 +29,10 @@ struct FitArgs {
 // terminal, otherwise one line per second at most.
 class ProgressDisplay {
  public:
-  explicit ProgressDisplay(bool quiet) : quiet_(quiet), tty_(isatty(STDERR_FILENO) != 0) {}
+  ProgressDisplay(bool quiet, double after_s) : quiet_(quiet), tty_(isatty(STDERR_FILENO) != 0), after_(after_s) {}
   ~ProgressDisplay() { finish(); }
   void operator()(const FitProgress& p) {
-    if (quiet_ || p.elapsed_s < 1.0 || p.elapsed_s - last_ < (tty_ ? 0.1 : 1.0)) return;
+    if (quiet_ || p.elapsed_s < after_ || (shown_ && p.elapsed_s - last_ < (tty_ ? 0.1 : 1.0))) return;
     last_ = p.elapsed_s;
     const std::string line = fmt::format("fit: {} iteration {} cost {:.4g}  {:.1f} s, about {:.0f} s left", p.stage,
                                          p.iteration, p.cost, p.elapsed_s, p.remaining_s);
@@ -48,7 +48,7 @@ class ProgressDisplay {
 
  private:
   bool quiet_, tty_, shown_ = false;
-  double last_ = 0.0;
+  double after_, last_ = 0.0;
 };
 
 FitOptions options_from(const FitArgs& a) {
@@ -129,7 +129,10 @@ void run_fit(const FitArgs& a) {
   if (!a.compare && a.output.empty()) throw InputError("-o: required: the file to write the fitted material to (fitted.json)");
   const SampleSet data = read_measured(a.data);
   print_warnings(data);
-  auto display = std::make_shared<ProgressDisplay>(a.quiet);
+  const std::optional<double> after = parse_decimal(a.progress_after);
+  if (!after || !(*after >= 0.0))
+    throw InputError(fmt::format("--progress-after: expected a finite decimal number >= 0, got \"{}\"", a.progress_after));
+  auto display = std::make_shared<ProgressDisplay>(a.quiet, *after);
   o.progress = [display](const FitProgress& p) { (*display)(p); };
   std::string out = fmt::format("data: {} ({}, {} samples)\n", data.source, data.format, data.samples.size());
 
@@ -213,6 +216,7 @@ void add_fit_command(CLI::App& app) {
   fit->add_flag("--compare", a->compare, "fit every model and print a ranking table (Ngan 2005's comparison)");
   fit->add_option("--plot", a->plot, "PNG of measured vs fitted in-plane slices at several incidence angles");
   fit->add_flag("--quiet,-q", a->quiet, "no progress display");
+  fit->add_option("--progress-after", a->progress_after, "show the progress display once a fit has run this many seconds");
   fit->callback([a] { run_command([&] { run_fit(*a); }); });
 }
 
