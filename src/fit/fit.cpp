@@ -212,7 +212,7 @@ class ProgressCallback final : public ceres::IterationCallback {
   int after_;
 };
 
-DataMoments data_moments(const std::vector<Prepared>& prep, const SampleSet& data) {
+DataMoments data_moments(const SampleSet& data) {
   DataMoments m;
   const size_t n = data.samples.size();
   for (int c = 0; c < 3; ++c) {
@@ -239,7 +239,6 @@ DataMoments data_moments(const std::vector<Prepared>& prep, const SampleSet& dat
     den += la * la;
   }
   m.mirror_exponent = den > 0.0 ? std::clamp(num / den, 1.0, 1e4) : 10.0;
-  (void)prep;
   return m;
 }
 
@@ -312,7 +311,7 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     for (size_t i : idx) used.push_back(all[i]), sub += sqr(all[i].sqrt_w);
     for (Prepared& p : used) p.sqrt_w /= std::sqrt(sub);
   }
-  const DataMoments dm = data_moments(used, data);
+  const DataMoments dm = data_moments(data);
 
   // The starts: moments, the nearest Ngan fit, random draws.
   std::vector<StartPoint> starts;
