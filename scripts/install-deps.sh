@@ -11,9 +11,11 @@ packages=(
   nlohmann-json3-dev  # material JSON
   libgtest-dev        # unit and statistical tests
   libbenchmark-dev    # benchmarks
+  libssl-dev          # OpenSSL libcrypto: sha256 to recognise MERL BRDF files (src/measured)
   libboost-dev        # boost::math::gamma_q for the chi-square p-values in tests
   # The renderer (src/render): ray casting, threads, images, meshes, the label font.
   libembree-dev       # Embree 3 BVH and ray intersection
+  libceres-dev        # Ceres Solver: Levenberg-Marquardt fits of measured data (src/fit)
   libtbb-dev          # oneTBB: parallel tiles, parallel batch evaluation (src/batch)
   libhwy-dev          # Google Highway: SIMD batch evaluation with dynamic dispatch (src/batch)
   libopenexr-dev      # .exr output and input

@@ -14,7 +14,6 @@
 #include "io/materials.h"
 
 namespace aniso {
-namespace {
 
 void write_atomically(const std::string& path, const std::string& text) {
   if (path.empty() || path == "-") {
@@ -42,20 +41,7 @@ void write_atomically(const std::string& path, const std::string& text) {
   }
 }
 
-// Runs a command inside CLI11's callback with main()'s error conventions: InputError exits 2 with
-// "aniso: error: <message>"; success ends parsing with exit code 0 (CLI::Success).
-template <typename Fn> void run_command(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    fmt::print(stderr, "aniso: error: {}\n", e.what());
-    throw CLI::RuntimeError(2);
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "aniso: error: {}\n", e.what());
-    throw CLI::RuntimeError(1);
-  }
-  throw CLI::Success();
-}
+namespace {
 
 // As cmd_eval: load (validate) and build (the builder's own checks), then generate.
 MaterialDesc load_checked(const std::string& material) {

@@ -29,6 +29,7 @@
 #include "io/names.h"
 #include "io/presets.h"
 #include "io/text_input.h"
+#include "measured/measured.h"
 #include "render/gallery.h"
 #include "render/integrator.h"
 #include "stats/albedo.h"
@@ -203,6 +204,14 @@ int cmd_metals() {
 int cmd_presets(const std::string& show, bool show_given) {
   if (show_given) {
     if (show.empty()) throw InputError("--show: expected a preset name, got an empty string (run `aniso presets` for the list)");
+    if (is_measured_file_name(show)) {
+      // A MERL file: the material it stands for on stdout, what it is on stderr (recognised by its
+      // sha256 among the MERL database's files, docs/measured.md).
+      const MaterialDesc d = load_material(show);
+      fmt::print(stderr, "aniso: {}\n", describe_measured(*d.measured));
+      write_stdout(fmt::format("{}\n", resolved_json(d).dump(2)));
+      return 0;
+    }
     if (!find_preset(show)) {
       const std::string near = nearest_preset_names(show);
       throw InputError(fmt::format("--show: unknown preset \"{}\"{} (run `aniso presets` for the list)", text_escape(show),
@@ -458,13 +467,13 @@ int main(int argc, char** argv) {
   std::string material;
   bool angles = false;
   auto* eval = app.add_subcommand("eval", "read 'wi.x wi.y wi.z wo.x wo.y wo.z' lines on stdin, write 'f_r f_g f_b pdf'");
-  eval->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
+  eval->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
   eval->add_flag("--angles", angles, "input lines are 'theta_i phi_i theta_o phi_o' in degrees (theta from the normal, phi from the tangent)");
 
   std::vector<double> wo;
   std::string count_text = "1", seed_text = "1", samples_text = "1048576";
   auto* sample = app.add_subcommand("sample", "write N lines 'wi.x wi.y wi.z weight_r weight_g weight_b pdf'");
-  sample->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
+  sample->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
   sample->add_option("--wo", wo, "viewing direction x y z (local frame)")->required()->expected(3);
   // --samples counts the same thing as albedo's --samples (draws of sample()); --count is kept.
   sample->add_option("--count,-n,--samples", count_text, fmt::format("number of samples (draws of sample(): output lines), 0 to {}", kMaxCount));
@@ -472,7 +481,7 @@ int main(int argc, char** argv) {
 
   double theta = 0.0, phi = 0.0;
   auto* albedo = app.add_subcommand("albedo", "directional albedo 'r g b' for the viewing direction (theta, phi)");
-  albedo->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
+  albedo->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
   albedo->add_option("--theta-deg", theta, "viewing angle from the normal; 90 is the horizon (albedo 0)")->required()->check(finite_range(0.0, 90.0));
   albedo->add_option("--phi-deg", phi, "azimuth from the tangent")->check(finite_range(-360.0, 360.0));
   albedo->add_option("--samples", samples_text, fmt::format("importance samples, 1 to {}", kMaxSamples));
@@ -490,7 +499,8 @@ int main(int argc, char** argv) {
 
   std::string show;
   auto* presets_cmd = app.add_subcommand("presets", "list the named materials");
-  auto* show_opt = presets_cmd->add_option("--show", show, "print one preset as resolved (every key, defaults filled in)");
+  auto* show_opt = presets_cmd->add_option(
+      "--show", show, "print one preset as resolved (every key, defaults filled in); for a .binary file, also name the MERL material it is");
 
   auto* models = app.add_subcommand("models", "list the models and their parameter tables");
   bool markdown = false;
@@ -520,6 +530,7 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
 
   add_export_commands(app);
+  add_fit_command(app);
 
   // An unknown command would otherwise be reported by CLI11 as "A subcommand is required".
   if (argc > 1 && argv[1][0] != '-') {

@@ -447,7 +447,7 @@ Material resolve_material(const json& m, const std::string& where, const std::st
     }
     if (m.is_object()) {
       if (display_name) *display_name = m.value("model", std::string("material"));
-      return build_material<float>(parse_material(m, "material"));
+      return build_material<float>(parse_material(m, "material", base_dir));
     }
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", where, e.what()));
