@@ -77,3 +77,5 @@ def ggx(*, kd: Color = 0.0, f0: Color = 0.04, alpha_x: float = 0.2, alpha_y: flo
     """Anisotropic GGX (Walter et al. 2007; Heitz 2014 (Smith G2); Heitz 2018 (visible normals))."""
 def metal(*, metal: str = ..., eta: Color = ..., k: Color = ..., lobe: dict[str, Any], directional_diffuse: dict[str, Any] = ...) -> Material:
     """Metal (Cook & Torrance 1982; Born & Wolf (conductor Fresnel))."""
+def measured(*, file: str) -> Material:
+    """Measured (MERL table) (Matusik et al. 2003, A Data-Driven Reflectance Model (MERL BRDF database))."""
