@@ -167,3 +167,30 @@ def test_preset_source():
     assert "Ngan" in aniso.preset_source("ngan/ward/nickel") or aniso.preset_source("ngan/ward/nickel")
     with pytest.raises(ValueError):
         aniso.preset_source("nope")
+
+
+def test_measured_merl_file_goes_through_load_material(tmp):
+    # A synthetic MERL table (header 90 90 180, then three channels of float64): Material(path)
+    # reads it as the CLI does, and evaluates to the CLI's numbers.
+    rng = np.random.default_rng(3)
+    path = tmp / "synthetic.binary"
+    with open(path, "wb") as f:
+        np.array([90, 90, 180], "<i4").tofile(f)
+        rng.uniform(100.0, 3000.0, size=3 * 90 * 90 * 180).astype("<f8").tofile(f)
+    m = aniso.Material(path)
+    assert m.model == "measured"
+    assert aniso.Material({"model": "measured", "file": str(path)}) == m
+    assert aniso.Material(m.to_dict()) == m
+    wi = aniso.direction(np.radians([10.0, 30.0, 60.0, 80.0]), [0.0, 1.0, 2.0, 3.0])
+    wo = aniso.direction(np.radians([20.0, 45.0, 5.0, 70.0]), [3.0, 0.5, 1.5, 4.0])
+    lines = "".join(" ".join(repr(float(v)) for v in (*a, *b)) + "\n" for a, b in zip(wi, wo))
+    rc, out, err = run_cli("eval", "--material", str(path), stdin=lines)
+    assert rc == 0, err
+    ref = np.loadtxt(out.splitlines(), ndmin=2)
+    np.testing.assert_allclose(m.eval(wi, wo), ref[:, :3], rtol=1e-8)
+    np.testing.assert_allclose(m.pdf(wi, wo), ref[:, 3], rtol=1e-8)
+    assert np.isfinite(m.eval(wi.astype(np.float32), wo.astype(np.float32))).all()
+    expected = cli_error("eval", "--material", str(tmp / "missing.binary"), stdin="0 0 1 0 0 1\n")
+    with pytest.raises(ValueError) as e:
+        aniso.Material(str(tmp / "missing.binary"))
+    assert str(e.value) == expected
