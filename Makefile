@@ -3,7 +3,7 @@ PRESET ?= release
 JOBS   ?= $(shell nproc)
 BIN    := build/$(PRESET)/bin
 
-.PHONY: all deps configure build test bench clean format render
+.PHONY: all deps configure build test bench clean format render sanitize-build test-sanitize fuzz
 
 all: build
 
@@ -23,6 +23,24 @@ render: build
 
 test: build
 	@ctest --preset $(PRESET) -j $(JOBS)
+
+# The sanitizer build (build/sanitize, preset `sanitize`): ASan + UBSan, asserts on, no benchmarks.
+# clang when installed (then the fuzz targets link libFuzzer), g++ otherwise (they replay the
+# corpus). docs/testing.md.
+SANITIZE_CXX ?= $(shell command -v clang++ >/dev/null 2>&1 && echo clang++ || echo g++)
+FUZZ_SECONDS ?= 120
+
+sanitize-build: deps
+	@cmake --preset sanitize -DCMAKE_CXX_COMPILER=$(SANITIZE_CXX) >/dev/null
+	@cmake --build --preset sanitize -j $(JOBS)
+
+# The whole suite under the sanitizers (statistical tests at ANISO_TEST_SCALE, see the preset).
+test-sanitize: sanitize-build
+	@ctest --preset sanitize -j $(JOBS)
+
+# Every fuzz target for FUZZ_SECONDS each (libFuzzer), or a replay of the corpus without clang.
+fuzz: sanitize-build
+	@bash scripts/fuzz.sh build/sanitize $(FUZZ_SECONDS)
 
 bench: build
 	@$(BIN)/aniso_bench --benchmark_min_time=0.2 $(BENCH_ARGS)

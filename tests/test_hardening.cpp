@@ -270,9 +270,9 @@ TEST_F(Hardening, InlineMaterialVersionFresnelEtaKAndMetals) {
   const Result bad = run({"eval", "-m", R"({"model": "ward", "alpha_x": 0.1})"}, "0 0 1 0 0 1\n");
   EXPECT_EQ(bad.code, 2);
   EXPECT_TRUE(contains(bad.err, "inline material: key \"alpha_x\": given without its partner")) << bad.err;
-  const Result v = run({"--version"});
-  EXPECT_EQ(v.code, 0);
-  EXPECT_TRUE(contains(v.out, "aniso ")) << v.out;
+  const Result version = run({"--version"});
+  EXPECT_EQ(version.code, 0);
+  EXPECT_TRUE(contains(version.out, "aniso ")) << version.out;
   const Result metals = run({"metals"});
   EXPECT_EQ(metals.code, 0);
   EXPECT_TRUE(contains(metals.out, "gold") && contains(metals.out, "Au")) << metals.out;
