@@ -25,6 +25,9 @@ packages=(
   libegl-mesa0 libgl1-mesa-dri        # Mesa's EGL (surfaceless platform) and llvmpipe
   libepoxy-dev        # GL entry points through eglGetProcAddress (works without GLX)
   glslang-tools       # glslangValidator: the library compiles as GLSL 3.30 core and ES 3.00
+  # The sanitizer build and the fuzz targets (make test-sanitize, make fuzz; docs/testing.md).
+  clang               # clang++ 14: the sanitize build, so the fuzz targets can link libFuzzer
+  libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes for clang (only "recommended" by clang)
 )
 # Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
 if [[ "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then

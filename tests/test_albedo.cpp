@@ -114,11 +114,11 @@ TEST(WardOvershoot, Ward1992ExceedsOneAtGrazingForRoughSurfaces) {
 
 // The lecture's matte steel and pbrt-v1's brushedmetal gain energy near grazing (docs/presets.md,
 // "Energy at grazing angles"; docs/models/lafortune.md, Limitations): the table there, checked by
-// a midpoint rule over the hemisphere written without the sampler (mu = cos theta_i in 600 steps,
-// phi in 1200), so the figures are the fit's, not the estimator's. The white furnace tests
+// a midpoint rule over the hemisphere written without the sampler (mu = cos theta_i in 400 steps,
+// phi in 800), so the figures are the fit's, not the estimator's. The white furnace tests
 // (tests/test_render.cpp) use none of these presets.
 double midpoint_albedo(const MaterialT<double>& m, const Vec3d& wo, int channel) {
-  constexpr int kMu = 600, kPhi = 1200;
+  constexpr int kMu = 400, kPhi = 800;
   double sum = 0.0;
   for (int i = 0; i < kMu; ++i) {
     const double mu = (i + 0.5) / kMu, s = std::sqrt(1.0 - mu * mu);

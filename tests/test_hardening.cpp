@@ -245,10 +245,43 @@ TEST_F(Hardening, WriteErrorsExitNonZero) {
            {"presets"},
            {"models"},
            {"metals"},
+           {"export-glsl", "-m", "gold"},
+           {"export-brdf", "-m", "gold"},
        }) {
     const Result r = run_redirected(args, "< " + shell_quote(line) + " > /dev/full");
     EXPECT_EQ(r.code, 1) << args[0] << ": " << r.err;
     EXPECT_TRUE(contains(r.err, "aniso: error: stdout: write error")) << args[0] << ": " << r.err;
+  }
+}
+
+// `-o` naming a FIFO (or a device such as /dev/null) is written in place: renaming the temporary
+// file over it replaced the FIFO or device node itself (found running `export-brdf -o /dev/full`
+// as root: /dev/full became a regular file and the command exited 0).
+TEST_F(Hardening, OutputToAFifoWritesThroughIt) {
+  const std::vector<std::vector<std::string>> commands = {
+      {"export-glsl", "-m", "gold"},
+      {"export-brdf", "-m", "gold"},
+      {"render", "-m", "gold", "--width", "16", "--height", "16", "--spp", "1"},
+  };
+  for (size_t i = 0; i < commands.size(); ++i) {
+    const fs::path fifo = dir_ / (i == 2 ? "fifo.pfm" : "fifo.out"), got = dir_ / "got";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::string cmd = "cat " + shell_quote(fifo.string()) + " > " + shell_quote(got.string()) + " & " + shell_quote(ANISO_CLI);
+    for (const std::string& a : commands[i]) cmd += " " + shell_quote(a);
+    cmd += " -o " + shell_quote(fifo.string()) + " > /dev/null 2> " + shell_quote((dir_ / "err").string()) + "; rc=$?; wait; exit $rc";
+    const int status = std::system(("sh -c " + shell_quote(cmd)).c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << commands[i][0] << ": " << read_file(dir_ / "err");
+    struct stat st {};
+    ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+    EXPECT_TRUE(S_ISFIFO(st.st_mode)) << commands[i][0] << " replaced the FIFO";
+    const std::string text = read_file(got);
+    EXPECT_GT(text.size(), 40u) << commands[i][0];
+    if (i == 2) {
+      EXPECT_EQ(text.substr(0, 3), "PF\n");
+    }
+    fs::remove(fifo);
+    fs::remove(got);
   }
 }
 

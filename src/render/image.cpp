@@ -321,7 +321,22 @@ Image read_exr(const std::vector<unsigned char>& data, const std::string& where,
 
 // Writes `bytes` to a temporary file beside `path` (same file system, so the rename is atomic),
 // flushes it to disk, and renames it over `path`. On any failure the temporary file is removed.
+// An existing target that is not a regular file or a directory (a FIFO, a device) is written in
+// place instead: a rename would replace the device node or FIFO itself.
 void write_atomically(const std::string& path, const std::vector<unsigned char>& bytes) {
+  {
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (!ec && fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st)) {
+      std::FILE* f = std::fopen(path.c_str(), "wb");
+      if (!f) write_error(path, errno_text(errno));
+      const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && std::fflush(f) == 0;
+      const int err = errno;
+      const bool closed = std::fclose(f) == 0;
+      if (!written || !closed) write_error(path, errno_text(written ? errno : err));
+      return;
+    }
+  }
   static std::atomic<unsigned> counter{0};
   const std::string tmp = fmt::format("{}.tmp-{}-{}", path, ::getpid(), counter.fetch_add(1));
   struct RemoveOnFailure {
