@@ -266,10 +266,13 @@ TEST_F(Hardening, OutputToAFifoWritesThroughIt) {
   for (size_t i = 0; i < commands.size(); ++i) {
     const fs::path fifo = dir_ / (i == 2 ? "fifo.pfm" : "fifo.out"), got = dir_ / "got";
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-    std::string cmd = "cat " + shell_quote(fifo.string()) + " > " + shell_quote(got.string()) + " & " + shell_quote(ANISO_CLI);
-    for (const std::string& a : commands[i]) cmd += " " + shell_quote(a);
-    cmd += " -o " + shell_quote(fifo.string()) + " > /dev/null 2> " + shell_quote((dir_ / "err").string()) + "; rc=$?; wait; exit $rc";
-    const int status = std::system(("sh -c " + shell_quote(cmd)).c_str());
+    std::string args;
+    for (const std::string& a : commands[i]) args += fmt::format(" {}", shell_quote(a));
+    // A reader on the FIFO in the background, the command writing into it, then the command's status.
+    const std::string cmd = fmt::format("cat {0} > {1} & {2}{3} -o {0} > /dev/null 2> {4}; rc=$?; wait; exit $rc",
+                                        shell_quote(fifo.string()), shell_quote(got.string()), shell_quote(ANISO_CLI), args,
+                                        shell_quote((dir_ / "err").string()));
+    const int status = std::system(fmt::format("sh -c {}", shell_quote(cmd)).c_str());
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 0) << commands[i][0] << ": " << read_file(dir_ / "err");
     struct stat st {};
