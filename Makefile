@@ -3,7 +3,7 @@ PRESET ?= release
 JOBS   ?= $(shell nproc)
 BIN    := build/$(PRESET)/bin
 
-.PHONY: all deps configure build test bench clean format render sanitize-build test-sanitize fuzz
+.PHONY: all deps configure build test bench clean format render sanitize-build test-sanitize fuzz-build fuzz
 
 all: build
 
@@ -38,8 +38,13 @@ sanitize-build: deps
 test-sanitize: sanitize-build
 	@ctest --preset sanitize -j $(JOBS)
 
+# The fuzz targets alone in the sanitizer build (the readers and their libraries, not the suite).
+fuzz-build: deps
+	@cmake --preset sanitize -DCMAKE_CXX_COMPILER=$(SANITIZE_CXX) >/dev/null
+	@cmake --build --preset sanitize -j $(JOBS) --target fuzz_targets
+
 # Every fuzz target for FUZZ_SECONDS each (libFuzzer), or a replay of the corpus without clang.
-fuzz: sanitize-build
+fuzz: fuzz-build
 	@bash scripts/fuzz.sh build/sanitize $(FUZZ_SECONDS)
 
 bench: build
