@@ -8,6 +8,8 @@
 // name, and tests/lsan.supp suppresses exactly those modules (and nothing of ours).
 #include <dlfcn.h>
 
+#include <initializer_list>
+
 namespace {
 struct KeepGlDriverLoaded {
   KeepGlDriverLoaded() {
