@@ -3,7 +3,7 @@ PRESET ?= release
 JOBS   ?= $(shell nproc)
 BIN    := build/$(PRESET)/bin
 
-.PHONY: all deps configure build test bench clean format render sanitize-build test-sanitize fuzz-build fuzz
+.PHONY: all deps configure build test bench bench-python clean format render sanitize-build test-sanitize fuzz-build fuzz
 
 all: build
 
@@ -47,8 +47,14 @@ fuzz-build: deps
 fuzz: fuzz-build
 	@bash scripts/fuzz.sh build/sanitize $(FUZZ_SECONDS)
 
+# The kernels (Google Benchmark), then the renderer (a command: gallery, ray ceiling, noise; ~1 min).
 bench: build
 	@$(BIN)/aniso_bench --benchmark_min_time=0.2 $(BENCH_ARGS)
+	@$(BIN)/aniso_bench_render $(BENCH_RENDER_ARGS)
+
+# Python bindings vs the C++ batch path on a million pairs (python/bench/bench_eval.py, docs/python.md).
+bench-python: build
+	@PYTHONPATH=build/$(PRESET)/python ANISO_BATCH_EVAL_CPP=$(BIN)/aniso_batch_eval_cpp /usr/bin/python3 python/bench/bench_eval.py $(BENCH_ARGS)
 
 format:
 	@clang-format -i $$(git ls-files '*.h' '*.cpp' '*.cu')

@@ -11,9 +11,11 @@ packages=(
   nlohmann-json3-dev  # material JSON
   libgtest-dev        # unit and statistical tests
   libbenchmark-dev    # benchmarks
+  libssl-dev          # OpenSSL libcrypto: sha256 to recognise MERL BRDF files (src/measured)
   libboost-dev        # boost::math::gamma_q for the chi-square p-values in tests
   # The renderer (src/render): ray casting, threads, images, meshes, the label font.
   libembree-dev       # Embree 3 BVH and ray intersection
+  libceres-dev        # Ceres Solver: Levenberg-Marquardt fits of measured data (src/fit)
   libtbb-dev          # oneTBB: parallel tiles, parallel batch evaluation (src/batch)
   libhwy-dev          # Google Highway: SIMD batch evaluation with dynamic dispatch (src/batch)
   libopenexr-dev      # .exr output and input
@@ -25,13 +27,18 @@ packages=(
   libegl-mesa0 libgl1-mesa-dri        # Mesa's EGL (surfaceless platform) and llvmpipe
   libepoxy-dev        # GL entry points through eglGetProcAddress (works without GLX)
   glslang-tools       # glslangValidator: the library compiles as GLSL 3.30 core and ES 3.00
+  # The Python module (python/, docs/python.md): built for Debian's /usr/bin/python3 and its NumPy,
+  # tested with pytest; the example plots with matplotlib.
+  python3-dev pybind11-dev python3-numpy
+  python3-pytest      # python/tests, run by ctest
+  python3-matplotlib  # examples/python (and its test, headless: MPLBACKEND=Agg)
   # The sanitizer build and the fuzz targets (make test-sanitize, make fuzz; docs/testing.md).
   clang               # clang++ 14: the sanitize build, so the fuzz targets can link libFuzzer
   libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes for clang (only "recommended" by clang)
 )
 # Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
 if [[ "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then
-  packages+=(python3 python3-numpy python3-scipy)
+  packages+=(python3-scipy)
 fi
 
 missing=()

@@ -18,7 +18,6 @@
 #include "io/materials.h"
 
 namespace aniso {
-namespace {
 
 // Writes all of `text` to an open stream and flushes it; a short write or a failed flush (a full
 // disk, a closed pipe) is an error, exit 1 (docs/cli.md, "Exit status"), never a silent exit 0.
@@ -65,20 +64,7 @@ void write_atomically(const std::string& path, const std::string& text) {
   }
 }
 
-// Runs a command inside CLI11's callback with main()'s error conventions: InputError exits 2 with
-// "aniso: error: <message>"; success ends parsing with exit code 0 (CLI::Success).
-template <typename Fn> void run_command(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    fmt::print(stderr, "aniso: error: {}\n", e.what());
-    throw CLI::RuntimeError(2);
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "aniso: error: {}\n", e.what());
-    throw CLI::RuntimeError(1);
-  }
-  throw CLI::Success();
-}
+namespace {
 
 // As cmd_eval: load (validate) and build (the builder's own checks), then generate.
 MaterialDesc load_checked(const std::string& material) {

@@ -1,9 +1,38 @@
 // apps/aniso/commands.h: subcommands that live in their own files (cmd_<name>.cpp).
 #pragma once
 
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "io/params.h"
 
 namespace aniso {
+
+// Writes text to `path` through a temporary file renamed into place (no half-written file on
+// failure); "" or "-" is stdout. InputError for a directory or an unwritable path.
+void write_atomically(const std::string& path, const std::string& text);
+
+// Runs a command inside CLI11's callback with main()'s error conventions: InputError exits 2 with
+// "aniso: error: <message>"; success ends parsing with exit code 0 (CLI::Success).
+template <typename Fn> void run_command(Fn&& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    fmt::print(stderr, "aniso: error: {}\n", e.what());
+    throw CLI::RuntimeError(2);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "aniso: error: {}\n", e.what());
+    throw CLI::RuntimeError(1);
+  }
+  throw CLI::Success();
+}
+
+// fit and fit --compare (cmd_fit.cpp, docs/fitting.md).
+void add_fit_command(CLI::App& app);
 
 // export-glsl and export-brdf (cmd_export.cpp, docs/glsl.md).
 void add_export_commands(CLI::App& app);

@@ -29,6 +29,7 @@
 #include "io/names.h"
 #include "io/presets.h"
 #include "io/text_input.h"
+#include "measured/measured.h"
 #include "render/gallery.h"
 #include "render/integrator.h"
 #include "stats/albedo.h"
@@ -203,6 +204,14 @@ int cmd_metals() {
 int cmd_presets(const std::string& show, bool show_given) {
   if (show_given) {
     if (show.empty()) throw InputError("--show: expected a preset name, got an empty string (run `aniso presets` for the list)");
+    if (is_measured_file_name(show)) {
+      // A MERL file: the material it stands for on stdout, what it is on stderr (recognised by its
+      // sha256 among the MERL database's files, docs/measured.md).
+      const MaterialDesc d = load_material(show);
+      fmt::print(stderr, "aniso: {}\n", describe_measured(*d.measured));
+      write_stdout(fmt::format("{}\n", resolved_json(d).dump(2)));
+      return 0;
+    }
     if (!find_preset(show)) {
       const std::string near = nearest_preset_names(show);
       throw InputError(fmt::format("--show: unknown preset \"{}\"{} (run `aniso presets` for the list)", text_escape(show),
@@ -303,7 +312,7 @@ class ProgressBar {
 };
 
 struct RenderArgs {
-  std::string scene, output, material, strategy, tonemap = "aces";
+  std::string scene, output, material, strategy, sampler, tonemap = "aces";
   int spp = 0, width = 0, height = 0, threads = 0, max_depth = 0;
   uint64_t seed = 1;
   double exposure = 0.0;
@@ -343,6 +352,7 @@ int cmd_render(RenderArgs a) {
     go.width = a.width > 0 ? a.width : 1024;
     go.height = a.height;
     go.spp = a.spp;
+    go.sampler = a.sampler;
     go.tonemap = tm;
     ProgressBar bar("aniso render: gallery");
     go.render = ro;
@@ -383,6 +393,7 @@ int cmd_render(RenderArgs a) {
   if (a.height > 0) scene.film.height = a.height;
   if (a.spp > 0) scene.film.spp = a.spp;
   if (a.max_depth > 0) scene.integrator.max_depth = a.max_depth;
+  if (!a.sampler.empty()) scene.integrator.sampler = a.sampler == "independent" ? SamplerKind::Independent : SamplerKind::Sobol;
   if (!a.strategy.empty())
     scene.integrator.strategy = a.strategy == "bsdf" ? Strategy::Bsdf : (a.strategy == "light" ? Strategy::Light : Strategy::Mis);
   ProgressBar bar(fmt::format("aniso render: {}", source));
@@ -456,13 +467,13 @@ int main(int argc, char** argv) {
   std::string material;
   bool angles = false;
   auto* eval = app.add_subcommand("eval", "read 'wi.x wi.y wi.z wo.x wo.y wo.z' lines on stdin, write 'f_r f_g f_b pdf'");
-  eval->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
+  eval->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
   eval->add_flag("--angles", angles, "input lines are 'theta_i phi_i theta_o phi_o' in degrees (theta from the normal, phi from the tangent)");
 
   std::vector<double> wo;
   std::string count_text = "1", seed_text = "1", samples_text = "1048576";
   auto* sample = app.add_subcommand("sample", "write N lines 'wi.x wi.y wi.z weight_r weight_g weight_b pdf'");
-  sample->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
+  sample->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
   sample->add_option("--wo", wo, "viewing direction x y z (local frame)")->required()->expected(3);
   // --samples counts the same thing as albedo's --samples (draws of sample()); --count is kept.
   sample->add_option("--count,-n,--samples", count_text, fmt::format("number of samples (draws of sample(): output lines), 0 to {}", kMaxCount));
@@ -470,7 +481,7 @@ int main(int argc, char** argv) {
 
   double theta = 0.0, phi = 0.0;
   auto* albedo = app.add_subcommand("albedo", "directional albedo 'r g b' for the viewing direction (theta, phi)");
-  albedo->add_option("--material,-m", material, "preset name, JSON file or inline JSON object")->required();
+  albedo->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
   albedo->add_option("--theta-deg", theta, "viewing angle from the normal; 90 is the horizon (albedo 0)")->required()->check(finite_range(0.0, 90.0));
   albedo->add_option("--phi-deg", phi, "azimuth from the tangent")->check(finite_range(-360.0, 360.0));
   albedo->add_option("--samples", samples_text, fmt::format("importance samples, 1 to {}", kMaxSamples));
@@ -488,7 +499,8 @@ int main(int argc, char** argv) {
 
   std::string show;
   auto* presets_cmd = app.add_subcommand("presets", "list the named materials");
-  auto* show_opt = presets_cmd->add_option("--show", show, "print one preset as resolved (every key, defaults filled in)");
+  auto* show_opt = presets_cmd->add_option(
+      "--show", show, "print one preset as resolved (every key, defaults filled in); for a .binary file, also name the MERL material it is");
 
   auto* models = app.add_subcommand("models", "list the models and their parameter tables");
   bool markdown = false;
@@ -510,12 +522,15 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--threads", ra.threads, "worker threads (default: all cores)")->transform(whole_range(1, 1024));
   render_cmd->add_option("--seed", ra.seed, "random seed (same seed, same image, whatever the thread count)")->transform(seed_value());
   render_cmd->add_option("--strategy", ra.strategy, "mis (default), bsdf or light")->check(CLI::IsMember({"mis", "bsdf", "light"}));
+  render_cmd->add_option("--sampler", ra.sampler, "sobol (default: Owen-scrambled Sobol') or independent (PCG32)")
+      ->check(CLI::IsMember({"sobol", "independent"}));
   render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")->transform(whole_range(1, 1024));
   render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(finite_range(-30.0, 30.0));
   render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp")->check(CLI::IsMember({"aces", "clamp"}));
   render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
 
   add_export_commands(app);
+  add_fit_command(app);
 
   // An unknown command would otherwise be reported by CLI11 as "A subcommand is required".
   if (argc > 1 && argv[1][0] != '-') {

@@ -144,6 +144,9 @@ template <typename T>
 void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f, Threads threads,
               Kernels kernels) {
   const EvalArgs<T> a{wi, wo, f, nullptr};
+  // A measured BRDF (table lookups, gathers from 35 MB) has no SIMD twin: the scalar kernel per
+  // element, on the same blocks and threads.
+  if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
       m.visit([&](const auto& model) {
@@ -162,6 +165,7 @@ void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t 
 template <typename T>
 void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads, Kernels kernels) {
   const EvalArgs<T> a{wi, wo, {}, out};
+  if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
       m.visit([&](const auto& model) {
@@ -176,7 +180,7 @@ void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T*
 }
 
 // The SIMD samplers (kernels-inl.h) for every model; the scalar loop below is the fallback for a
-// model kind without one (none at present).
+// model kind without one (the measured BRDF: table lookups).
 template <typename T>
 void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
             Threads threads) {

@@ -921,6 +921,7 @@ template <typename T> bool SampleMaterial(const MaterialT<T>& m, const SampleArg
     case ModelKind::GGX: SampleRange(d, GGXK<T>(m.ggx), a, begin, end); return true;
     case ModelKind::Lafortune: SampleRange(d, LafortuneK<T>(m.lafortune), a, begin, end); return true;
     case ModelKind::Metal: SampleRange(d, MetalK<T>(m.metal), a, begin, end); return true;
+    case ModelKind::Measured: return false;  // table lookups: the scalar kernel (batch.cpp)
     default: SampleRange(d, LambertK<T>(m.lambert), a, begin, end); return true;
   }
 }

@@ -174,6 +174,13 @@ GlslMaterial glsl_material(const MaterialDesc& m, GlslStorage storage, std::stri
 }
 
 GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslStorage storage, std::string_view prefix) {
+  // A measured table (35 MB of bins plus sampling tables) is data, not a shader: fit a model first.
+  if (m.model == "measured")
+    throw InputError(fmt::format(
+        "{}: a measured material (a MERL table) has no GLSL form; fit an analytic model to it first "
+        "(`aniso fit {} --model lafortune -o fitted.json`) and export that",
+        m.params.has("file") ? m.params.text("file") : std::string("measured material"),
+        m.params.has("file") ? m.params.text("file") : std::string("FILE")));
   // A named metal's eta and k come from the measured table (as build_metal() does).
   ParamValues pv = m.params;
   if (m.model == "metal" && pv.has("metal")) {

@@ -10,6 +10,7 @@
 #include "data/metals.h"
 #include "io/json_read.h"
 #include "io/presets.h"
+#include "measured/measured.h"
 
 namespace aniso {
 
@@ -162,7 +163,7 @@ ParamValues read_params(const json& obj, const ModelSpec& spec, const std::strin
   return pv;
 }
 
-MaterialDesc parse_material(const json& obj, const std::string& where) {
+MaterialDesc parse_material(const json& obj, const std::string& where, const std::string& base_dir) {
   if (!obj.is_object()) throw InputError(fmt::format("{}: expected a JSON object, got {}", where, json_type_name(obj)));
   const auto it = obj.find("model");
   std::string models;
@@ -172,7 +173,19 @@ MaterialDesc parse_material(const json& obj, const std::string& where) {
     throw InputError(fmt::format("{}: key \"model\": expected one of {}, got {}", where, models, json_type_name(*it)));
   MaterialDesc d;
   d.model = it->get<std::string>();
-  d.params = read_params(obj, *find_model_spec(d.model), where, "model");
+  // "fit": the error figures and provenance `aniso fit` writes beside the material
+  // (docs/fitting.md). Accepted (an object) and ignored: it does not change the material.
+  const auto fit = obj.find("fit");
+  if (fit != obj.end() && !fit->is_object())
+    throw InputError(fmt::format("{}: key \"fit\": expected an object (the provenance `aniso fit` writes), got {}", where,
+                                 json_type_name(*fit)));
+  if (fit != obj.end()) {
+    json body = obj;
+    body.erase("fit");
+    d.params = read_params(body, *find_model_spec(d.model), where, "model");
+  } else {
+    d.params = read_params(obj, *find_model_spec(d.model), where, "model");
+  }
   d.json = obj;
   // Cross-key rules the tables cannot express.
   if (d.model == "lafortune") {
@@ -191,6 +204,13 @@ MaterialDesc parse_material(const json& obj, const std::string& where) {
                                   cmax, l.color("scale")[c], c, cmax, l.color("n")[c]));
       }
     }
+  }
+  if (d.model == "measured") {
+    const std::string& file = d.params.text("file");
+    if (file.empty()) d.params.fail("file", "expected the path of a MERL .binary file, got an empty string");
+    namespace fs = std::filesystem;
+    const fs::path p = base_dir.empty() || fs::path(file).is_absolute() ? fs::path(file) : fs::path(base_dir) / file;
+    d.measured = load_measured(p.string());  // InputError naming the file and the byte offset
   }
   if (d.model == "metal") {
     const bool named = d.params.has("metal"), custom = d.params.has("eta") || d.params.has("k");
@@ -211,6 +231,8 @@ MaterialDesc load_material(const std::string& spec) {
   if (const auto preset = find_preset(spec)) return parse_material(*preset, fmt::format("preset {}", spec));
   if (spec.empty()) throw InputError("material: empty name; expected a preset name, a JSON file or an inline JSON object");
   namespace fs = std::filesystem;
+  // A MERL file: read_merl names the file and the problem (missing, a directory, a bad header...).
+  if (is_measured_file_name(spec)) return parse_material(json{{"model", "measured"}, {"file", spec}}, spec);
   std::error_code ec;
   if (!fs::exists(spec, ec)) {
     // Neither a preset nor a file: suggest the nearest preset names.
@@ -218,7 +240,15 @@ MaterialDesc load_material(const std::string& spec) {
     throw InputError(fmt::format("material \"{}\": neither a preset (see `aniso presets`) nor an existing file{}",
                                  text_escape(spec), near.empty() ? "" : fmt::format("; did you mean {}?", near)));
   }
-  return parse_material(read_json_file(spec), spec);
+  return parse_material(read_json_file(spec), spec, fs::path(spec).parent_path().string());
+}
+
+bool is_measured_file_name(const std::string& spec) {
+  const size_t n = spec.size();
+  if (n < 7) return false;
+  std::string ext = spec.substr(n - 7);
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".binary";
 }
 
 namespace {
@@ -375,6 +405,10 @@ template <typename T> MaterialT<T> build_material(const MaterialDesc& d) {
     return m;
   }
   if (d.model == "metal") return build_metal<T>(p);
+  if (d.model == "measured") {
+    if (!d.measured) throw InputError(fmt::format("{}: measured material without its table", p.where));
+    return measured_kernel<T>(*d.measured);
+  }
   throw InputError(fmt::format("{}: model \"{}\" has no builder", p.where, d.model));
 }
 

@@ -5,6 +5,7 @@
 // missing keys, wrong types and values out of range are InputErrors naming the key and the range.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -14,10 +15,15 @@
 
 namespace aniso {
 
+struct MeasuredData;
+
 struct MaterialDesc {
   std::string model;    // the table's name ("ward", ...)
   ParamValues params;   // validated, defaults filled in
   nlohmann::json json;  // the object it was read from
+  // model "measured": the loaded table and its sampling tables, which the kernel points into
+  // (lifetime rule: src/measured/measured.h).
+  std::shared_ptr<const MeasuredData> measured;
 };
 
 // "the number 3", "the string \"x\"", "an array of 2 elements", ...: what a message says it got.
@@ -28,11 +34,16 @@ std::string json_type_name(const nlohmann::json& v);
 ParamValues read_params(const nlohmann::json& obj, const ModelSpec& spec, const std::string& where,
                         std::string_view tag_key = {});
 
-MaterialDesc parse_material(const nlohmann::json& obj, const std::string& where);
+// base_dir: the folder a measured material's "file" is relative to ("" = the working directory).
+MaterialDesc parse_material(const nlohmann::json& obj, const std::string& where, const std::string& base_dir = {});
 
-// A preset name (`aniso presets`), a path to a JSON file, or an inline JSON object ("{...}";
+// A preset name (`aniso presets`), a path to a JSON file, a path ending in .binary (a MERL BRDF
+// file: {"model": "measured", "file": PATH}, docs/measured.md), or an inline JSON object ("{...}";
 // messages then say "inline material").
 MaterialDesc load_material(const std::string& spec);
+
+// A path ending in .binary (any case): load_material reads it as a MERL file.
+bool is_measured_file_name(const std::string& spec);
 
 // The material as resolved: every key of its table with defaults filled in and shorthands ("alpha",
 // "cxy") expanded. Valid input to parse_material, giving the same material (`aniso presets --show`).

@@ -174,6 +174,17 @@ constexpr ParamSpec kMetal[] = {
 };
 constexpr std::span<const ParamSpec> kMetalParts[] = {kMetal};
 
+// --- measured ------------------------------------------------------------------------------
+// A tabulated BRDF has no parameters: the file is the material (docs/measured.md). A path ending
+// in .binary given as a material means {"model": "measured", "file": PATH}.
+constexpr ParamSpec kMeasured[] = {
+    {.name = "file", .kind = ParamKind::String,
+     .doc = "MERL BRDF database .binary file (90 x 90 x 180 bins, Matusik et al. 2003), relative to the "
+            "folder of the JSON or scene file naming it (else the working directory); no other parameters",
+     .required = true},
+};
+constexpr std::span<const ParamSpec> kMeasuredParts[] = {kMeasured};
+
 constexpr ModelSpec kLambertSpec{"lambert", "Lambert", "Lambert 1760", kLambertParts};
 constexpr ModelSpec kPhongSpec{"phong", "Phong", "Phong 1975; Lewis 1994 (normalisation)", kPhongParts};
 constexpr ModelSpec kWardSpec{"ward", "Ward",
@@ -187,8 +198,12 @@ constexpr ModelSpec kGGXSpec{"ggx", "Anisotropic GGX",
 constexpr ModelSpec kMetalSpec{"metal", "Metal", "Cook & Torrance 1982; Born & Wolf (conductor Fresnel)",
                                kMetalParts};
 
-constexpr const ModelSpec* kAllModels[] = {&kLambertSpec, &kPhongSpec, &kWardSpec, &kASSpec,
-                                           &kLafortuneSpec, &kGGXSpec, &kMetalSpec};
+constexpr ModelSpec kMeasuredSpec{"measured", "Measured (MERL table)",
+                                  "Matusik et al. 2003, A Data-Driven Reflectance Model (MERL BRDF database)",
+                                  kMeasuredParts};
+
+constexpr const ModelSpec* kAllModels[] = {&kLambertSpec, &kPhongSpec, &kWardSpec,     &kASSpec,
+                                           &kLafortuneSpec, &kGGXSpec, &kMetalSpec, &kMeasuredSpec};
 
 }  // namespace
 

@@ -245,6 +245,7 @@ Environment Environment::uniform(const RGB& radiance) {
   if (radiance == RGB(0.0f)) return e;  // black: is_black(), never sampled
   e.kind_ = Kind::Uniform;
   e.uniform_ = radiance;
+  e.luminance_integral_ = 4.0f * kPi * luminance(radiance);
   return e;
 }
 
@@ -289,6 +290,7 @@ Environment Environment::from_image(Image img, float scale, float rotation_deg) 
     }
 
   e.kind_ = Kind::Map;
+  e.luminance_integral_ = float(lum_sum * (2.0 * kPiD * kPiD) / (double(w) * double(h)));
   e.map_ = std::move(img);
   e.rotation_rad_ = rotation_deg * (kPi / 180.0f);
   e.dist_ = std::make_shared<const Distribution2D>(f, w, h);

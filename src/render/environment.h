@@ -91,6 +91,10 @@ class Environment {
   static Environment from_image(Image img, float scale, float rotation_deg);
 
   bool is_black() const { return kind_ == Kind::None; }
+  // The integral of its luminance (Rec.709) over the sphere of directions, in solid angle: the
+  // environment's weight in light selection (integrator.h). Maps: the texels' sum weighted by their
+  // solid angle, sin(theta_centre) (2 pi / w) (pi / h).
+  float luminance_integral() const { return luminance_integral_; }
   RGB eval(const Vec3& w) const;      // radiance arriving from direction w
   float pdf(const Vec3& w) const;     // density of sample() producing w (solid angle)
   // radiance == eval(w) and pdf == pdf(w) exactly. pdf = 0 means no sample: always for black
@@ -103,6 +107,7 @@ class Environment {
   RGB uniform_{0.0f};
   Image map_;
   float rotation_rad_ = 0.0f;
+  float luminance_integral_ = 0.0f;
   std::shared_ptr<const Distribution2D> dist_;
 };
 

@@ -57,19 +57,19 @@ constexpr const char* kGalleryJson = R"json({
                                "alpha_x": 0.05, "alpha_y": 0.4}}]},
     {"label": "Disc, concentric tangents", "detail": "lathe-turned aluminium",
      "camera": {"position": [0, 2.6, 3.4], "look_at": [0, -0.15, 0], "up": [0, 1, 0], "fov_deg": 30},
-     "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.15,
+     "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.02,
                   "tangent": {"field": "concentric"}, "material": "brushed-aluminium"}]},
     {"label": "Disc, radial tangents", "detail": "brushed outwards from the centre",
      "camera": {"position": [0, 2.6, 3.4], "look_at": [0, -0.15, 0], "up": [0, 1, 0], "fov_deg": 30},
-     "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.15,
+     "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.02,
                   "tangent": {"field": "radial"}, "material": "brushed-aluminium"}]},
     {"label": "Disc, swirl tangents", "detail": "spiral at 45° between the two",
      "camera": {"position": [0, 2.6, 3.4], "look_at": [0, -0.15, 0], "up": [0, 1, 0], "fov_deg": 30},
-     "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.15,
+     "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.02,
                   "tangent": {"field": "swirl", "swirl_deg": 45}, "material": "brushed-silver"}]},
     {"label": "Torus, mesh tangents", "detail": "brushed along the ring (dp/du)",
-     "camera": {"position": [0, 2.2, 3.6], "look_at": [0, -0.1, 0], "up": [0, 1, 0], "fov_deg": 30},
-     "objects": [{"shape": "torus", "center": [0, 0, 0], "major_radius": 1.0, "minor_radius": 0.38,
+     "camera": {"position": [0, 2.45, 4.05], "look_at": [0, -0.1, 0], "up": [0, 1, 0], "fov_deg": 30},
+     "objects": [{"shape": "torus", "center": [0, 0, 0], "major_radius": 0.9, "minor_radius": 0.34,
                   "material": "brushed-copper"}]}
   ]
 })json";
@@ -116,6 +116,7 @@ GalleryResult render_gallery(const GalleryOptions& opt) {
     sj["film"]["width"] = cell_w;
     sj["film"]["height"] = cell_h;
     if (opt.spp > 0) sj["film"]["spp"] = opt.spp;
+    if (!opt.sampler.empty()) sj["integrator"]["sampler"] = opt.sampler;
     const Scene scene = parse_scene(sj, fmt::format("embedded gallery, cell {}", c), "");
     RenderOptions ro = opt.render;
     if (opt.render.progress)

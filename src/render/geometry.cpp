@@ -114,6 +114,32 @@ Vec3 SceneGeometry::offset_origin(const Vec3& p, const Vec3& ng, const Vec3& d) 
   return p + (glm::dot(d, ng) >= 0.0f ? scale : -scale) * ng;
 }
 
+float SceneGeometry::bounding_radius() const {
+  RTCBounds b;
+  rtcGetSceneBounds(impl_->scene, &b);
+  const Vec3 d(b.upper_x - b.lower_x, b.upper_y - b.lower_y, b.upper_z - b.lower_z);
+  // An empty scene has lower > upper (Embree reports +inf / -inf): no extent.
+  if (!(d.x >= 0.0f && d.y >= 0.0f && d.z >= 0.0f) || !std::isfinite(d.x + d.y + d.z)) return 0.0f;
+  return 0.5f * glm::length(d);
+}
+
+float SceneGeometry::closest_distance(const Ray& ray, float tmax) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
+  rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = tmax;
+  rh.ray.mask = ~0u;
+  rh.ray.flags = 0;
+  rh.ray.time = 0.0f;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar;
+}
+
 bool SceneGeometry::intersect(const Ray& ray, float tmax, SurfaceHit* hit) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);

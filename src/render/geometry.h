@@ -45,6 +45,11 @@ class SceneGeometry {
   bool intersect(const Ray& ray, float tmax, SurfaceHit* hit) const;
   // Anything in (0, tmax)?
   bool occluded(const Ray& ray, float tmax) const;
+  // The closest hit's distance (INFINITY for none), without the shading: the BVH traversal alone,
+  // as the benchmark measures Embree's own ray rate.
+  float closest_distance(const Ray& ray, float tmax) const;
+  // Radius of the sphere around the bounding box of everything in the BVH (sphere lights included).
+  float bounding_radius() const;
   // Ray origin for leaving p towards d without hitting the surface it sits on: offset along the
   // geometric normal by a few float ulps of the coordinates' magnitude.
   static Vec3 offset_origin(const Vec3& p, const Vec3& ng, const Vec3& d);

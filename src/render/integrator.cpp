@@ -1,6 +1,7 @@
 // render/integrator.cpp: path tracing with next-event estimation and MIS (see integrator.h).
 #include "render/integrator.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -11,13 +12,6 @@
 
 namespace aniso::render {
 namespace {
-
-uint64_t splitmix64(uint64_t& x) {
-  uint64_t z = (x += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 
 // Power heuristic with beta = 2 (Veach 1997, Eq. 9.13), for one sample of each technique.
 float power_heuristic(float pdf_a, float pdf_b) {
@@ -112,26 +106,57 @@ float sphere_light_pdf(const Light& l, const Vec3& p) {
   return c.valid ? 1.0f / (2.0f * kPi<float> * c.one_minus_cos_max) : 0.0f;
 }
 
-}  // namespace
+// Rec.709 / sRGB luminance (ITU-R BT.709-6, item 3.2): the weight of a colour in light selection.
+float luminance(const RGB& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
-Sampler::Sampler(uint64_t seed, uint64_t pixel, uint64_t sample) {
-  uint64_t x = seed;
-  x ^= splitmix64(x) + pixel;
-  x ^= splitmix64(x) + sample;
-  const uint64_t s = splitmix64(x);
-  inc_ = (splitmix64(x) << 1u) | 1u;
-  state_ = 0;
-  next_u32();
-  state_ += s;
-  next_u32();
+// The power of a light for selection (integrator.h), R the scene's bounding radius.
+float light_power(const Light& l, float R) {
+  switch (l.kind) {
+    case LightKind::Point: return 4.0f * kPi<float> * luminance(l.power);
+    case LightKind::Directional: return kPi<float> * R * R * luminance(l.power);
+    case LightKind::Sphere: return 4.0f * kPi<float> * kPi<float> * l.radius * l.radius * luminance(l.power);
+  }
+  return 0.0f;
 }
 
-uint32_t Sampler::next_u32() {
-  const uint64_t old = state_;
-  state_ = old * 6364136223846793005ull + inc_;
-  const uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
-  const uint32_t rot = uint32_t(old >> 59u);
-  return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
+}  // namespace
+
+PathTracer::PathTracer(const Scene& scene, const SceneGeometry& geometry) : scene_(scene), geo_(geometry) {
+  const float R = std::max(geometry.bounding_radius(), 1e-6f);  // a point-sized scene still lets light in
+  std::vector<double> power;
+  for (const Light& l : scene.lights) power.push_back(std::max(0.0, double(light_power(l, R))));
+  power.push_back(scene.environment.is_black() ? 0.0
+                                               : std::max(0.0, double(kPi<float> * R * R * scene.environment.luminance_integral())));
+  double total = 0.0;
+  for (double p : power) total += std::isfinite(p) ? p : 0.0;
+  light_prob_.assign(power.size(), 0.0f);
+  light_cdf_.assign(power.size() + 1, 0.0f);
+  if (!(total > 0.0)) return;  // nothing emits: next-event estimation finds nothing
+  double acc = 0.0;
+  for (size_t i = 0; i < power.size(); ++i) {
+    const double p = std::isfinite(power[i]) ? power[i] : 0.0;
+    light_prob_[i] = float(p / total);
+    acc += p;
+    light_cdf_[i + 1] = float(acc / total);
+  }
+  light_cdf_.back() = 1.0f;  // exactly: every u < 1 finds a candidate
+  // "all": every candidate with power is sampled at every vertex, its "probability" 1.
+  size_t candidates = 0;
+  for (float p : light_prob_) candidates += p > 0.0f ? 1 : 0;
+  sample_all_ = scene.integrator.light_selection == LightSelection::All ||
+                (scene.integrator.light_selection == LightSelection::Auto && candidates <= kAutoAllCandidates);
+  if (sample_all_)
+    for (float& p : light_prob_) p = p > 0.0f ? 1.0f : 0.0f;
+}
+
+int PathTracer::pick_light(float u) const {
+  if (light_cdf_.empty() || !(light_cdf_.back() > 0.0f)) return -1;
+  // The candidate i with cdf[i] <= u < cdf[i + 1]; zero-probability ones have an empty interval.
+  const auto it = std::upper_bound(light_cdf_.begin(), light_cdf_.end(), u);
+  int i = int(it - light_cdf_.begin()) - 1;
+  i = std::clamp(i, 0, int(light_prob_.size()) - 1);
+  while (i > 0 && !(light_prob_[size_t(i)] > 0.0f)) --i;  // u == cdf[i] of an empty interval: rounding only
+  return light_prob_[size_t(i)] > 0.0f ? i : -1;
 }
 
 Ray PathTracer::camera_ray(float px, float py) const {
@@ -146,10 +171,11 @@ Ray PathTracer::camera_ray(float px, float py) const {
   return Ray{c.position, glm::normalize(fwd + sx * right + sy * up)};
 }
 
-RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays) const {
+RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRay>* record) const {
   const Strategy strategy = scene_.integrator.strategy;
   const bool use_nee = strategy != Strategy::Bsdf;
   const Environment& env = scene_.environment;
+  const float env_prob = light_prob_.back();
   RGB L(0.0f), beta(1.0f);
   float prev_pdf = 0.0f;  // solid-angle pdf of the BRDF sample that made `ray` (0: camera ray)
   Vec3 prev_p(0.0f);
@@ -163,16 +189,17 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays) const {
     };
     SurfaceHit hit;
     ++*rays;
+    if (record) record->push_back({ray, INFINITY, false});
     if (!geo_.intersect(ray, INFINITY, &hit)) {
       if (!env.is_black()) {
-        const float w = emitted_weight(prev_pdf > 0.0f ? env.pdf(ray.d) : 0.0f);
+        const float w = emitted_weight(prev_pdf > 0.0f ? env_prob * env.pdf(ray.d) : 0.0f);
         if (w > 0.0f) L += beta * env.eval(ray.d) * w;
       }
       break;
     }
     if (hit.light >= 0) {
       const Light& l = scene_.lights[size_t(hit.light)];
-      const float w = emitted_weight(prev_pdf > 0.0f ? sphere_light_pdf(l, prev_p) : 0.0f);
+      const float w = emitted_weight(prev_pdf > 0.0f ? light_prob_[size_t(hit.light)] * sphere_light_pdf(l, prev_p) : 0.0f);
       if (w > 0.0f) L += beta * l.power * w;
       break;
     }
@@ -185,6 +212,8 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays) const {
     if (!(wo.z > 0.0f)) break;  // seen from behind its shading normal: no reflection defined
 
     if (use_nee) {
+      // light_pdf: the solid-angle density of the direction times the probability of its light
+      // (1 for delta lights: then only the probability).
       const auto add_direct = [&](const Vec3& wi_world, const RGB& li, float light_pdf, bool delta, float dist) {
         // Light through the surface is blocked: wi must leave on the side of the geometric normal.
         if (!(glm::dot(wi_world, hit.ng) > 0.0f)) return;
@@ -194,19 +223,42 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays) const {
         if (f == RGB(0.0f)) return;
         const Vec3 o = SceneGeometry::offset_origin(hit.p, hit.ng, wi_world);
         ++*rays;
+        const float tmax = std::isinf(dist) ? INFINITY : dist * (1.0f - 1e-3f);
+        if (record) record->push_back({Ray{o, wi_world}, tmax, true});
         // Stop short of the light's surface: 1e-3 relative keeps the light's own sphere out of
         // the shadow test (its intersection is as inexact as any other).
-        if (geo_.occluded(Ray{o, wi_world}, std::isinf(dist) ? INFINITY : dist * (1.0f - 1e-3f))) return;
+        if (geo_.occluded(Ray{o, wi_world}, tmax)) return;
         const float w = (delta || strategy == Strategy::Light) ? 1.0f : power_heuristic(light_pdf, m.pdf(wi, wo));
         L += beta * f * li * (wi.z * w / light_pdf);
       };
-      for (const Light& l : scene_.lights) {
-        LightSample ls;
-        if (sample_light(l, hit.p, rng.uniform2(), &ls)) add_direct(ls.wi, ls.li, ls.pdf, ls.delta, ls.dist);
-      }
-      if (!env.is_black()) {
-        const EnvSample es = env.sample(rng.uniform2());
-        if (es.pdf > 0.0f) add_direct(es.w, es.radiance, es.pdf, false, INFINITY);
+      // One sample of candidate i (a light, or the environment for i == lights.size()).
+      const auto sample_candidate = [&](size_t i, const Vec2& ul) {
+        const float p_choice = light_prob_[i];
+        if (i < scene_.lights.size()) {
+          LightSample ls;
+          if (sample_light(scene_.lights[i], hit.p, ul, &ls)) add_direct(ls.wi, ls.li, ls.pdf * p_choice, ls.delta, ls.dist);
+        } else {
+          const EnvSample es = env.sample(ul);
+          if (es.pdf > 0.0f) add_direct(es.w, es.radiance, es.pdf * p_choice, false, INFINITY);
+        }
+      };
+      if (sample_all_) {
+        for (size_t i = 0; i < light_prob_.size(); ++i)
+          if (light_prob_[i] > 0.0f) sample_candidate(i, rng.uniform2());
+      } else {
+        // One emitter, chosen by power (integrator.h), from the same 2D sample that then places
+        // the point on it: u.x picks the candidate whose cdf interval holds it and is rescaled to
+        // [0, 1) within that interval (PBR 4th ed., Sec. 2.2.2's sample remapping). A pixel's
+        // stratified (u.x, u.y) pairs stay stratified over each light's own square, where a
+        // separate 1D pick would hand each light a random subset of the 2D points.
+        Vec2 ul = rng.uniform2();
+        const int chosen = pick_light(ul.x);
+        if (chosen >= 0) {
+          const float lo = light_cdf_[size_t(chosen)], width = light_cdf_[size_t(chosen) + 1] - lo;
+          ul.x = width > 0.0f ? std::min((ul.x - lo) / width, 0x1.fffffep-1f) : 0.0f;  // [0, 1): below 1
+          ul.x = std::max(ul.x, 0.0f);  // u.x == lo - 1 ulp can only come from rounding of the cdf
+          sample_candidate(size_t(chosen), ul);
+        }
       }
     }
 
@@ -262,7 +314,7 @@ Image render(const Scene& scene, const RenderOptions& opt, RenderStats* stats_ou
               const size_t pix = size_t(y) * size_t(W) + size_t(x);
               RGB acc(0.0f);
               for (int s = s_begin; s < s_end; ++s) {
-                Sampler rng(opt.seed, pix, uint64_t(s));
+                Sampler rng(opt.seed, pix, uint64_t(s), scene.integrator.sampler);
                 const Vec2 j = rng.uniform2();
                 const RGB l = tracer.li(tracer.camera_ray(float(x) + j.x, float(y) + j.y), rng, &local_rays);
                 if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) acc += l;

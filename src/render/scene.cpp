@@ -455,7 +455,7 @@ Material resolve_material(const json& m, const std::string& where, const std::st
     }
     if (m.is_object()) {
       if (display_name) *display_name = m.value("model", std::string("material"));
-      return build_material<float>(parse_material(m, "material"));
+      return build_material<float>(parse_material(m, "material", base_dir));
     }
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", where, e.what()));
@@ -516,6 +516,10 @@ Scene parse_scene(const json& doc, const std::string& source, const std::string&
     s.integrator.max_depth = in.integer("max_depth", s.integrator.max_depth, 1, 1024);
     const std::string st = in.choice("strategy", {"mis", "bsdf", "light"}, false, "mis");
     s.integrator.strategy = st == "bsdf" ? Strategy::Bsdf : (st == "light" ? Strategy::Light : Strategy::Mis);
+    const std::string sm = in.choice("sampler", {"sobol", "independent"}, false, "sobol");
+    s.integrator.sampler = sm == "independent" ? SamplerKind::Independent : SamplerKind::Sobol;
+    const std::string ls = in.choice("light_selection", {"auto", "power", "all"}, false, "auto");
+    s.integrator.light_selection = ls == "all" ? LightSelection::All : (ls == "power" ? LightSelection::Power : LightSelection::Auto);
     in.finish();
   }
   if (top.has("environment")) s.environment = read_environment(Node(top.get("environment"), source, "environment"), base_dir);

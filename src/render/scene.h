@@ -15,6 +15,7 @@
 #include "aniso/brdf/material.h"
 #include "aniso/tangent/fields.h"
 #include "render/environment.h"
+#include "render/sampler.h"
 
 namespace aniso::render {
 
@@ -31,9 +32,17 @@ struct Film {
   int width = 640, height = 360, spp = 64;
 };
 
+// Next-event estimation (render/integrator.h): one emitter per vertex chosen by power, every emitter
+// at every vertex, or (auto, the default) every emitter when there are at most
+// kAutoAllCandidates of them (lights plus the environment), one by power otherwise.
+enum class LightSelection { Auto, Power, All };
+inline constexpr size_t kAutoAllCandidates = 4;
+
 struct IntegratorSettings {
   int max_depth = 8;  // path vertices after the camera (1 = direct lighting only)
   Strategy strategy = Strategy::Mis;
+  SamplerKind sampler = SamplerKind::Sobol;  // render/sampler.h
+  LightSelection light_selection = LightSelection::Auto;
 };
 
 enum class LightKind { Point, Directional, Sphere };

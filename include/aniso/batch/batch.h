@@ -9,6 +9,8 @@
 // evaluate, pdf and sample run Google Highway twins of the scalar terms (src/batch/kernels-inl.h,
 // one binary, the instruction set chosen at run time: AVX2, AVX-512, ...); the sampler fed the
 // same uniforms gives the scalar sampler's directions to ~1e-5 (other sin / cos / log code).
+// The measured BRDF (ModelKind::Measured: table lookups) has no SIMD twin: evaluate, pdf and
+// sample run its scalar kernel element by element, on the same blocks and threads.
 // Threads::All splits the N elements into fixed blocks that oneTBB runs on all cores; every
 // element's result depends only on its inputs, so the output is the same bit for bit whatever the
 // thread count and the block order. docs/performance.md has the details and the measurements.

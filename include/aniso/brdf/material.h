@@ -14,13 +14,16 @@
 #include "aniso/brdf/ggx.h"
 #include "aniso/brdf/lafortune.h"
 #include "aniso/brdf/lambert.h"
+#include "aniso/brdf/measured.h"
 #include "aniso/brdf/metal.h"
 #include "aniso/brdf/phong.h"
 #include "aniso/brdf/ward.h"
 
 namespace aniso {
 
-enum class ModelKind : int { Lambert = 0, Phong, Ward, AshikhminShirley, Lafortune, GGX, Metal };
+// Measured: a tabulated BRDF (MERL layout, aniso/brdf/measured.h); its tables are host-owned
+// arrays the kernel only points to (lifetime: src/measured/measured.h).
+enum class ModelKind : int { Lambert = 0, Phong, Ward, AshikhminShirley, Lafortune, GGX, Metal, Measured };
 
 template <typename T> struct MaterialT {
   ModelKind kind = ModelKind::Lambert;
@@ -32,6 +35,7 @@ template <typename T> struct MaterialT {
     LafortuneT<T> lafortune;
     GGXT<T> ggx;
     MetalT<T> metal;
+    MeasuredT<T> measured;
   };
 
   ANISO_HD MaterialT() : lambert() {}
@@ -42,6 +46,7 @@ template <typename T> struct MaterialT {
   ANISO_HD MaterialT(const LafortuneT<T>& m) : kind(ModelKind::Lafortune), lafortune(m) {}
   ANISO_HD MaterialT(const GGXT<T>& m) : kind(ModelKind::GGX), ggx(m) {}
   ANISO_HD MaterialT(const MetalT<T>& m) : kind(ModelKind::Metal), metal(m) {}
+  ANISO_HD MaterialT(const MeasuredT<T>& m) : kind(ModelKind::Measured), measured(m) {}
 
   // Calls fn(model) with the active alternative (a tag switch the compiler turns into a jump table).
   template <typename Fn> ANISO_HD auto visit(Fn&& fn) const {
@@ -52,6 +57,7 @@ template <typename T> struct MaterialT {
       case ModelKind::Lafortune: return fn(lafortune);
       case ModelKind::GGX: return fn(ggx);
       case ModelKind::Metal: return fn(metal);
+      case ModelKind::Measured: return fn(measured);
       default: return fn(lambert);
     }
   }

@@ -1,0 +1,223 @@
+// apps/aniso/cmd_fit.cpp: `aniso fit DATA --model M ... -o fitted.json` and `aniso fit --compare
+// DATA` (docs/fitting.md). The data are read and validated completely before anything is fitted;
+// the fitted material is validated by the material reader and written atomically, so an error of
+// any kind leaves no file behind.
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include "commands.h"
+#include "fit/fit.h"
+#include "fit/plot.h"
+#include "io/materials.h"
+#include "io/text_input.h"
+
+namespace aniso {
+namespace {
+
+struct FitArgs {
+  std::string data, model = "lafortune", output, plot, metric = "l2cos", normalization = "ward", metal, metal_lobe = "ggx";
+  std::string loss = "none", lobes = "1", starts = "6", seed = "1", threads = "0", max_iterations = "200", loss_scale = "0", progress_after = "1";
+  bool anisotropic = false, shared_exponents = false, compare = false, quiet = false;
+};
+
+// The progress line on stderr: shown once a fit has run for a second; redrawn in place on a
+// terminal, otherwise one line per second at most.
+class ProgressDisplay {
+ public:
+  ProgressDisplay(bool quiet, double after_s) : quiet_(quiet), tty_(isatty(STDERR_FILENO) != 0), after_(after_s) {}
+  ~ProgressDisplay() { finish(); }
+  void operator()(const FitProgress& p) {
+    if (quiet_ || p.elapsed_s < after_ || (shown_ && p.elapsed_s - last_ < (tty_ ? 0.1 : 1.0))) return;
+    last_ = p.elapsed_s;
+    const std::string line = fmt::format("fit: {} iteration {} cost {:.4g}  {:.1f} s, about {:.0f} s left", p.stage,
+                                         p.iteration, p.cost, p.elapsed_s, p.remaining_s);
+    if (tty_) fmt::print(stderr, "\r{:<100}", line);
+    else fmt::print(stderr, "{}\n", line);
+    shown_ = true;
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (shown_ && tty_) fmt::print(stderr, "\r{:<100}\r", "");
+    shown_ = false;
+  }
+
+ private:
+  bool quiet_, tty_, shown_ = false;
+  double after_, last_ = 0.0;
+};
+
+FitOptions options_from(const FitArgs& a) {
+  FitOptions o;
+  o.model = a.model;
+  o.lobes = int(parse_integer(a.lobes, 1, kLafortuneMaxLobes, "--lobes"));
+  o.anisotropic = a.anisotropic;
+  o.shared_exponents = a.shared_exponents;
+  o.normalization = a.normalization;
+  o.metal = a.metal;
+  o.metal_lobe = a.metal_lobe;
+  if (a.metric == "l2cos") o.metric = FitMetric::L2Cos;
+  else if (a.metric == "log") o.metric = FitMetric::Log;
+  else throw InputError(fmt::format("--metric: expected l2cos or log, got \"{}\"", a.metric));
+  o.loss = a.loss;
+  const std::optional<double> scale = parse_decimal(a.loss_scale);
+  if (!scale || !(*scale >= 0.0))
+    throw InputError(fmt::format("--loss-scale: expected a finite decimal number >= 0, got \"{}\"", a.loss_scale));
+  o.loss_scale = *scale;
+  o.starts = int(parse_integer(a.starts, 1, 1000, "--starts"));
+  o.seed = parse_unsigned(a.seed, UINT64_MAX, "--seed");
+  o.threads = int(parse_integer(a.threads, 0, 256, "--threads"));
+  o.max_iterations = int(parse_integer(a.max_iterations, 1, 100000, "--max-iterations"));
+  return o;
+}
+
+std::string error_table(const FitErrors& e) {
+  std::string s = fmt::format("{:<22} {:>11} {:>11} {:>11} {:>11}\n", "error", "red", "green", "blue", "all");
+  s += fmt::format("{:<22} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "l2cos (Ngan 2005)", e.l2cos.x, e.l2cos.y, e.l2cos.z, e.l2cos_all);
+  s += fmt::format("{:<22} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "log (relative)", e.log.x, e.log.y, e.log.z, e.log_all);
+  s += fmt::format("{:<22} {:>11.5g}\n", "l2cos / data norm", e.relative_l2cos);
+  return s;
+}
+
+// Lafortune in the lecture's layout (VGP352 week 5, matte steel): one row per lobe and channel.
+std::string lafortune_table(const nlohmann::json& m) {
+  const auto at = [](const nlohmann::json& v, int c) { return v.is_array() ? v[size_t(c)].get<double>() : v.get<double>(); };
+  bool anisotropic = false;
+  for (const auto& l : m["lobes"])
+    for (int c = 0; c < 3; ++c) anisotropic = anisotropic || at(l["cx"], c) != at(l["cy"], c);
+  std::string s = anisotropic ? fmt::format("{:<18} {:>11} {:>11} {:>11} {:>11}\n", "", "C_x", "C_y", "C_z", "s")
+                              : fmt::format("{:<18} {:>11} {:>11} {:>11}\n", "", "C_xy", "C_z", "s");
+  const char* names[3] = {"red", "green", "blue"};
+  int k = 0;
+  for (const auto& l : m["lobes"]) {
+    ++k;
+    for (int c = 0; c < 3; ++c) {
+      const std::string label = fmt::format("Lobe {}, {}", k, names[c]);
+      if (anisotropic)
+        s += fmt::format("{:<18} {:>11.6g} {:>11.6g} {:>11.6g} {:>11.6g}\n", label, at(l["cx"], c), at(l["cy"], c), at(l["cz"], c), at(l["n"], c));
+      else s += fmt::format("{:<18} {:>11.6g} {:>11.6g} {:>11.6g}\n", label, at(l["cx"], c), at(l["cz"], c), at(l["n"], c));
+    }
+  }
+  s += fmt::format("{:<18} {:>11.6g} {:>11.6g} {:>11.6g}   (red, green, blue)\n", "rho_d", at(m["rho_d"], 0), at(m["rho_d"], 1), at(m["rho_d"], 2));
+  return s;
+}
+
+std::string parameter_table(const FitResult& r) {
+  std::string s;
+  for (size_t i = 0; i < r.parameters.size(); ++i) s += fmt::format("{:<18} {:>13.6g}\n", r.parameter_names[i], r.parameters[i]);
+  return s;
+}
+
+std::string fitted_file(const FitResult& r, const SampleSet& data, const FitOptions& o) {
+  nlohmann::json out = r.material;
+  out["fit"] = fit_provenance(r, data, o);
+  // The file must be a valid material everywhere (eval, render, export): read it back.
+  (void)build_material<double>(parse_material(out, "fitted material"));
+  return out.dump(2) + "\n";
+}
+
+void print_warnings(const SampleSet& data) {
+  for (const std::string& w : data.warnings) fmt::print(stderr, "aniso: warning: {}\n", w);
+}
+
+void run_fit(const FitArgs& a) {
+  FitOptions o = options_from(a);
+  if (!a.compare && a.output.empty()) throw InputError("-o: required: the file to write the fitted material to (fitted.json)");
+  const SampleSet data = read_measured(a.data);
+  print_warnings(data);
+  const std::optional<double> after = parse_decimal(a.progress_after);
+  if (!after || !(*after >= 0.0))
+    throw InputError(fmt::format("--progress-after: expected a finite decimal number >= 0, got \"{}\"", a.progress_after));
+  auto display = std::make_shared<ProgressDisplay>(a.quiet, *after);
+  o.progress = [display](const FitProgress& p) { (*display)(p); };
+  std::string out = fmt::format("data: {} ({}, {} samples)\n", data.source, data.format, data.samples.size());
+
+  if (a.compare) {
+    struct Row {
+      std::string label;
+      FitOptions options;
+      FitResult result;
+    };
+    std::vector<Row> rows;
+    for (const auto& [label, mo] : compare_models(o)) {
+      FitOptions mo2 = mo;
+      mo2.progress = [display, label = label](const FitProgress& p) {
+        FitProgress q = p;
+        q.stage = fmt::format("{}: {}", label, p.stage);
+        (*display)(q);
+      };
+      rows.push_back({label, mo, fit_samples(data, mo2)});
+    }
+    display->finish();
+    std::vector<size_t> order(rows.size());
+    for (size_t i = 0; i < rows.size(); ++i) order[i] = i;
+    const bool by_log = o.metric == FitMetric::Log;
+    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
+      return by_log ? rows[x].result.errors.log_all < rows[y].result.errors.log_all
+                    : rows[x].result.errors.l2cos_all < rows[y].result.errors.l2cos_all;
+    });
+    out += fmt::format("ranked by the {} error (fitted with it); errors over all samples and channels\n",
+                       by_log ? "log" : "l2cos");
+    out += fmt::format("{:<4} {:<28} {:>11} {:>11} {:>9} {:>8}  {}\n", "rank", "model", "l2cos", "log", "relative", "time_s", "parameters");
+    for (size_t i = 0; i < order.size(); ++i) {
+      const Row& r = rows[order[i]];
+      out += fmt::format("{:<4} {:<28} {:>11.5g} {:>11.5g} {:>9.4f} {:>8.3f}  {}\n", i + 1, r.label, r.result.errors.l2cos_all,
+                         r.result.errors.log_all, r.result.errors.relative_l2cos, r.result.seconds, describe_parameters(r.result));
+    }
+    const Row& best = rows[order[0]];
+    std::string file;
+    if (!a.output.empty()) file = fitted_file(best.result, data, best.options);
+    if (!a.plot.empty()) write_slices_plot(a.plot, data, best.result.material, best.label);
+    if (!a.output.empty()) write_atomically(a.output, file);
+    std::fwrite(out.data(), 1, out.size(), stdout);
+    return;
+  }
+
+  const FitResult r = fit_samples(data, o);
+  display->finish();
+  const std::string file = fitted_file(r, data, o);
+  out += fmt::format("model: {}{}\n", o.model,
+                     o.model == "lafortune" ? fmt::format(", {} lobe{}", o.lobes, o.lobes > 1 ? "s" : "") : std::string());
+  out += o.model == "lafortune" ? lafortune_table(r.material) : parameter_table(r);
+  out += error_table(r.errors);
+  out += fmt::format("best start: {}; {} iterations; {:.3f} s; {} of {} samples in the solver\n", r.best_start, r.iterations,
+                     r.seconds, r.samples_used, r.samples_total);
+  if (!a.plot.empty()) write_slices_plot(a.plot, data, r.material, o.model);
+  write_atomically(a.output, file);
+  std::fwrite(out.data(), 1, out.size(), stdout);
+}
+
+}  // namespace
+
+void add_fit_command(CLI::App& app) {
+  auto a = std::make_shared<FitArgs>();
+  auto* fit = app.add_subcommand("fit", "fit a model to measured data (MERL .binary, Cornell .brdf, CSV of samples): "
+                                        "write the material, print the parameters and errors");
+  fit->add_option("data", a->data, "measured data: .binary (MERL), .brdf (Cornell), .csv (theta_i,phi_i,theta_o,phi_o,r,g,b)")->required();
+  fit->add_option("--model", a->model, "lafortune | ward | ashikhmin-shirley | ggx | metal");
+  fit->add_option("--lobes", a->lobes, "Lafortune: number of lobes, 1 to 8");
+  fit->add_flag("--anisotropic", a->anisotropic, "fit C_x != C_y, alpha_x != alpha_y, n_u != n_v");
+  fit->add_flag("--shared-exponents", a->shared_exponents, "Lafortune: one exponent per lobe for all channels");
+  fit->add_option("--normalization", a->normalization, "Ward: ward | duer | balanced");
+  fit->add_option("--metal", a->metal, "metal: a measured metal's eta, k (fixed); default: fit eta and k");
+  fit->add_option("--metal-lobe", a->metal_lobe, "metal: ggx | ward | ashikhmin-shirley");
+  fit->add_option("--metric", a->metric, "l2cos (Ngan 2005's cosine-weighted L2) | log (relative)");
+  fit->add_option("--loss", a->loss, "robust loss per sample: none | huber | cauchy | soft_l1");
+  fit->add_option("--loss-scale", a->loss_scale, "the robust loss's scale (residual units); 0: from the data");
+  fit->add_option("--starts", a->starts, "number of starts (moments, Ngan 2005's nearest fit, random), 1 to 1000");
+  fit->add_option("--seed", a->seed, "seed of the random starts, 0 to 2^64-1");
+  fit->add_option("--threads", a->threads, "solver threads; 0: all cores");
+  fit->add_option("--max-iterations", a->max_iterations, "Levenberg-Marquardt iterations of the final refinement");
+  fit->add_option("-o,--output", a->output, "fitted material (JSON with a \"fit\" object); required unless --compare");
+  fit->add_flag("--compare", a->compare, "fit every model and print a ranking table (Ngan 2005's comparison)");
+  fit->add_option("--plot", a->plot, "PNG of measured vs fitted in-plane slices at several incidence angles");
+  fit->add_flag("--quiet,-q", a->quiet, "no progress display");
+  fit->add_option("--progress-after", a->progress_after, "show the progress display once a fit has run this many seconds");
+  fit->callback([a] { run_command([&] { run_fit(*a); }); });
+}
+
+}  // namespace aniso

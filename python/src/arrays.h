@@ -1,0 +1,60 @@
+// python/src/arrays.h: NumPy arrays of directions in, batch::* on chunks, NumPy arrays out.
+//
+// The batch API (include/aniso/batch/batch.h) takes structure-of-arrays input. NumPy users hold
+// (N, 3) arrays, C-contiguous or not, float32 or float64. Each oneTBB task takes a chunk of
+// kChunk rows, copies them into SoA buffers of its own (strided gather, any source dtype), calls
+// the batch function with Threads::One on them, and writes the chunk's results into the (N, 3)
+// C-contiguous output. The chunk's buffers stay in the core's L2 (4096 rows x 15 doubles =
+// 480 KiB), so the transposition costs a pass over cached data, and every element's result is
+// the batch API's (each element depends only on its own inputs, batch.h).
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+namespace aniso::python {
+
+namespace py = pybind11;
+
+// One (N, 3) or (3,) input array, as strides into its buffer. A (3,) input broadcasts against
+// the other inputs (row stride 0).
+struct RowsView {
+  const char* data = nullptr;
+  py::ssize_t row_stride = 0, col_stride = 0;
+  size_t rows = 1;      // 1 for a (3,) input
+  bool single = false;  // given as (3,)
+  bool f32 = false;     // float32 (else float64: other real dtypes are converted first)
+  py::array keep;       // owns the (possibly converted) buffer
+
+  template <typename T> T at(size_t row, int col) const {
+    const char* p = data + py::ssize_t(single ? 0 : row) * row_stride + col * col_stride;
+    return f32 ? T(*reinterpret_cast<const float*>(p)) : T(*reinterpret_cast<const double*>(p));
+  }
+};
+
+// Reads `obj` as an (N, 3) or (3,) real array; `name` is the argument's name for messages.
+// float32 and float64 are used as they are (any strides); integer and other floating dtypes are
+// converted to float64; anything else (complex, bool, object, strings) is a ValueError, as is
+// any other shape.
+RowsView rows_view(const py::handle& obj, const char* name, int columns = 3);
+
+// The common row count of the inputs: equal, or 1 for a (3,) input that broadcasts. ValueError
+// otherwise, naming the arguments.
+size_t common_rows(std::initializer_list<std::pair<const char*, const RowsView*>> inputs);
+
+// True when every input is float32: the computation then runs in float (MaterialT<float>),
+// otherwise in double.
+inline bool all_f32(std::initializer_list<const RowsView*> inputs) {
+  for (const RowsView* v : inputs)
+    if (!v->f32) return false;
+  return true;
+}
+
+// The shape description of an array for messages: "(4, 2)", "()".
+std::string shape_text(const py::array& a);
+
+}  // namespace aniso::python

@@ -1,0 +1,591 @@
+// fit/fit.cpp: the Ceres problem, the starts and the error figures (fit.h, docs/fitting.md).
+#include "fit/jet.h"  // first: the kernels' constants for ceres::Jet
+
+#include "fit/fit.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include <ceres/ceres.h>
+#include <fmt/format.h>
+#include <glog/logging.h>
+
+#include "fit/models.h"
+#include "io/materials.h"
+#include "io/presets.h"
+
+namespace aniso {
+namespace {
+
+using namespace fit_detail;
+using Clock = std::chrono::steady_clock;
+
+// Ceres logs through glog. Its messages during a fit are internal diagnostics (for example "Failed
+// to extract eigenvalues from companion matrix" when the line search of a bounded step cannot
+// interpolate, after which it falls back to bisection): not the user's business, and stderr is
+// where `aniso` writes its own messages. Initialise glog once, quietly, and show fatal errors only.
+void quiet_ceres_logging() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (!google::IsGoogleLoggingInitialized()) google::InitGoogleLogging("aniso");
+    FLAGS_minloglevel = google::GLOG_FATAL;
+    FLAGS_logtostderr = true;
+  });
+}
+
+// A sample as the residuals use it: the metric's target and weight computed once.
+struct Prepared {
+  Vec3d wi, wo;
+  glm::dvec3 target;  // f cos(theta_i) (l2cos) or ln(1 + max(f cos, 0)) (log)
+  double sqrt_w;      // sqrt(weight / total weight)
+};
+
+// The metric's residual for one channel (fit.h, docs/fitting.md). Measured values below 0 (a
+// spectral reduction outside the sRGB gamut, spectral.h) count as 0 in the log metric, whose
+// logarithm needs 1 + f cos > 0.
+template <typename T> T metric_residual(FitMetric metric, const T& model, double cos_i, double target, double sqrt_w) {
+  using std::log;
+  if (metric == FitMetric::Log) return (log(T(1) + model * cos_i) - target) * sqrt_w;
+  return (model * cos_i - target) * sqrt_w;
+}
+
+double metric_target(FitMetric metric, double value, double cos_i) {
+  return metric == FitMetric::Log ? std::log1p(std::max(value * cos_i, 0.0)) : value * cos_i;
+}
+
+// One residual block: `count` samples x 3 channels, all parameters in one block. The Jacobian
+// comes from the kernel itself run on ceres::Jet<double, N> (N >= the parameter count: the extra
+// lanes stay 0), the model's f() exactly as rendering calls it.
+template <class Model, int N> class ChunkCost final : public ceres::CostFunction {
+ public:
+  ChunkCost(const Model& model, const Prepared* samples, int count, FitMetric metric, bool by_parts = true)
+      : model_(model), samples_(samples), count_(count), metric_(metric), size_(int(model.defs.size())), by_parts_(by_parts) {
+    set_num_residuals(3 * count);
+    mutable_parameter_block_sizes()->push_back(size_);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const double* x = parameters[0];
+    if (!jacobians || !jacobians[0]) {
+      const auto m = model_.template build<double>(x);
+      for (int i = 0; i < count_; ++i) {
+        const Prepared& s = samples_[i];
+        const RGBT<double> f = m.f(s.wi, s.wo);
+        for (int c = 0; c < 3; ++c) residuals[3 * i + c] = metric_residual(metric_, f[c], s.wi.z, s.target[c], s.sqrt_w);
+      }
+      return all_finite(residuals, 3 * count_);
+    }
+    if constexpr (requires { Model::kHasParts; }) {
+      if (by_parts_) return evaluate_by_parts(x, residuals, jacobians[0]);
+    }
+    using J = ceres::Jet<double, N>;
+    J xj[N];
+    for (int p = 0; p < size_; ++p) xj[p] = J(x[p], p);
+    const auto m = model_.template build<J>(xj);
+    double* jac = jacobians[0];
+    for (int i = 0; i < count_; ++i) {
+      const Prepared& s = samples_[i];
+      const Vec3T<J> wi(J(s.wi.x), J(s.wi.y), J(s.wi.z)), wo(J(s.wo.x), J(s.wo.y), J(s.wo.z));
+      const RGBT<J> f = m.f(wi, wo);
+      for (int c = 0; c < 3; ++c) {
+        const J r = metric_residual(metric_, f[c], s.wi.z, s.target[c], s.sqrt_w);
+        residuals[3 * i + c] = r.a;
+        double* row = jac + size_t(3 * i + c) * size_t(size_);
+        for (int p = 0; p < size_; ++p) row[p] = r.v[p];
+      }
+    }
+    return all_finite(residuals, 3 * count_) && all_finite(jac, 3 * count_ * size_);
+  }
+
+ private:
+  // f = sum of parts with disjoint parameters (models.h, LafortuneFit::kHasParts): each part's
+  // kernel on a Jet of its own parameters gives df/dx for them; the rows are then scaled by the
+  // metric's dr/df, which needs the whole f: (l2cos) cos sqrt(w), (log) sqrt(w) cos / (1 + f cos).
+  bool evaluate_by_parts(const double* x, double* residuals, double* jac) const {
+    constexpr int M = Model::kMaxPartSize;
+    using JP = ceres::Jet<double, M>;
+    std::fill(jac, jac + size_t(3 * count_) * size_t(size_), 0.0);
+    std::vector<double> f(size_t(3 * count_), 0.0);
+    std::vector<JP> full(size_t(size_), JP(0.0));
+    for (int part = 0; part < model_.part_count(); ++part) {
+      const std::vector<int> idx = model_.part_indices(part);
+      for (int p = 0; p < size_; ++p) full[size_t(p)] = JP(x[p]);
+      for (size_t j = 0; j < idx.size(); ++j) full[size_t(idx[j])] = JP(x[idx[j]], int(j));
+      const auto m = model_.template build_part<JP>(part, full.data());
+      for (int i = 0; i < count_; ++i) {
+        const Prepared& s = samples_[i];
+        const Vec3T<JP> wi(JP(s.wi.x), JP(s.wi.y), JP(s.wi.z)), wo(JP(s.wo.x), JP(s.wo.y), JP(s.wo.z));
+        const RGBT<JP> fp = m.f(wi, wo);
+        for (int c = 0; c < 3; ++c) {
+          f[size_t(3 * i + c)] += fp[c].a;
+          double* row = jac + size_t(3 * i + c) * size_t(size_);
+          for (size_t j = 0; j < idx.size(); ++j) row[idx[j]] += fp[c].v[int(j)];
+        }
+      }
+    }
+    for (int i = 0; i < count_; ++i) {
+      const Prepared& s = samples_[i];
+      for (int c = 0; c < 3; ++c) {
+        const double fc = f[size_t(3 * i + c)], cos_i = s.wi.z;
+        residuals[3 * i + c] = metric_residual(metric_, fc, cos_i, s.target[c], s.sqrt_w);
+        const double dr_df = metric_ == FitMetric::Log ? s.sqrt_w * cos_i / (1.0 + fc * cos_i) : s.sqrt_w * cos_i;
+        double* row = jac + size_t(3 * i + c) * size_t(size_);
+        for (int p = 0; p < size_; ++p) row[p] *= dr_df;
+      }
+    }
+    return all_finite(residuals, 3 * count_) && all_finite(jac, 3 * count_ * size_);
+  }
+
+  static bool all_finite(const double* v, int n) {
+    for (int i = 0; i < n; ++i)
+      if (!std::isfinite(v[i])) return false;
+    return true;
+  }
+  const Model& model_;
+  const Prepared* samples_;
+  int count_;
+  FitMetric metric_;
+  int size_;
+  bool by_parts_;
+};
+
+// The model's penalty residuals (LafortuneFit::penalties), differentiated the same way.
+template <class Model, int N> class PenaltyCost final : public ceres::CostFunction {
+ public:
+  explicit PenaltyCost(const Model& model) : model_(model), size_(int(model.defs.size())) {
+    set_num_residuals(model.penalty_count());
+    mutable_parameter_block_sizes()->push_back(size_);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const double* x = parameters[0];
+    const int m = model_.penalty_count();
+    if (!jacobians || !jacobians[0]) {
+      model_.penalties(x, residuals);
+      return true;
+    }
+    using J = ceres::Jet<double, N>;
+    J xj[N];
+    for (int p = 0; p < size_; ++p) xj[p] = J(x[p], p);
+    std::vector<J> r(static_cast<size_t>(m));
+    model_.penalties(xj, r.data());
+    for (int i = 0; i < m; ++i) {
+      residuals[i] = r[size_t(i)].a;
+      for (int p = 0; p < size_; ++p) jacobians[0][size_t(i) * size_t(size_) + size_t(p)] = r[size_t(i)].v[p];
+    }
+    return true;
+  }
+
+ private:
+  const Model& model_;
+  int size_;
+};
+
+// Reports each iteration to the progress function.
+class ProgressCallback final : public ceres::IterationCallback {
+ public:
+  ProgressCallback(const FitOptions& o, std::string stage, Clock::time_point t0, double per_iteration_guess,
+                   int iterations_left_after)
+      : o_(o), stage_(std::move(stage)), t0_(t0), guess_(per_iteration_guess), after_(iterations_left_after) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (o_.progress) {
+      FitProgress p;
+      p.stage = stage_;
+      p.iteration = s.iteration;
+      p.cost = s.cost;
+      p.elapsed_s = std::chrono::duration<double>(Clock::now() - t0_).count();
+      const double per_it = s.iteration > 0 ? s.cumulative_time_in_seconds / s.iteration : guess_;
+      p.remaining_s = per_it * std::max(0, after_ - s.iteration);
+      o_.progress(p);
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const FitOptions& o_;
+  std::string stage_;
+  Clock::time_point t0_;
+  double guess_;
+  int after_;
+};
+
+DataMoments data_moments(const SampleSet& data) {
+  DataMoments m;
+  const size_t n = data.samples.size();
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> v(n);
+    for (size_t i = 0; i < n; ++i) v[i] = data.samples[i].value[c];
+    const size_t k = n / 20;  // the 5th percentile
+    std::nth_element(v.begin(), v.begin() + long(k), v.end());
+    m.floor_albedo[c] = std::clamp(v[k] * M_PI, 0.0, 1.0);
+    double peak = 0.0;
+    for (const MeasuredSample& s : data.samples) peak = std::max(peak, s.value[c] - m.floor_albedo[c] / M_PI);
+    m.peak[c] = std::max(peak, 1e-6);
+  }
+  // The mirror exponent: the excess e over the floor against the cosine a to the mirror direction,
+  // ln(e / peak) = n ln(a), least squares through the origin over the samples whose excess is at
+  // least 1% of the peak.
+  const double peak = average(m.peak);
+  double num = 0.0, den = 0.0;
+  for (const MeasuredSample& s : data.samples) {
+    const double e = average(s.value) - average(m.floor_albedo) / M_PI;
+    const double a = glm::dot(s.wi, Vec3d(-s.wo.x, -s.wo.y, s.wo.z));
+    if (!(e > 0.01 * peak) || !(a > 0.0) || !(a < 1.0)) continue;
+    const double la = std::log(a);
+    num += std::log(std::min(e / peak, 1.0)) * la;
+    den += la * la;
+  }
+  m.mirror_exponent = den > 0.0 ? std::clamp(num / den, 1.0, 1e4) : 10.0;
+  return m;
+}
+
+struct StartPoint {
+  std::string name;
+  std::vector<double> x;
+};
+
+// The Ngan 2005 preset of `ngan_model` nearest to the data: the smallest l2cos error on (up to 4096
+// of) the samples.
+template <class Model>
+std::optional<StartPoint> nearest_ngan_start(const Model& model, const std::vector<Prepared>& prep, const DataMoments& dm) {
+  const std::string prefix = fmt::format("ngan/{}/", model.ngan_model());
+  const size_t stride = std::max<size_t>(1, prep.size() / 4096);
+  double best = INFINITY;
+  const PresetInfo* best_preset = nullptr;
+  for (const PresetInfo& p : presets()) {
+    if (p.name.rfind(prefix, 0) != 0) continue;
+    const MaterialD m = build_material<double>(parse_material(p.json, p.name));
+    double e = 0.0;
+    for (size_t i = 0; i < prep.size(); i += stride) {
+      const Prepared& s = prep[i];
+      const RGBT<double> f = m.f(s.wi, s.wo);
+      for (int c = 0; c < 3; ++c) e += sqr(f[c] * s.wi.z - s.target[c]);  // l2cos on the cosine-weighted target
+    }
+    if (e < best) best = e, best_preset = &p;
+  }
+  if (!best_preset) return std::nullopt;
+  auto x = model.from_preset(parse_material(best_preset->json, best_preset->name), dm);
+  if (!x) return std::nullopt;
+  return StartPoint{fmt::format("ngan2005 {}", best_preset->name.substr(prefix.size())), *x};
+}
+
+struct Solved {
+  std::vector<double> x;
+  double cost = INFINITY;
+  int iterations = 0;
+  std::string termination;
+};
+
+template <class Model, int N> FitResult fit_with(const Model& model, const SampleSet& data, const FitOptions& o) {
+  quiet_ceres_logging();
+  const auto t0 = Clock::now();
+  const size_t total = data.samples.size();
+  if (total == 0) throw InputError(fmt::format("{}: no samples to fit", data.source));
+  // All samples prepared (the error figures and the Ngan start use them); the solver's subset.
+  double wsum = 0.0;
+  for (const MeasuredSample& s : data.samples) wsum += s.weight;
+  std::vector<Prepared> all(total);
+  for (size_t i = 0; i < total; ++i) {
+    const MeasuredSample& s = data.samples[i];
+    Prepared& p = all[i];
+    p.wi = s.wi;
+    p.wo = s.wo;
+    p.sqrt_w = std::sqrt(s.weight / wsum);
+    for (int c = 0; c < 3; ++c) p.target[c] = metric_target(o.metric, s.value[c], s.wi.z);
+  }
+  std::vector<Prepared> used = all;
+  if (total > o.max_solver_samples) {
+    // A fixed pseudo-random subset (Fisher-Yates with a fixed seed: the same data gives the same
+    // subset), reweighted so that its weights sum to 1 again.
+    Rng rng(0x5eed5a3b1e5ULL);
+    std::vector<size_t> idx(total);
+    for (size_t i = 0; i < total; ++i) idx[i] = i;
+    for (size_t i = 0; i < o.max_solver_samples; ++i) std::swap(idx[i], idx[i + size_t(rng.uniform() * double(total - i))]);
+    idx.resize(o.max_solver_samples);
+    std::sort(idx.begin(), idx.end());
+    used.clear();
+    double sub = 0.0;
+    for (size_t i : idx) used.push_back(all[i]), sub += sqr(all[i].sqrt_w);
+    for (Prepared& p : used) p.sqrt_w /= std::sqrt(sub);
+  }
+  const DataMoments dm = data_moments(data);
+
+  // The starts: moments, the nearest Ngan fit, random draws.
+  std::vector<StartPoint> starts;
+  starts.push_back({"moments", model.moment_start(dm)});
+  if (o.starts > 1)
+    if (auto s = nearest_ngan_start(model, used, dm)) starts.push_back(*s);
+  Rng rng(o.seed);
+  for (int i = 1; int(starts.size()) < o.starts; ++i) starts.push_back({fmt::format("random {}", i), model.random_start(rng, dm)});
+
+  // Residual blocks: chunks of 64 samples (fewer blocks, less overhead); one sample per block when a
+  // robust loss is asked, because the loss acts on a block's squared norm.
+  const bool robust = o.loss != "none";
+  const int chunk = robust ? 1 : 64;
+  const auto make_costs = [&](const std::vector<Prepared>& samples) {
+    std::vector<std::unique_ptr<ceres::CostFunction>> out;
+    for (size_t i = 0; i < samples.size(); i += size_t(chunk))
+      out.push_back(std::make_unique<ChunkCost<Model, N>>(model, samples.data() + i, int(std::min(samples.size() - i, size_t(chunk))), o.metric));
+    return out;
+  };
+  const auto costs = make_costs(used);
+  // The starts are ranked on at most kRankingSamples of the samples, spread evenly over them
+  // (reweighted to a total weight of 1): ten iterations from each start on 1.46 M samples would
+  // cost more than the whole refinement.
+  constexpr size_t kRankingSamples = 8192;
+  std::vector<Prepared> ranking;
+  if (used.size() > kRankingSamples) {
+    double sub = 0.0;
+    for (size_t i = 0; i < kRankingSamples; ++i) ranking.push_back(used[i * used.size() / kRankingSamples]), sub += sqr(ranking.back().sqrt_w);
+    for (Prepared& p : ranking) p.sqrt_w /= std::sqrt(sub);
+  }
+  const auto ranking_costs = make_costs(ranking);
+  // The loss scale: the given one, or by default a tenth of the median weighted sample value
+  // |target| sqrt(w) (a residual beyond 10% of a typical sample's value counts as an outlier; 2%
+  // measurement noise stays well inside).
+  double scale = o.loss_scale;
+  if (robust && !(scale > 0.0)) {
+    std::vector<double> v;
+    for (const Prepared& p : used) v.push_back(std::abs(average(p.target)) * p.sqrt_w);
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    scale = 0.1 * v[v.size() / 2] + 1e-300;
+  }
+  std::unique_ptr<ceres::CostFunction> penalty;
+  if (model.penalty_count() > 0) penalty = std::make_unique<PenaltyCost<Model, N>>(model);
+  std::unique_ptr<ceres::LossFunction> loss;
+  if (o.loss == "huber") loss = std::make_unique<ceres::HuberLoss>(scale);
+  else if (o.loss == "cauchy") loss = std::make_unique<ceres::CauchyLoss>(scale);
+  else if (o.loss == "soft_l1") loss = std::make_unique<ceres::SoftLOneLoss>(scale);
+  else if (robust) throw InputError(fmt::format("--loss: expected none, huber, cauchy or soft_l1, got \"{}\"", o.loss));
+
+  const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  const int P = int(model.defs.size());
+  const auto solve = [&](std::vector<double> x, int max_iterations, const std::string& stage, int iterations_after,
+                         bool rank_only) {
+    ceres::Problem::Options popt;
+    popt.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    popt.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(popt);
+    const auto& blocks = rank_only && !ranking_costs.empty() ? ranking_costs : costs;
+    const size_t rows = rank_only && !ranking.empty() ? ranking.size() : used.size();
+    for (auto& c : blocks) problem.AddResidualBlock(c.get(), loss.get(), x.data());
+    if (penalty) problem.AddResidualBlock(penalty.get(), nullptr, x.data());
+    for (int i = 0; i < P; ++i) {
+      problem.SetParameterLowerBound(x.data(), i, model.defs[size_t(i)].lo);
+      problem.SetParameterUpperBound(x.data(), i, model.defs[size_t(i)].hi);
+    }
+    ceres::Solver::Options so;
+    so.minimizer_type = ceres::TRUST_REGION;
+    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    // Tall, thin problems (thousands of rows, tens of columns): the normal equations are small and
+    // cheap; QR for the small ones, where its better conditioning costs nothing.
+    so.linear_solver_type = rows * 3 * size_t(P) < 2000000 ? ceres::DENSE_QR : ceres::DENSE_NORMAL_CHOLESKY;
+    so.num_threads = threads;
+    so.max_num_iterations = max_iterations;
+    so.function_tolerance = o.function_tolerance;
+    so.gradient_tolerance = 1e-14;
+    so.parameter_tolerance = 1e-10;
+    so.logging_type = ceres::SILENT;
+    so.minimizer_progress_to_stdout = false;
+    ProgressCallback cb(o, stage, t0, 0.0, max_iterations + iterations_after);
+    so.callbacks.push_back(&cb);
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    Solved r;
+    r.x = x;
+    r.cost = summary.final_cost;
+    r.iterations = int(summary.iterations.size()) - 1;
+    r.termination = summary.message;
+    if (!std::isfinite(r.cost)) r.cost = INFINITY;
+    return r;
+  };
+
+  // Phase 1: every start, briefly; phase 2: the best one to convergence.
+  constexpr int kPhase1Iterations = 10;
+  std::vector<Solved> phase1;
+  size_t best = 0;
+  for (size_t i = 0; i < starts.size(); ++i) {
+    const int after = kPhase1Iterations * int(starts.size() - i - 1) + o.max_iterations;
+    phase1.push_back(solve(starts[i].x, std::min(kPhase1Iterations, o.max_iterations),
+                           fmt::format("start {}/{} ({})", i + 1, starts.size(), starts[i].name), after, true));
+    if (phase1[i].cost < phase1[best].cost) best = i;
+  }
+  Solved final_fit = phase1[best];
+  int iterations = final_fit.iterations;
+  // Refine on every solver sample when the ranking used a subset, or when the start had not
+  // converged within the ranking's iterations.
+  if (!ranking.empty() || (o.max_iterations > kPhase1Iterations && final_fit.iterations >= kPhase1Iterations)) {
+    Solved refined = solve(final_fit.x, std::max(1, o.max_iterations - kPhase1Iterations), "refining the best start", 0, false);
+    iterations += refined.iterations;
+    if (refined.cost <= final_fit.cost || !ranking.empty()) final_fit = refined;  // costs on different sets do not compare
+  }
+  if (!std::isfinite(final_fit.cost)) throw std::runtime_error(fmt::format("{}: the fit diverged from every start", data.source));
+
+  FitResult r;
+  r.material = model.to_json(final_fit.x.data());
+  // The material as every tool reads it: validated and built by the material reader.
+  const MaterialD built = build_material<double>(parse_material(r.material, "fitted material"));
+  r.errors = fit_errors(built, data);
+  for (const ParamDef& d : model.defs) r.parameter_names.push_back(d.name);
+  r.parameters = final_fit.x;
+  r.best_start = starts[best].name;
+  r.iterations = iterations;
+  r.termination = final_fit.termination;
+  r.samples_total = total;
+  r.samples_used = used.size();
+  r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return r;
+}
+
+template <class Model> FitResult dispatch(const Model& model, const SampleSet& data, const FitOptions& o) {
+  const size_t p = model.defs.size();
+  if (p <= 16) return fit_with<Model, 16>(model, data, o);
+  if (p <= 32) return fit_with<Model, 32>(model, data, o);
+  if (p <= 64) return fit_with<Model, 64>(model, data, o);
+  return fit_with<Model, 112>(model, data, o);  // Lafortune: 8 anisotropic lobes, 3 + 8 x 12 = 99
+}
+
+WardNormalization ward_normalization(const std::string& s) {
+  if (s == "ward") return WardNormalization::Ward1992;
+  if (s == "duer") return WardNormalization::Duer;
+  if (s == "balanced") return WardNormalization::Balanced;
+  throw InputError(fmt::format("--normalization: expected ward, duer or balanced, got \"{}\"", s));
+}
+
+}  // namespace
+
+namespace fit_detail {
+
+double lafortune_parts_jacobian_difference(int lobes, bool anisotropic, bool shared, FitMetric metric, const SampleSet& data,
+                                           const std::vector<double>& x) {
+  const LafortuneFit model(lobes, anisotropic, shared);
+  std::vector<Prepared> prep;
+  for (const MeasuredSample& s : data.samples) {
+    Prepared p{s.wi, s.wo, {}, 1.0 / std::sqrt(double(data.samples.size()))};
+    for (int c = 0; c < 3; ++c) p.target[c] = metric_target(metric, s.value[c], s.wi.z);
+    prep.push_back(p);
+  }
+  const int n = int(prep.size()), P = int(model.defs.size());
+  const ChunkCost<LafortuneFit, 112> parts(model, prep.data(), n, metric, true), whole(model, prep.data(), n, metric, false);
+  std::vector<double> r1(size_t(3 * n)), r2(size_t(3 * n)), j1(size_t(3 * n * P)), j2(size_t(3 * n * P));
+  const double* params[] = {x.data()};
+  double* jac1[] = {j1.data()};
+  double* jac2[] = {j2.data()};
+  if (!parts.Evaluate(params, r1.data(), jac1) || !whole.Evaluate(params, r2.data(), jac2)) return INFINITY;
+  double worst = 0.0;
+  for (size_t i = 0; i < r1.size(); ++i) worst = std::max(worst, std::abs(r1[i] - r2[i]) / (std::abs(r2[i]) + 1e-12));
+  for (size_t i = 0; i < j1.size(); ++i) worst = std::max(worst, std::abs(j1[i] - j2[i]) / (std::abs(j2[i]) + 1e-12));
+  return worst;
+}
+
+}  // namespace fit_detail
+
+FitErrors fit_errors(const MaterialD& m, const SampleSet& data) {
+  FitErrors e;
+  double wsum = 0.0, data_norm = 0.0;
+  glm::dvec3 l2(0.0), lg(0.0);
+  for (const MeasuredSample& s : data.samples) {
+    const RGBT<double> f = m.f(s.wi, s.wo);
+    const double c = s.wi.z;
+    wsum += s.weight;
+    for (int k = 0; k < 3; ++k) {
+      l2[k] += s.weight * sqr((f[k] - s.value[k]) * c);
+      lg[k] += s.weight * sqr(std::log1p(f[k] * c) - std::log1p(std::max(s.value[k] * c, 0.0)));
+      data_norm += s.weight * sqr(s.value[k] * c);
+    }
+  }
+  if (!(wsum > 0.0)) return e;
+  for (int k = 0; k < 3; ++k) e.l2cos[k] = std::sqrt(l2[k] / wsum), e.log[k] = std::sqrt(lg[k] / wsum);
+  e.l2cos_all = std::sqrt((l2.x + l2.y + l2.z) / (3.0 * wsum));
+  e.log_all = std::sqrt((lg.x + lg.y + lg.z) / (3.0 * wsum));
+  e.relative_l2cos = data_norm > 0.0 ? std::sqrt((l2.x + l2.y + l2.z) / data_norm) : 0.0;
+  return e;
+}
+
+FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
+  if (o.starts < 1 || o.starts > 1000) throw InputError(fmt::format("--starts: expected 1 to 1000, got {}", o.starts));
+  if (o.max_iterations < 1) throw InputError("--max-iterations: expected at least 1");
+  const bool aniso = o.anisotropic;
+  if (o.model == "lafortune") {
+    if (o.lobes < 1 || o.lobes > kLafortuneMaxLobes)
+      throw InputError(fmt::format("--lobes: expected 1 to {}, got {}", kLafortuneMaxLobes, o.lobes));
+    return dispatch(LafortuneFit(o.lobes, aniso, o.shared_exponents), data, o);
+  }
+  if (o.model == "ward") return dispatch(WardFit(aniso, ward_normalization(o.normalization)), data, o);
+  if (o.model == "ashikhmin-shirley") return dispatch(AshikhminShirleyFit(aniso), data, o);
+  if (o.model == "ggx") return dispatch(GGXFit(aniso), data, o);
+  if (o.model == "metal") {
+    SpecularLobeKind lobe;
+    if (o.metal_lobe == "ggx") lobe = SpecularLobeKind::GGX;
+    else if (o.metal_lobe == "ward") lobe = SpecularLobeKind::Ward;
+    else if (o.metal_lobe == "ashikhmin-shirley") lobe = SpecularLobeKind::AshikhminShirley;
+    else throw InputError(fmt::format("--metal-lobe: expected ggx, ward or ashikhmin-shirley, got \"{}\"", o.metal_lobe));
+    return dispatch(MetalFit(aniso, o.metal, lobe), data, o);
+  }
+  throw InputError(fmt::format("--model: expected lafortune, ward, ashikhmin-shirley, ggx or metal, got \"{}\"", o.model));
+}
+
+nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const FitOptions& o) {
+  nlohmann::json f;
+  f["data"] = data.source;
+  f["format"] = data.format;
+  f["samples"] = r.samples_total;
+  f["samples_in_solver"] = r.samples_used;
+  f["model"] = o.model;
+  if (o.model == "lafortune") f["lobes"] = o.lobes, f["shared_exponents"] = o.shared_exponents;
+  if (o.model == "ward") f["normalization"] = o.normalization;
+  if (o.model == "metal") f["metal"] = o.metal.empty() ? "fitted eta, k" : o.metal, f["lobe"] = o.metal_lobe;
+  f["anisotropic"] = o.anisotropic;
+  f["metric"] = o.metric == FitMetric::Log ? "log" : "l2cos";
+  f["loss"] = o.loss;
+  f["starts"] = o.starts;
+  f["seed"] = o.seed;
+  f["best_start"] = r.best_start;
+  f["iterations"] = r.iterations;
+  f["solver"] = "Ceres Levenberg-Marquardt, derivatives from the kernels on ceres::Jet";
+  f["termination"] = r.termination;
+  const auto rgb = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+  f["error"] = {{"l2cos", r.errors.l2cos_all}, {"l2cos_rgb", rgb(r.errors.l2cos)}, {"log", r.errors.log_all},
+                {"log_rgb", rgb(r.errors.log)}, {"relative_l2cos", r.errors.relative_l2cos}};
+  f["seconds"] = r.seconds;
+  return f;
+}
+
+std::vector<std::pair<std::string, FitOptions>> compare_models(const FitOptions& base) {
+  std::vector<std::pair<std::string, FitOptions>> out;
+  const auto add = [&](std::string label, auto&& edit) {
+    FitOptions o = base;
+    edit(o);
+    out.emplace_back(std::move(label), o);
+  };
+  add("lafortune (1 lobe)", [](FitOptions& o) { o.model = "lafortune", o.lobes = 1; });
+  add("lafortune (3 lobes)", [](FitOptions& o) { o.model = "lafortune", o.lobes = 3; });
+  add("ward", [](FitOptions& o) { o.model = "ward", o.normalization = "ward"; });
+  add("ward (duer)", [](FitOptions& o) { o.model = "ward", o.normalization = "duer"; });
+  add("ward (balanced)", [](FitOptions& o) { o.model = "ward", o.normalization = "balanced"; });
+  add("ashikhmin-shirley", [](FitOptions& o) { o.model = "ashikhmin-shirley"; });
+  add("ggx", [](FitOptions& o) { o.model = "ggx"; });
+  add("metal (ggx, fitted eta, k)", [](FitOptions& o) { o.model = "metal", o.metal.clear(), o.metal_lobe = "ggx"; });
+  return out;
+}
+
+std::string describe_parameters(const FitResult& r) {
+  std::string s;
+  for (size_t i = 0; i < r.parameters.size(); ++i) {
+    // Colour triples r, g, b print as one (r, g, b) entry.
+    const std::string& n = r.parameter_names[i];
+    if (n.size() > 2 && n.compare(n.size() - 2, 2, ".r") == 0 && i + 2 < r.parameters.size()) {
+      s += fmt::format("{}{}=({:.3g}, {:.3g}, {:.3g})", s.empty() ? "" : " ", n.substr(0, n.size() - 2), r.parameters[i],
+                       r.parameters[i + 1], r.parameters[i + 2]);
+      i += 2;
+      continue;
+    }
+    s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", n, r.parameters[i]);
+  }
+  return s;
+}
+
+}  // namespace aniso

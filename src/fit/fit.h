@@ -1,0 +1,96 @@
+// fit/fit.h: fitting the library's models to measured samples (measured/samples.h) with Ceres.
+//
+// Levenberg-Marquardt on the residuals of one of two metrics (docs/fitting.md gives the formulas):
+//   l2cos  Ngan, Durand & Matusik 2005's cosine-weighted L2: r = sqrt(w) (f_model - f_data) cos(theta_i)
+//   log    a relative metric (Loew et al. 2012): r = sqrt(w) (ln(1 + f_model cos) - ln(1 + f_data cos))
+// with w the sample's weight over the total weight. The derivatives come from the kernels
+// themselves (include/aniso/brdf/*.h instantiated on ceres::Jet, fit/jet.h), not from finite
+// differences; the bounds are the parameter tables' (src/io/params.cpp). Several starts (moments
+// of the data, the Ngan 2005 fit of the nearest MERL material, random draws from --seed) are each
+// refined briefly, the best is refined to convergence; the same input gives the same output.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "aniso/brdf/material.h"
+#include "measured/samples.h"
+
+namespace aniso {
+
+enum class FitMetric { L2Cos, Log };
+
+// What a fit reports while it runs (the CLI draws it on stderr for fits over a second).
+struct FitProgress {
+  std::string stage;  // "start 3/8 (random)", "refining the best start"
+  int iteration = 0;
+  double cost = 0.0;      // the solver's cost, 1/2 sum r^2
+  double elapsed_s = 0.0;
+  double remaining_s = 0.0;  // an estimate from the iterations done so far
+};
+
+struct FitOptions {
+  std::string model = "lafortune";  // lafortune | ward | ashikhmin-shirley | ggx | metal
+  int lobes = 1;                    // Lafortune: 1 to 8
+  bool anisotropic = false;         // Cx != Cy, alpha_x != alpha_y, n_u != n_v
+  bool shared_exponents = false;    // Lafortune: one n per lobe for all channels
+  std::string normalization = "ward";  // Ward: ward | duer | balanced
+  std::string metal;                // metal: a named metal (fixed eta, k); empty fits eta and k
+  std::string metal_lobe = "ggx";   // metal: ggx | ward | ashikhmin-shirley
+  FitMetric metric = FitMetric::L2Cos;
+  std::string loss = "none";        // robust loss per sample: none | huber | cauchy | soft_l1
+  double loss_scale = 0.0;          // its scale in residual units; 0 = from the data (docs/fitting.md)
+  int starts = 6;
+  uint64_t seed = 1;
+  int threads = 0;                  // 0: all cores
+  int max_iterations = 200;
+  // Ceres' convergence test: stop when an iteration lowers the cost by less than this fraction.
+  double function_tolerance = 1e-9;
+  // Above this many samples the solver runs on a fixed random subset of this size: the Jacobian of
+  // 1.46 M samples x 30 parameters would take 1 GB, and 32768 samples already pin 30 parameters
+  // down far below any measurement's noise (docs/fitting.md). The errors are always reported on
+  // all samples.
+  size_t max_solver_samples = size_t(1) << 15;
+  std::function<void(const FitProgress&)> progress;
+};
+
+// Per channel and over all channels (root mean square of the three).
+struct FitErrors {
+  glm::dvec3 l2cos{0.0}, log{0.0};
+  double l2cos_all = 0.0, log_all = 0.0;
+  double relative_l2cos = 0.0;  // l2cos_all / the same norm of the data (0: exact, 1: as large as the data)
+};
+
+struct FitResult {
+  nlohmann::json material;  // a valid material ({"model": ...}), without the "fit" object
+  std::vector<std::string> parameter_names;
+  std::vector<double> parameters;
+  FitErrors errors;
+  std::string best_start;   // "moments", "ngan2005 <material>", "random 3"
+  int iterations = 0;       // of the best start, both phases
+  double seconds = 0.0;
+  size_t samples_total = 0, samples_used = 0;
+  std::string termination;  // Ceres' message for the final refinement
+};
+
+// Throws InputError for options that do not make a model (unknown model, --lobes out of range).
+FitResult fit_samples(const SampleSet& data, const FitOptions& options);
+
+// Both metrics of a material against the data (every sample).
+FitErrors fit_errors(const MaterialD& m, const SampleSet& data);
+
+// The "fit" object stored beside the material in fitted.json (ignored by the material reader).
+nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const FitOptions& o);
+
+// The models `--compare` fits, in its order, each with its options.
+std::vector<std::pair<std::string, FitOptions>> compare_models(const FitOptions& base);
+
+// A one-line description of the parameters (`--compare` table): "kd=(..) ks=(..) alpha=0.12".
+std::string describe_parameters(const FitResult& r);
+
+}  // namespace aniso
