@@ -3,7 +3,7 @@ PRESET ?= release
 JOBS   ?= $(shell nproc)
 BIN    := build/$(PRESET)/bin
 
-.PHONY: all deps configure build test bench bench-python clean format render
+.PHONY: all deps configure build test bench bench-python clean format render sanitize-build test-sanitize fuzz-build fuzz
 
 all: build
 
@@ -23,6 +23,29 @@ render: build
 
 test: build
 	@ctest --preset $(PRESET) -j $(JOBS)
+
+# The sanitizer build (build/sanitize, preset `sanitize`): ASan + UBSan, asserts on, no benchmarks.
+# clang when installed (then the fuzz targets link libFuzzer), g++ otherwise (they replay the
+# corpus). docs/testing.md.
+SANITIZE_CXX ?= $(shell command -v clang++ >/dev/null 2>&1 && echo clang++ || echo g++)
+FUZZ_SECONDS ?= 120
+
+sanitize-build: deps
+	@cmake --preset sanitize -DCMAKE_CXX_COMPILER=$(SANITIZE_CXX) >/dev/null
+	@cmake --build --preset sanitize -j $(JOBS)
+
+# The whole suite under the sanitizers (statistical tests at ANISO_TEST_SCALE, see the preset).
+test-sanitize: sanitize-build
+	@ctest --preset sanitize -j $(JOBS)
+
+# The fuzz targets alone in the sanitizer build (the readers and their libraries, not the suite).
+fuzz-build: deps
+	@cmake --preset sanitize -DCMAKE_CXX_COMPILER=$(SANITIZE_CXX) >/dev/null
+	@cmake --build --preset sanitize -j $(JOBS) --target fuzz_targets
+
+# Every fuzz target for FUZZ_SECONDS each (libFuzzer), or a replay of the corpus without clang.
+fuzz: fuzz-build
+	@bash scripts/fuzz.sh build/sanitize $(FUZZ_SECONDS)
 
 # The kernels (Google Benchmark), then the renderer (a command: gallery, ray ceiling, noise; ~1 min).
 bench: build

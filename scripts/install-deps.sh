@@ -32,6 +32,9 @@ packages=(
   python3-dev pybind11-dev python3-numpy
   python3-pytest      # python/tests, run by ctest
   python3-matplotlib  # examples/python (and its test, headless: MPLBACKEND=Agg)
+  # The sanitizer build and the fuzz targets (make test-sanitize, make fuzz; docs/testing.md).
+  clang               # clang++ 14: the sanitize build, so the fuzz targets can link libFuzzer
+  libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes for clang (only "recommended" by clang)
 )
 # Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
 if [[ "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then

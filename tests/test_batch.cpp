@@ -242,7 +242,7 @@ TEST(Batch, ReportsItsTarget) {
 // Chi-square test of the batch sampler (the samples drawn in one batch call with the uniforms the
 // harness draws, in its order) against the batch pdf.
 TEST(Batch, SamplerPassesChiSquare) {
-  constexpr int64_t kSamples = 400'000;
+  const int64_t kSamples = scaled(400'000);
   const char* const names[] = {"lambert", "phong", "ward_vector_ward", "as_aniso", "lafortune_aniso", "ggx_aniso",
                                "metal_ward"};
   const double significance = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(std::size(names)));
@@ -389,7 +389,7 @@ void PrintTo(const BatchSamplingCase& c, std::ostream* os) {
 class BatchSamplingTest : public testing::TestWithParam<BatchSamplingCase> {};
 
 TEST_P(BatchSamplingTest, ChiSquareMatchesPdf) {
-  constexpr int64_t kSamples = 1'000'000;
+  const int64_t kSamples = scaled(1'000'000);
   const BatchSamplingCase& c = GetParam();
   const MaterialT<float> m = build<float>(c.json);
   const MaterialD md = build<double>(c.json);

@@ -319,7 +319,7 @@ TEST_P(GlslParity, SamplesPassChiSquare) {
   const MaterialDesc d = parse_material(GetParam().json, GetParam().name);
   const MaterialD md = build_material<double>(d);
   const gl::GlslMaterial gm = gl::glsl_material(d, gl::GlslStorage::Uniform, "u_");
-  constexpr int64_t kSamples = 400'000;
+  const int64_t kSamples = scaled(400'000);
   constexpr uint64_t kSeed = 11;
   // An oblique and a near-grazing view, azimuths off the axes so that anisotropy matters.
   const double views[][2] = {{50.0, 30.0}, {80.0, 200.0}};

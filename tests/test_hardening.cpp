@@ -245,10 +245,46 @@ TEST_F(Hardening, WriteErrorsExitNonZero) {
            {"presets"},
            {"models"},
            {"metals"},
+           {"export-glsl", "-m", "gold"},
+           {"export-brdf", "-m", "gold"},
        }) {
     const Result r = run_redirected(args, "< " + shell_quote(line) + " > /dev/full");
     EXPECT_EQ(r.code, 1) << args[0] << ": " << r.err;
     EXPECT_TRUE(contains(r.err, "aniso: error: stdout: write error")) << args[0] << ": " << r.err;
+  }
+}
+
+// `-o` naming a FIFO (or a device such as /dev/null) is written in place: renaming the temporary
+// file over it replaced the FIFO or device node itself (found running `export-brdf -o /dev/full`
+// as root: /dev/full became a regular file and the command exited 0).
+TEST_F(Hardening, OutputToAFifoWritesThroughIt) {
+  const std::vector<std::vector<std::string>> commands = {
+      {"export-glsl", "-m", "gold"},
+      {"export-brdf", "-m", "gold"},
+      {"render", "-m", "gold", "--width", "16", "--height", "16", "--spp", "1"},
+  };
+  for (size_t i = 0; i < commands.size(); ++i) {
+    const fs::path fifo = dir_ / (i == 2 ? "fifo.pfm" : "fifo.out"), got = dir_ / "got";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::string args;
+    for (const std::string& a : commands[i]) args += fmt::format(" {}", shell_quote(a));
+    // A reader on the FIFO in the background, the command writing into it, then the command's status.
+    const std::string cmd = fmt::format("cat {0} > {1} & {2}{3} -o {0} > /dev/null 2> {4}; rc=$?; wait; exit $rc",
+                                        shell_quote(fifo.string()), shell_quote(got.string()), shell_quote(ANISO_CLI), args,
+                                        shell_quote((dir_ / "err").string()));
+    const int status = std::system(fmt::format("sh -c {}", shell_quote(cmd)).c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << commands[i][0] << ": " << read_file(dir_ / "err");
+    struct stat st {};
+    ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+    EXPECT_TRUE(S_ISFIFO(st.st_mode)) << commands[i][0] << " replaced the FIFO";
+    const std::string text = read_file(got);
+    EXPECT_GT(text.size(), 40u) << commands[i][0];
+    if (i == 2) {
+      EXPECT_EQ(text.substr(0, 3), "PF\n");
+    }
+    fs::remove(fifo);
+    fs::remove(got);
   }
 }
 
@@ -270,9 +306,9 @@ TEST_F(Hardening, InlineMaterialVersionFresnelEtaKAndMetals) {
   const Result bad = run({"eval", "-m", R"({"model": "ward", "alpha_x": 0.1})"}, "0 0 1 0 0 1\n");
   EXPECT_EQ(bad.code, 2);
   EXPECT_TRUE(contains(bad.err, "inline material: key \"alpha_x\": given without its partner")) << bad.err;
-  const Result v = run({"--version"});
-  EXPECT_EQ(v.code, 0);
-  EXPECT_TRUE(contains(v.out, "aniso ")) << v.out;
+  const Result version = run({"--version"});
+  EXPECT_EQ(version.code, 0);
+  EXPECT_TRUE(contains(version.out, "aniso ")) << version.out;
   const Result metals = run({"metals"});
   EXPECT_EQ(metals.code, 0);
   EXPECT_TRUE(contains(metals.out, "gold") && contains(metals.out, "Au")) << metals.out;

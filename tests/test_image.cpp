@@ -296,7 +296,15 @@ TEST(ImageIo, BadInputIsAnInputErrorNamingWhereAndPath) {
   write_bytes(dir.path("big.pfm"), "PF\n100000 100000\n-1.0\n");
   expect_read_error(dir.path("big.pfm"), "image too large");
   write_bytes(dir.path("garbage.png"), "this is not a PNG file at all");
-  expect_read_error(dir.path("garbage.png"), "corrupt or unsupported image (");
+  expect_read_error(dir.path("garbage.png"), "not a PNG file (no PNG signature)");
+  write_bytes(dir.path("garbage.jpg"), "this is not a JPEG file at all");
+  expect_read_error(dir.path("garbage.jpg"), "not a JPEG file (no JPEG signature)");
+  // fuzz/corpus/image/regression-tga-as-png: 118 bytes that stb_image decoded as a run-length TGA
+  // of 6168 x 6168 pixels (31 s); only PNG, JPEG and HDR decoders are compiled in, and the
+  // signature must match the extension.
+  std::string tga = std::string("\0\0\n", 3) + std::string(104, '\x18') + std::string("\0\0\xff\xff\x0e\0\0\0\xff\xff", 10);
+  write_bytes(dir.path("tga.png"), tga);
+  expect_read_error(dir.path("tga.png"), "not a PNG file");
   write_bytes(dir.path("garbage.exr"), "this is not an EXR file at all");
   expect_read_error(dir.path("garbage.exr"), "corrupt or unsupported EXR file");
   write_bytes(dir.path("garbage.hdr"), "#?RADIANCE\nnothing else");

@@ -263,6 +263,15 @@ TEST_F(RenderCli, BadTangentMapsAndImages) {
   json s = good_scene();
   s["objects"][1]["tangent"] = {{"map", "zero_map.pfm"}, {"encoding", "xy"}};
   expect_rejected(s, "objects[1].tangent.map", "zero-length");
+  // A float map with a value outside [0, 1] (fuzz/corpus/tangent_map/regression-pfm-value-1e26:
+  // 6.8e25 overflowed the doubled-angle filter to NaN): an error naming the texel, in both encodings.
+  std::string huge = "PF\n2 1\n-1.0\n";
+  for (float v : {1.0f, 0.5f, 0.0f, 6.8e25f, 0.5f, 0.0f}) huge.append(reinterpret_cast<const char*>(&v), 4);
+  write("huge_map.pfm", huge);
+  for (const char* encoding : {"angle", "xy"}) {
+    s["objects"][1]["tangent"] = {{"map", "huge_map.pfm"}, {"encoding", encoding}};
+    expect_rejected(s, "objects[1].tangent.map", "texel (1, 0): red channel is 6.8e+25; a tangent map holds numbers in [0, 1]");
+  }
   write("bad.png", "this is not a PNG");
   s["objects"][1]["tangent"] = {{"map", "bad.png"}};
   expect_rejected(s, "objects[1].tangent.map", "bad.png");

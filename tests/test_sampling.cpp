@@ -36,7 +36,7 @@ std::string case_name(const testing::TestParamInfo<SamplingCase>& info) {
 
 class SamplingTest : public testing::TestWithParam<SamplingCase> {};
 
-constexpr int64_t kChi2Samples = 2'000'000;
+const int64_t kChi2Samples = scaled(2'000'000);  // ANISO_TEST_SCALE (test_util.h)
 // Significance 1% for the whole family, Sidak-corrected for the number of tests in it.
 double per_test_significance() {
   const double n = double(sampling_cases().size());

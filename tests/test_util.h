@@ -2,6 +2,10 @@
 // form and normalisation (isotropic and anisotropic), and random directions.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -13,6 +17,20 @@
 #include "stats/rng.h"
 
 namespace aniso::test {
+
+// The sample count of a statistical test, times ANISO_TEST_SCALE from the environment (default 1;
+// the sanitize preset sets 0.25 so that the suite under ASan + UBSan fits in CI's time,
+// docs/testing.md). Clamped to [0.01, 1]: the switch only ever makes tests smaller. Tests that use
+// it derive their bounds from the count they run (standard errors, chi-square p-values), so a
+// smaller count keeps the false-failure rate and loses only power.
+inline int64_t scaled(int64_t n) {
+  static const double scale = [] {
+    const char* s = std::getenv("ANISO_TEST_SCALE");
+    const double v = s && *s ? std::atof(s) : 1.0;
+    return std::isfinite(v) ? std::clamp(v, 0.01, 1.0) : 1.0;
+  }();
+  return std::max<int64_t>(1, std::llround(double(n) * scale));
+}
 
 struct NamedMaterial {
   std::string name;

@@ -2,9 +2,13 @@
 // The material is read and built exactly as `aniso eval` reads it, so both reject the same
 // materials with the same InputError; the file is written to a temporary name and renamed, so a
 // failure leaves no partial file.
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -15,14 +19,33 @@
 
 namespace aniso {
 
+// Writes all of `text` to an open stream and flushes it; a short write or a failed flush (a full
+// disk, a closed pipe) is an error, exit 1 (docs/cli.md, "Exit status"), never a silent exit 0.
+void write_all(std::FILE* f, const std::string& text, const std::string& what) {
+  if (std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fflush(f) != 0 || std::ferror(f))
+    throw std::runtime_error(fmt::format("{}: write error: {}", what, std::strerror(errno)));
+}
+
+// stdout for "" and "-". An existing file that is not a regular file (a device such as /dev/null,
+// a FIFO, a terminal) is written in place: renaming a temporary over it would replace the device
+// node itself. Anything else goes to a temporary name beside the target and is renamed into
+// place, so a failure leaves no partial file.
 void write_atomically(const std::string& path, const std::string& text) {
   if (path.empty() || path == "-") {
-    std::fwrite(text.data(), 1, text.size(), stdout);
+    write_all(stdout, text, "stdout");
     return;
   }
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError(fmt::format("-o {}: is a directory", path));
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::is_directory(st)) throw InputError(fmt::format("-o {}: is a directory", path));
+  if (fs::exists(st) && !fs::is_regular_file(st)) {
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
+    if (!f) throw InputError(fmt::format("-o {}: cannot open for writing: {}", path, std::strerror(errno)));
+    write_all(f.get(), text, fmt::format("-o {}", path));
+    if (std::fclose(f.release()) != 0) throw std::runtime_error(fmt::format("-o {}: write error: {}", path, std::strerror(errno)));
+    return;
+  }
   const std::string tmp = fmt::format("{}.tmp{}", path, getpid());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -31,7 +54,7 @@ void write_atomically(const std::string& path, const std::string& text) {
     out.close();
     if (!out) {
       fs::remove(tmp, ec);
-      throw InputError(fmt::format("-o {}: write failed", path));
+      throw std::runtime_error(fmt::format("-o {}: write failed", path));
     }
   }
   fs::rename(tmp, path, ec);

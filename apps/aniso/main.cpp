@@ -547,6 +547,10 @@ int main(int argc, char** argv) {
   }
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {
+    // A command run inside CLI11's callback (export-glsl, export-brdf: cmd_export.cpp) has printed
+    // its message and chosen the exit status itself: 2 for bad input, 1 for a write error.
+    return e.get_exit_code();
   } catch (const CLI::ParseError& e) {
     // CLI11 prints the message (or the help); every command-line error exits 2, like input errors.
     const int code = app.exit(e);

@@ -1,6 +1,7 @@
 // io/text_input.cpp: the CLI's number rule and its stdin line parser (io/text_input.h).
 #include "io/text_input.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>

@@ -48,6 +48,12 @@
 #pragma GCC diagnostic ignored "-Wold-style-cast"
 #pragma GCC diagnostic ignored "-Wuseless-cast"
 #define STB_IMAGE_STATIC
+// Only the decoders of the documented formats: stb_image otherwise detects a dozen formats by
+// content, and a 118-byte file named .png decoded as a run-length TGA of 6168 x 6168 pixels
+// (found by fuzz/fuzz_image.cpp: a 31 s timeout under the sanitizers).
+#define STBI_ONLY_PNG
+#define STBI_ONLY_JPEG
+#define STBI_ONLY_HDR
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_NO_STDIO  // every file is read into memory here first, with errors checked
 #include <stb_image.h>
@@ -161,6 +167,15 @@ Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, c
   const auto* bytes = data.data();
   const int len = int(data.size());
   int w = 0, h = 0, comp = 0;
+  // The content must be the format the extension names (PNG and JPEG by their signatures; HDR is
+  // checked below), so that a file is never decoded as something else.
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (ext == ".png" && (data.size() < 8 || std::memcmp(bytes, kPng, 8) != 0))
+    input_error(where, path, "not a PNG file (no PNG signature)");
+  if ((ext == ".jpg" || ext == ".jpeg") && (data.size() < 3 || bytes[0] != 0xFF || bytes[1] != 0xD8 || bytes[2] != 0xFF))
+    input_error(where, path, "not a JPEG file (no JPEG signature)");
+  // stbi_loadf applies a 2.2 gamma to 8-bit files; a .hdr must really be Radiance RGBE (linear).
+  if (ext == ".hdr" && !stbi_is_hdr_from_memory(bytes, len)) input_error(where, path, "not a Radiance HDR (RGBE) file");
   if (!stbi_info_from_memory(bytes, len, &w, &h, &comp))
     input_error(where, path, fmt::format("corrupt or unsupported image ({})", stbi_failure_reason()));
   check_size(w, h, where, path);
@@ -168,8 +183,6 @@ Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, c
   Image img;
   auto fail = [&] { input_error(where, path, fmt::format("corrupt or truncated image ({})", stbi_failure_reason())); };
   if (ext == ".hdr") {
-    // stbi_loadf applies a 2.2 gamma to 8-bit files; a .hdr must really be Radiance RGBE (linear).
-    if (!stbi_is_hdr_from_memory(bytes, len)) input_error(where, path, "not a Radiance HDR (RGBE) file");
     std::unique_ptr<float, void (*)(void*)> px(stbi_loadf_from_memory(bytes, len, &w, &h, &comp, 3), &stbi_image_free);
     if (!px) fail();
     img = Image(w, h);
@@ -321,7 +334,22 @@ Image read_exr(const std::vector<unsigned char>& data, const std::string& where,
 
 // Writes `bytes` to a temporary file beside `path` (same file system, so the rename is atomic),
 // flushes it to disk, and renames it over `path`. On any failure the temporary file is removed.
+// An existing target that is not a regular file or a directory (a FIFO, a device) is written in
+// place instead: a rename would replace the device node or FIFO itself.
 void write_atomically(const std::string& path, const std::vector<unsigned char>& bytes) {
+  {
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (!ec && fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st)) {
+      std::FILE* f = std::fopen(path.c_str(), "wb");
+      if (!f) write_error(path, errno_text(errno));
+      const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && std::fflush(f) == 0;
+      const int err = errno;
+      const bool closed = std::fclose(f) == 0;
+      if (!written || !closed) write_error(path, errno_text(written ? errno : err));
+      return;
+    }
+  }
   static std::atomic<unsigned> counter{0};
   const std::string tmp = fmt::format("{}.tmp-{}-{}", path, ::getpid(), counter.fetch_add(1));
   struct RemoveOnFailure {

@@ -223,6 +223,14 @@ TangentMap read_tangent_map(const std::string& file, const std::string& encoding
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const RGB c = img.at(x, y);
+      // The encodings are defined on [0, 1] (docs/scenes.md); float formats (PFM, EXR, HDR) can
+      // hold anything, and a value such as 1e26 overflowed the doubled-angle filter to NaN (found
+      // by fuzz/fuzz_tangent_map.cpp).
+      const int channels = encoding == "angle" ? 1 : 2;
+      for (int k = 0; k < channels; ++k)
+        if (!(c[k] >= 0.0f && c[k] <= 1.0f))
+          throw InputError(fmt::format("{}: {}: texel ({}, {}): {} channel is {}; a tangent map holds numbers in [0, 1]", where,
+                                       file, x, y, k == 0 ? "red" : "green", c[k]));
       const Vec2 d = encoding == "angle" ? TangentMap_DecodeAngle(c.x) : TangentMap_DecodeXY(c.x, c.y);
       // Below 1e-3 (a quarter of one 8-bit step from the (0.5, 0.5) centre) the direction of an xy
       // texel is quantisation noise, not a tangent.

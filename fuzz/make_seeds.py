@@ -1,0 +1,158 @@
+#!/usr/bin/env python3
+"""Writes the hand-made part of the seed corpus, fuzz/corpus/<target>/ (docs/testing.md).
+
+Run from the repository root: python3 fuzz/make_seeds.py. Standard library only. Files are named
+<what>.<ext>; the reproducers of issue 13 are named issue13-*. Files that fuzzing found (named
+crash-*, regression-*) are added by hand and never rewritten here. The image and tangent-map seeds
+start with the target's selector byte (fuzz_image.cpp, fuzz_tangent_map.cpp).
+Not written here: image/render-16x16.exr is byte 2 followed by the output of
+`aniso render --material gold --width 16 --height 16 --spp 1 -o x.exr` (OpenEXR, ZIP)."""
+import os
+import struct
+import zlib
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
+
+
+def put(target, name, data):
+    d = os.path.join(ROOT, target)
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, name), "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+
+
+# --- material ---------------------------------------------------------------------------------
+materials = {
+    "lambert": '{"model": "lambert", "kd": [0.2, 0.5, 0.8]}',
+    "phong": '{"model": "phong", "kd": 0.1, "ks": 0.5, "exponent": 80, "normalized": true}',
+    "ward": '{"model": "ward", "kd": 0.05, "ks": [0.6, 0.5, 0.4], "alpha_x": 0.05, "alpha_y": 0.3, "normalization": "balanced"}',
+    "ward-angle": '{"model": "ward", "alpha": 0.2, "form": "angle", "normalization": "ward"}',
+    "ashikhmin-shirley": '{"model": "ashikhmin-shirley", "rd": 0.1, "rs": 0.2, "n_u": 10, "n_v": 1000}',
+    "ashikhmin-shirley-n": '{"model": "ashikhmin-shirley", "n": 40}',
+    "lafortune": '{"model": "lafortune", "rho_d": 0.1, "lobes": [{"cx": -1, "cy": -1, "cz": 1, "n": 12, "scale": 1}, {"cxy": -0.5, "cz": 0.9, "n": 4}]}',
+    "ggx": '{"model": "ggx", "alpha_x": 0.1, "alpha_y": 0.4, "f0": [0.9, 0.7, 0.3]}',
+    "metal-ggx": '{"model": "metal", "metal": "gold", "lobe": {"model": "ggx", "alpha": 0.1}}',
+    "metal-ward-dd": '{"model": "metal", "metal": "iron", "lobe": {"model": "ward", "alpha_x": 0.03, "alpha_y": 0.3, "normalization": "balanced"}, "directional_diffuse": {"cx": -1, "cy": -1, "cz": 1, "n": 5}}',
+    "metal-as": '{"model": "metal", "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.2], "lobe": {"model": "ashikhmin-shirley", "n_u": 10, "n_v": 300}}',
+    "empty": "{}",
+    "not-object": "[1, 2, 3]",
+    # Issue 13, high: the kernel computed max|C|^n before the scale (inf / NaN).
+    "issue13-lafortune-scale-1e-300": '{"model": "lafortune", "lobes": [{"cz": 100, "n": 160, "scale": 1e-300}]}',
+    "issue13-lafortune-scale-0": '{"model": "lafortune", "lobes": [{"cz": 100, "n": 160, "scale": 0}]}',
+    "issue13-lafortune-float-n37": '{"model": "lafortune", "lobes": [{"cz": 100, "n": 37, "scale": 1e-300}]}',
+    # Issue 13, low.
+    "issue13-eta1-k0": '{"model": "metal", "eta": 1, "k": 0, "lobe": {"model": "ggx", "alpha": 0.3}}',
+    "issue13-duplicate-kd-2-first": '{"model": "lambert", "kd": 2, "kd": 0.5}',
+    "issue13-duplicate-kd-2-last": '{"model": "lambert", "kd": 0.5, "kd": 2}',
+    "issue13-duplicate-model": '{"model": "ward", "model": "lambert"}',
+    "issue13-tiny-1e-400": '{"model": "lambert", "kd": 1e-400}',
+    "issue13-minus-zero": '{"model": "lambert", "kd": -0.0}',
+    "issue13-key-nul": '{"model": "lambert", "k\\u0000d": 0.5}',
+    "issue13-key-control": '{"model": "lambert", "\\u001b[31mkd": 0.5}',
+    "issue13-number-overflow": '{"model": "lambert", "kd": 1e999}',
+    # Issue 11: half of an anisotropic pair.
+    "issue11-half-pair": '{"model": "ashikhmin-shirley", "rd": 0.1, "rs": 0.2, "n_u": 10}',
+    "issue11-duplicate-alpha": '{"alpha_x": 0.1, "alpha_x": 0.5}',
+}
+for name, text in materials.items():
+    put("material", name + ".json", text)
+# Issue 13, high: 200,000 levels of nesting crashed with SIGSEGV (400 KB).
+put("material", "issue13-deep-nesting.json", '{"model": "lambert", "zz": ' + "[" * 200000 + "]" * 200000 + "}")
+
+# --- eval_line: first byte even = vector lines, odd = --angles lines ----------------------------
+vec = {
+    "basic": "0 0 1 0 0 1\n0.3 0.1 0.9 -0.2 0.4 0.8\n0 0 -1 0 0 1\n# comment\n\n",
+    "issue13-grazing-1e-170": "1 0 1e-170 -1 0 1e-170\n",
+    "issue13-mirror-1e-120": "1 0 1e-120 -1 0 1e-120\n1 0 1e-100 -1 0 1e-100\n",
+    "issue13-float-1e-15": "1 0 1e-15 1 0 1e-15\n1 0 1e-12 1 0 1e-12\n",
+    "issue13-subnormal-1e-310": "1 0 1e-310 -1 0 1e-310\n1e-310 0 1 0 0 1\n",
+    "issue13-huge-1e200": "1e200 1e200 1e200 0 0 1\n",
+    "issue13-form-feed": "\f\n\v\n \t\r\n0 0 1 0 0 1\n",
+    "issue13-octal": "010 0 1 0 0 1\n",
+    "issue13-nan-inf": "nan 0 1 0 0 1\ninf 0 1 0 0 1\n0x1p3 0 1 0 0 1\n",
+    "zero-vector": "0 0 0 0 0 1\n",
+    "too-many": "0 0 1 0 0 1 7\n",
+    "too-few": "0 0 1 0 0\n",
+    "minus-zero": "-0 -0 1 -0 0 1\n",
+    "integers": "18446744073709551616\n-1\n1.5\n010\n",
+}
+for name, text in vec.items():
+    put("eval_line", name + ".txt", "0" + text)
+ang = {
+    "angles-basic": "30 0 30 180\n0 0 0 0\n",
+    "angles-horizon": "90 0 90 180\n89.9999999 0 89.9999999 180\n",
+    "angles-out-of-range": "91 0 30 0\n-1 0 30 0\n",
+    "angles-huge-phi": "30 1e300 30 -1e300\n",
+}
+for name, text in ang.items():
+    put("eval_line", name + ".txt", "1" + text)
+
+# --- scene: relative names resolve in the fuzz target's scratch directory (fuzz_scene.cpp) ------
+cam = '"camera": {"position": [0, 2, 3], "look_at": [0, 0, 0], "fov_deg": 40}'
+scenes = {
+    "spheres": '{%s, "lights": [{"type": "point", "position": [1, 3, 2], "intensity": 10}], "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "brushed-gold", "tangent": {"field": "noise", "scale": 3, "strength": 0.6}}]}' % cam,
+    "sky-disc": '{%s, "environment": {"type": "sky", "zenith": 0.15, "horizon": 0.3, "ground": 0.04, "resolution": 16}, "lights": [{"type": "sphere", "center": [0, 3, -2.5], "radius": 0.7, "radiance": 60}], "objects": [{"shape": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "radius": 1.5, "material": "gold", "tangent": {"field": "concentric"}}]}' % cam,
+    "rectangle-map": '{%s, "environment": {"type": "uniform", "radiance": 0.2}, "lights": [{"type": "directional", "to_light": [0.3, 1, 0.2], "irradiance": 3}], "objects": [{"shape": "rectangle", "center": [0, 0, 0], "normal": [0, 1, 0], "u": [1, 0, 0], "size": [2, 2], "material": {"model": "ward", "alpha_x": 0.05, "alpha_y": 0.3}, "tangent": {"map": "map.pfm", "encoding": "xy"}}]}' % cam,
+    "mesh-uv": '{%s, "environment": {"type": "map", "file": "env.hdr", "scale": 1, "rotation_deg": 90}, "objects": [{"shape": "mesh", "file": "mesh.obj", "scale": 1, "rotate_deg": [0, 45, 0], "material": "matte-steel", "tangent": {"field": "uv"}}]}' % cam,
+    "torus-pfm-env": '{%s, "film": {"width": 32, "height": 16, "spp": 2}, "integrator": {"max_depth": 4, "strategy": "bsdf"}, "environment": {"type": "map", "file": "env.pfm"}, "objects": [{"shape": "torus", "center": [0, 0, 0], "major_radius": 1, "minor_radius": 0.3, "material": "brushed-silver", "tangent": {"field": "swirl", "swirl_deg": 30}}]}' % cam,
+    "bad-key": '{%s, "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "clay", "colour": 1}]}' % cam,
+    "missing-file": '{%s, "objects": [{"shape": "mesh", "file": "nope.obj", "material": "clay"}]}' % cam,
+    "directory-as-file": '{%s, "objects": [{"shape": "mesh", "file": ".", "material": "clay"}]}' % cam,
+}
+for name, text in scenes.items():
+    put("scene", name + ".json", text)
+
+
+# --- images: selector byte = extension index (0 png, 1 hdr, 2 exr, 3 pfm, 4 jpg) | 0x80 linear ---
+def png(w, h, rows, color_type=2, bit_depth=8):
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+    raw = b"".join(b"\x00" + r for r in rows)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, bit_depth, color_type, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+rgb_png = png(2, 2, [bytes([255, 0, 0, 0, 255, 0]), bytes([0, 0, 255, 128, 128, 128])])
+grey_png = png(2, 1, [bytes([0, 200])], color_type=0)
+rgba16_png = png(1, 1, [struct.pack(">HHHH", 65535, 32768, 0, 65535)], color_type=6, bit_depth=16)
+hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n\x80\x80\x80\x81\x80\x40\x20\x82"
+pfm = b"PF\n2 1\n-1.0\n" + struct.pack("<6f", 0.5, 0.5, 0.5, 1.0, 0.0, 0.25)
+pfm_grey = b"Pf\n1 2\n-1.0\n" + struct.pack("<2f", 0.25, 4.0)
+pfm_big_endian = b"PF\n1 1\n1.0\n" + struct.pack(">3f", 1.0, 2.0, 3.0)
+pfm_nan = b"PF\n1 1\n-1.0\n" + struct.pack("<3f", float("nan"), 0, 0)
+pfm_huge_header = b"PF\n100000 100000\n-1.0\n" + struct.pack("<3f", 1, 1, 1)
+for name, sel, data in [("rgb.png", 0, rgb_png), ("grey.png", 0, grey_png), ("rgba16.png", 0, rgba16_png),
+                        ("rgb-linear.png", 0x80, rgb_png), ("two.hdr", 1, hdr), ("rgb.pfm", 3, pfm),
+                        ("grey.pfm", 3, pfm_grey), ("big-endian.pfm", 3, pfm_big_endian), ("nan.pfm", 3, pfm_nan),
+                        ("huge-header.pfm", 3, pfm_huge_header), ("png-as-jpg.jpg", 4, rgb_png),
+                        ("truncated.png", 0, rgb_png[:40])]:
+    put("image", name, bytes([sel]) + data)
+
+# --- tangent maps: selector bit 0 = PFM (else PNG), bit 1 = "xy" encoding (else "angle") --------
+angle_png = png(2, 2, [bytes([0, 0, 0, 128, 128, 128]), bytes([64, 64, 64, 255, 255, 255])])
+xy_png = png(2, 1, [bytes([255, 128, 0, 128, 255, 0])])
+xy_zero_png = png(1, 1, [bytes([128, 128, 0])])
+xy_pfm = b"PF\n2 1\n-1.0\n" + struct.pack("<6f", 1.0, 0.5, 0.0, 0.5, 1.0, 0.0)
+opposite_pfm = b"PF\n2 1\n-1.0\n" + struct.pack("<6f", 1.0, 0.5, 0.0, 0.0, 0.5, 0.0)
+for name, sel, data in [("angle.png", 0, angle_png), ("xy.png", 2, xy_png), ("xy-zero.png", 2, xy_zero_png),
+                        ("xy.pfm", 3, xy_pfm), ("opposite.pfm", 3, opposite_pfm), ("angle.pfm", 1, pfm)]:
+    put("tangent_map", name, bytes([sel]) + data)
+with open(os.path.join(os.path.dirname(ROOT), "..", "examples", "assets", "checker_tangents.png"), "rb") as f:
+    put("tangent_map", "checker-tangents.png", b"\x00" + f.read())
+
+# --- obj: selector bit 0 = UV tangents ------------------------------------------------------------
+quad = "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 1 0\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n"
+objs = {
+    "quad-uv": ("\x01", quad),
+    "quad": ("\x00", quad),
+    "positions-only": ("\x00", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    "quad-polygon": ("\x01", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\n"),
+    "negative-index": ("\x00", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n"),
+    "bad-index": ("\x00", "v 0 0 0\nf 1 2 3\n"),
+    "degenerate-uv": ("\x01", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 0 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n"),
+    "zero-normal": ("\x00", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n"),
+    "nan-vertex": ("\x00", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    "no-faces": ("\x00", "v 0 0 0\n"),
+}
+for name, (sel, text) in objs.items():
+    put("obj", name + ".obj", sel + text)
