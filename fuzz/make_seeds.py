@@ -156,3 +156,42 @@ objs = {
 }
 for name, (sel, text) in objs.items():
     put("obj", name + ".obj", sel + text)
+
+# --- samples: selector bit 0 = Cornell (else CSV) ------------------------------------------------
+csv_files = {
+    "radians.csv": "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.5,0,0.5,3.14159,0.2,0.3,0.4\n0.1,1,1.2,-2,0,0,0.01\n",
+    "degrees-any-order-weight.csv": "r,g,b,theta_o_deg,phi_o_deg,theta_i_deg,phi_i_deg,weight\n0.1,0.1,0.1,30,180,30,0,2\n",
+    "extra-column.csv": "theta_i,phi_i,theta_o,phi_o,r,g,b,note\n0.5,0,0.5,3.1,0.2,0.3,0.4,x\n",
+    "comments-blank.csv": "# measured\ntheta_i,phi_i,theta_o,phi_o,r,g,b\n\n0.5,0,0.5,3.1,0.2,0.3,0.4\n",
+    "missing-column.csv": "theta_i,phi_i,theta_o,r,g,b\n0.5,0,0.5,0.2,0.3,0.4\n",
+    "duplicate-column.csv": "theta_i,theta_i,phi_i,theta_o,phi_o,r,g,b\n0.5,0.5,0,0.5,3.1,0.2,0.3,0.4\n",
+    "nan.csv": "theta_i,phi_i,theta_o,phi_o,r,g,b\nnan,0,0.5,3.1,0.2,0.3,0.4\n",
+    "negative.csv": "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.5,0,0.5,3.1,-0.2,0.3,0.4\n",
+    "horizon.csv": "theta_i_deg,phi_i,theta_o,phi_o,r,g,b\n90,0,0.5,3.1,0.2,0.3,0.4\n",
+    "short-row.csv": "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.5,0,0.5,3.1,0.2\n",
+    "empty.csv": "",
+}
+for name, text in csv_files.items():
+    put("samples", name, "\x00" + text)
+wls = " ".join(str(400 + 10 * i) for i in range(31))
+row = "0.872665 0.000000 0.573513 0.000000 " + " ".join("0.00%d" % (1 + i % 9) for i in range(31))
+cornell_files = {
+    "valid.brdf": "# Cornell-style file\n# num wls\n31\n\n# wls\n" + wls + "\n\n" + row + "\n" + row.replace("0.573513", "1.2") + "\n",
+    "wavelength-count.brdf": "3\n400 500 600\n0.5 0 0.5 0 0.1 0.2\n",
+    "truncated-row.brdf": "31\n" + wls + "\n0.5 0 0.5 0 0.1 0.2\n",
+    "no-rows.brdf": "31\n" + wls + "\n",
+    "descending-wls.brdf": "3\n600 500 400\n0.5 0 0.5 0 0.1 0.2 0.3\n",
+    "nan.brdf": "31\n" + wls + "\n" + row.replace("0.872665", "nan") + "\n",
+}
+for name, text in cornell_files.items():
+    put("samples", name, "\x01" + text)
+
+# --- merl: a valid file is 35 MB, so the seeds are headers and short or wrong-sized bodies --------
+merl_header = struct.pack("<3i", 90, 90, 180)
+put("merl", "header-only.binary", merl_header)
+put("merl", "header-and-some-values.binary", merl_header + struct.pack("<4d", 0.5, 0.25, -1.0, 1e300))
+put("merl", "wrong-dims.binary", struct.pack("<3i", 90, 90, 360) + struct.pack("<2d", 0.1, 0.2))
+put("merl", "negative-dims.binary", struct.pack("<3i", -90, 90, 180))
+put("merl", "huge-dims.binary", struct.pack("<3i", 2**31 - 1, 2**31 - 1, 2**31 - 1))
+put("merl", "short-header.binary", b"\x5a\x00\x00\x00\x5a\x00")
+put("merl", "empty.binary", b"")

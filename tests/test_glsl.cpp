@@ -296,9 +296,11 @@ TEST_P(GlslParity, UniformBlockMatchesPlainUniforms) {
     std::vector<std::string> names;
     for (const auto& slot : block.slots) names.push_back("u_" + slot.name);
     const std::vector<int> offsets = p.member_offsets(names);
-    for (size_t i = 0; i < names.size(); ++i)
-      if (offsets[i] >= 0)  // -1: optimised away (not read by this material's code)
+    for (size_t i = 0; i < names.size(); ++i) {
+      if (offsets[i] >= 0) {  // -1: optimised away (not read by this material's code)
         EXPECT_EQ(size_t(offsets[i]), packed.offsets[i]) << "std140 offset of " << names[i];
+      }
+    }
   });
   for (size_t i = 0; i < g.wi.size(); ++i) {
     const float fa[] = {a[i].f.x, a[i].f.y, a[i].f.z, a[i].pdf, a[i].sample_wi.x, a[i].sample_wi.y, a[i].sample_wi.z,

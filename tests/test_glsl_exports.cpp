@@ -388,8 +388,9 @@ TEST(GlslExportInline, MultiLineInlineMaterial) {
   const std::string inline_json = "{\"model\": \"ward\",\n \"alpha_x\": 0.1,\n \"alpha_y\": 0.3}";
   const CliRun g = run_cli("export-glsl -m " + quote(inline_json));
   ASSERT_EQ(g.code, 0) << g.err;
-  if (!std::string(ANISO_GLSLANG).empty())
+  if (!std::string(ANISO_GLSLANG).empty()) {
     EXPECT_EQ(glslang_errors(gl::glsl_preamble(gl::GlslDialect::Core330) + g.out + "void main() {}\n", "frag", "inline"), "");
+  }
   const CliRun b = run_cli("export-brdf -m " + quote(inline_json));
   ASSERT_EQ(b.code, 0) << b.err;
   const BrdfFile f = parse_brdf(b.out);

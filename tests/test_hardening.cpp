@@ -314,8 +314,8 @@ TEST_F(Hardening, InlineMaterialVersionFresnelEtaKAndMetals) {
   EXPECT_TRUE(contains(metals.out, "gold") && contains(metals.out, "Au")) << metals.out;
   // --eta/--k with gold's own values equals --metal gold.
   const MetalData* gold = find_metal("gold");
-  const auto fmt3 = [](const glm::dvec3& v) {
-    return std::vector<std::string>{fmt::format("{:.17g}", v.x), fmt::format("{:.17g}", v.y), fmt::format("{:.17g}", v.z)};
+  const auto fmt3 = [](const glm::dvec3& c) {
+    return std::vector<std::string>{fmt::format("{:.17g}", c.x), fmt::format("{:.17g}", c.y), fmt::format("{:.17g}", c.z)};
   };
   std::vector<std::string> args = {"fresnel", "--theta-deg", "60", "--eta"};
   for (const auto& s : fmt3(gold->eta)) args.push_back(s);
