@@ -5,6 +5,7 @@
 // of it must stay finite.
 #include <fmt/format.h>
 
+#include "fuzz_render.h"
 #include "fuzz_util.h"
 #include "io/json_read.h"
 #include "io/params.h"
@@ -35,13 +36,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (const Vec3& t : m.tangents) FUZZ_CHECK(std::isfinite(t.x) && std::isfinite(t.y) && std::isfinite(t.z));
   for (const uint32_t i : m.indices) FUZZ_CHECK(i < m.positions.size());
   if (m.indices.size() / 3 > 20000) return 0;
-  scene.film.width = scene.film.height = 8;
-  scene.film.spp = 1;
-  RenderOptions ro;
-  ro.threads = 1;
-  RenderStats st;
-  const Image img = aniso::render::render(scene, ro, &st);
-  FUZZ_CHECK(st.nonfinite == 0);
-  for (const float v : img.rgb) FUZZ_CHECK(std::isfinite(v) && v >= 0.0f);
+  fuzz::check_tiny_render(scene);
   return 0;
 }

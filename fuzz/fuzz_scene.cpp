@@ -5,6 +5,7 @@
 // object's material satisfies the kernel contract (fuzz_util.h), a tangent map looks up finite
 // unit directions, and a tiny render (8 x 8 pixels, 1 sample, 3 vertices, one thread) drops no
 // NaN / Inf sample and gives a finite, non-negative image.
+#include "fuzz_render.h"
 #include "fuzz_util.h"
 #include "io/json_read.h"
 #include "io/params.h"
@@ -59,14 +60,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   // The render is the expensive part: only for scenes of the seed corpus's size.
   if (scene.objects.size() > 16 || triangles > 20000) return 0;
-  scene.film.width = scene.film.height = 8;
-  scene.film.spp = 1;
   scene.integrator.max_depth = std::min(scene.integrator.max_depth, 3);
-  RenderOptions ro;
-  ro.threads = 1;
-  RenderStats st;
-  const Image img = aniso::render::render(scene, ro, &st);
-  FUZZ_CHECK(st.nonfinite == 0);
-  for (const float v : img.rgb) FUZZ_CHECK(std::isfinite(v) && v >= 0.0f);
+  fuzz::check_tiny_render(scene);
   return 0;
 }

@@ -5,6 +5,7 @@
 // outside [0, 1] included), and a tiny render of the rectangle must stay finite.
 #include <fmt/format.h>
 
+#include "fuzz_render.h"
 #include "fuzz_util.h"
 #include "io/json_read.h"
 #include "io/params.h"
@@ -41,13 +42,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       // lookup() returns a unit direction, or 0 where opposite texels cancel (scene.h).
       FUZZ_CHECK(len == 0.0f || std::abs(len - 1.0f) < 1e-3f);
     }
-  scene.film.width = scene.film.height = 8;
-  scene.film.spp = 1;
-  RenderOptions ro;
-  ro.threads = 1;
-  RenderStats st;
-  const Image img = aniso::render::render(scene, ro, &st);
-  FUZZ_CHECK(st.nonfinite == 0);
-  for (const float v : img.rgb) FUZZ_CHECK(std::isfinite(v) && v >= 0.0f);
+  fuzz::check_tiny_render(scene);
   return 0;
 }

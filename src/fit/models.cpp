@@ -33,6 +33,44 @@ void clamp_into(std::vector<double>& x, const std::vector<ParamDef>& defs) {
   for (size_t i = 0; i < x.size(); ++i) x[i] = std::clamp(x[i], defs[i].lo, defs[i].hi);
 }
 
+// Ward and GGX share one parameter layout: kd (3), the specular colour (Ward's ks, GGX's f0; 3),
+// alpha_x and, when anisotropic, alpha_y. Their starts are the same functions of it.
+//   moment start: the peak at the mirror direction at normal incidence is spec / (4 pi alpha^2)
+//                 for both (Ward: ks N E with E = 1; GGX: D = 1 / (pi alpha^2), G2 ~ 1);
+//   preset start: the nearest material's Ward fit (kd, ks, alpha_x, alpha_y);
+//   random start: kd up to twice the data's floor albedo, a grey specular colour, log-uniform alpha.
+std::vector<double> alpha_lobe_moment_start(const DataMoments& d, bool anisotropic, const std::vector<ParamDef>& defs) {
+  std::vector<double> x(defs.size());
+  const double a = alpha_from_exponent(d.mirror_exponent);
+  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c], x[3 + c] = d.peak[c] * 4.0 * kPiD * a * a;
+  x[6] = a;
+  if (anisotropic) x[7] = a;
+  clamp_into(x, defs);
+  return x;
+}
+
+std::vector<double> alpha_lobe_preset_start(const MaterialDesc& desc, bool anisotropic, const std::vector<ParamDef>& defs) {
+  std::vector<double> x(defs.size());
+  const ParamValues& p = desc.params;
+  for (int c = 0; c < 3; ++c) x[c] = p.color("kd")[c], x[3 + c] = p.color("ks")[c];
+  x[6] = p.scalar("alpha_x");
+  if (anisotropic) x[7] = p.scalar("alpha_y");
+  clamp_into(x, defs);
+  return x;
+}
+
+std::vector<double> alpha_lobe_random_start(Rng& rng, const DataMoments& d, bool anisotropic,
+                                            const std::vector<ParamDef>& defs) {
+  std::vector<double> x(defs.size());
+  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+  const double spec = uniform(rng, 0.01, 1.0);
+  for (int c = 0; c < 3; ++c) x[3 + c] = spec;
+  x[6] = log_uniform(rng, 0.02, 0.6);
+  if (anisotropic) x[7] = log_uniform(rng, 0.02, 0.6);
+  clamp_into(x, defs);
+  return x;
+}
+
 }  // namespace
 
 ParamDef table_def(const ModelSpec& s, std::string_view key, std::string name) {
@@ -146,34 +184,15 @@ Json WardFit::to_json(const double* x) const {
 
 // ks from the peak: at the mirror direction at normal incidence the lobe is ks / (4 pi alpha^2).
 std::vector<double> WardFit::moment_start(const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  const double a = alpha_from_exponent(d.mirror_exponent);
-  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c], x[3 + c] = d.peak[c] * 4.0 * kPiD * a * a;
-  x[6] = a;
-  if (anisotropic_) x[7] = a;
-  clamp_into(x, defs);
-  return x;
+  return alpha_lobe_moment_start(d, anisotropic_, defs);
 }
 
 std::optional<std::vector<double>> WardFit::from_preset(const MaterialDesc& desc, const DataMoments&) const {
-  std::vector<double> x(defs.size());
-  const ParamValues& p = desc.params;
-  for (int c = 0; c < 3; ++c) x[c] = p.color("kd")[c], x[3 + c] = p.color("ks")[c];
-  x[6] = p.scalar("alpha_x");
-  if (anisotropic_) x[7] = p.scalar("alpha_y");
-  clamp_into(x, defs);
-  return x;
+  return alpha_lobe_preset_start(desc, anisotropic_, defs);
 }
 
 std::vector<double> WardFit::random_start(Rng& rng, const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
-  const double ks = uniform(rng, 0.01, 1.0);
-  for (int c = 0; c < 3; ++c) x[3 + c] = ks;
-  x[6] = log_uniform(rng, 0.02, 0.6);
-  if (anisotropic_) x[7] = log_uniform(rng, 0.02, 0.6);
-  clamp_into(x, defs);
-  return x;
+  return alpha_lobe_random_start(rng, d, anisotropic_, defs);
 }
 
 // --- Ashikhmin-Shirley ------------------------------------------------------------------------
@@ -245,35 +264,16 @@ Json GGXFit::to_json(const double* x) const {
 
 // At normal incidence the specular peak is f0 / (4 pi alpha^2) (D = 1 / (pi alpha^2), G2 ~ 1).
 std::vector<double> GGXFit::moment_start(const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  const double a = alpha_from_exponent(d.mirror_exponent);
-  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c], x[3 + c] = d.peak[c] * 4.0 * kPiD * a * a;
-  x[6] = a;
-  if (anisotropic_) x[7] = a;
-  clamp_into(x, defs);
-  return x;
+  return alpha_lobe_moment_start(d, anisotropic_, defs);
 }
 
 // The nearest material's Ward fit: its kd, its ks as f0, its roughness as alpha.
 std::optional<std::vector<double>> GGXFit::from_preset(const MaterialDesc& desc, const DataMoments&) const {
-  std::vector<double> x(defs.size());
-  const ParamValues& p = desc.params;
-  for (int c = 0; c < 3; ++c) x[c] = p.color("kd")[c], x[3 + c] = p.color("ks")[c];
-  x[6] = p.scalar("alpha_x");
-  if (anisotropic_) x[7] = p.scalar("alpha_y");
-  clamp_into(x, defs);
-  return x;
+  return alpha_lobe_preset_start(desc, anisotropic_, defs);
 }
 
 std::vector<double> GGXFit::random_start(Rng& rng, const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
-  const double f0 = uniform(rng, 0.01, 1.0);
-  for (int c = 0; c < 3; ++c) x[3 + c] = f0;
-  x[6] = log_uniform(rng, 0.02, 0.6);
-  if (anisotropic_) x[7] = log_uniform(rng, 0.02, 0.6);
-  clamp_into(x, defs);
-  return x;
+  return alpha_lobe_random_start(rng, d, anisotropic_, defs);
 }
 
 // --- Metal -------------------------------------------------------------------------------------
