@@ -329,6 +329,17 @@ TEST_F(Hardening, InlineMaterialVersionFresnelEtaKAndMetals) {
   EXPECT_TRUE(contains(wrong.err, "did you mean \"gold\"")) << wrong.err;
 }
 
+// fuzz_eval_line: phi * pi / 180 overflowed to inf for |phi| above 5.7e307 degrees (NaN, exit 0);
+// phi is reduced modulo 360 first, so a huge phi is the direction of its remainder.
+TEST_F(Hardening, EvalAnglesHugePhiIsReducedNotNaN) {
+  const Result huge = run({"eval", "-m", "gold", "--angles"}, "30 1e300 30 -1e308\n");
+  EXPECT_EQ(huge.code, 0) << huge.err;
+  EXPECT_EQ(huge.out.find("nan"), std::string::npos) << huge.out;
+  const Result reduced = run({"eval", "-m", "gold", "--angles"},
+                             fmt::format("30 {:.17g} 30 {:.17g}\n", std::fmod(1e300, 360.0), std::fmod(-1e308, 360.0)));
+  EXPECT_EQ(huge.out, reduced.out);
+}
+
 TEST_F(Hardening, EvalAnglesEqualsVectors) {
   const Result a = run({"eval", "-m", "brushed-gold", "--angles"}, "30 0 45 180\n");
   const double t = M_PI / 6, o = M_PI / 4;
