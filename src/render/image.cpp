@@ -179,6 +179,15 @@ Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, c
   if (!stbi_info_from_memory(bytes, len, &w, &h, &comp))
     input_error(where, path, fmt::format("corrupt or unsupported image ({})", stbi_failure_reason()));
   check_size(w, h, where, path);
+  // stb_image allocates the whole image from the header before decoding a byte of it, so a tiny
+  // file claiming 2^28 pixels allocated gigabytes (found by fuzz_tangent_map: 397 bytes, a 2 GB
+  // malloc). No file of these formats holds more pixels than its compression allows: deflate
+  // expands at most 1032:1 (zlib's technical details) and a 1-bit PNG packs 8 pixels a byte, so
+  // PNG holds at most 8256 pixels per byte; Radiance RLE and JPEG expand far less. 8256 per byte
+  // plus a million pixels of slack rejects only files that cannot be valid.
+  constexpr int64_t kMaxPixelsPerByte = 8256, kPixelSlack = int64_t(1) << 20;
+  if (int64_t(w) * h > kMaxPixelsPerByte * int64_t(len) + kPixelSlack)
+    input_error(where, path, fmt::format("the header claims {} x {} pixels, more than a file of {} bytes can hold", w, h, len));
 
   Image img;
   auto fail = [&] { input_error(where, path, fmt::format("corrupt or truncated image ({})", stbi_failure_reason())); };
