@@ -172,6 +172,19 @@ Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, c
   static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (ext == ".png" && (data.size() < 8 || std::memcmp(bytes, kPng, 8) != 0))
     input_error(where, path, "not a PNG file (no PNG signature)");
+  // stb_image reserves a PNG chunk's stated length before reading it, so a 405-byte file whose IDAT
+  // header claimed 2 GB allocated 2 GB (found by fuzz_tangent_map). Every chunk (4-byte length,
+  // 4-byte type, data, 4-byte CRC; PNG spec 5.3) must fit in the file.
+  if (ext == ".png") {
+    for (size_t off = 8; off + 8 <= data.size();) {
+      const uint32_t n = uint32_t(bytes[off]) << 24 | uint32_t(bytes[off + 1]) << 16 | uint32_t(bytes[off + 2]) << 8 |
+                         uint32_t(bytes[off + 3]);
+      if (size_t(n) > data.size() - off - 8)
+        input_error(where, path, fmt::format("corrupt PNG: the chunk at byte {} claims {} bytes, past the end of the file ({} bytes)",
+                                             off, n, data.size()));
+      off += 12 + size_t(n);
+    }
+  }
   if ((ext == ".jpg" || ext == ".jpeg") && (data.size() < 3 || bytes[0] != 0xFF || bytes[1] != 0xD8 || bytes[2] != 0xFF))
     input_error(where, path, "not a JPEG file (no JPEG signature)");
   // stbi_loadf applies a 2.2 gamma to 8-bit files; a .hdr must really be Radiance RGBE (linear).
