@@ -123,7 +123,9 @@ float SceneGeometry::bounding_radius() const {
   return 0.5f * glm::length(d);
 }
 
-float SceneGeometry::closest_distance(const Ray& ray, float tmax) const {
+// One Embree closest-hit query of ray over [0, tmax] (rtcIntersect1); geomID is
+// RTC_INVALID_GEOMETRY_ID when nothing is hit, else tfar is the hit distance.
+static RTCRayHit closest_hit(RTCScene scene, const Ray& ray, float tmax) {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
@@ -136,24 +138,17 @@ float SceneGeometry::closest_distance(const Ray& ray, float tmax) const {
   rh.ray.time = 0.0f;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &ctx, &rh);
+  rtcIntersect1(scene, &ctx, &rh);
+  return rh;
+}
+
+float SceneGeometry::closest_distance(const Ray& ray, float tmax) const {
+  const RTCRayHit rh = closest_hit(impl_->scene, ray, tmax);
   return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar;
 }
 
 bool SceneGeometry::intersect(const Ray& ray, float tmax, SurfaceHit* hit) const {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  RTCRayHit rh;
-  rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
-  rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
-  rh.ray.tnear = 0.0f;
-  rh.ray.tfar = tmax;
-  rh.ray.mask = ~0u;
-  rh.ray.flags = 0;
-  rh.ray.time = 0.0f;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &ctx, &rh);
+  const RTCRayHit rh = closest_hit(impl_->scene, ray, tmax);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   const unsigned g = rh.hit.geomID;
   if (g >= impl_->num_objects) {
