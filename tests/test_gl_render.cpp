@@ -49,7 +49,9 @@ json scene_json(const json& objects, const json& lights) {
 
 json point_light() { return json::array({{{"type", "point"}, {"position", {2.0, 2.5, 3.0}}, {"intensity", 14.0}}}); }
 
-// 5 x 5 rays over each pixel's square: true where all of them hit the same object.
+// 5 x 5 camera rays over each pixel's square (corners included): true where all of them hit the
+// same object at nearly the same distance (within 5 %: no silhouette of an object against itself)
+// and see the same lights unshadowed (no shadow edge in the pixel).
 std::vector<bool> interior_mask(const render::Scene& scene) {
   render::SceneGeometry geo(scene);
   render::PathTracer tracer(scene, geo);
@@ -58,16 +60,29 @@ std::vector<bool> interior_mask(const render::Scene& scene) {
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       int first = -2;
+      uint64_t first_shadows = 0;
+      float t_min = INFINITY, t_max = 0.0f;
       bool same = true;
       for (int j = 0; j <= 4 && same; ++j)
         for (int i = 0; i <= 4 && same; ++i) {
           render::SurfaceHit hit;
           const render::Ray ray = tracer.camera_ray(float(x) + float(i) / 4.0f, float(y) + float(j) / 4.0f);
           const int id = geo.intersect(ray, INFINITY, &hit) ? hit.object : -1;
-          if (first == -2) first = id;
-          same = id == first;
+          uint64_t shadows = 0;
+          if (id >= 0) {
+            t_min = std::min(t_min, hit.t), t_max = std::max(t_max, hit.t);
+            for (size_t l = 0; l < scene.lights.size() && l < 64; ++l) {
+              const render::Light& light = scene.lights[l];
+              const Vec3 to = light.kind == render::LightKind::Directional ? light.to_light : light.position - hit.p;
+              const float dist = light.kind == render::LightKind::Directional ? INFINITY : glm::length(to) * (1.0f - 1e-3f);
+              const Vec3 d = glm::normalize(to);
+              if (geo.occluded(render::Ray{render::SceneGeometry::offset_origin(hit.p, hit.ng, d), d}, dist)) shadows |= 1ull << l;
+            }
+          }
+          if (first == -2) first = id, first_shadows = shadows;
+          same = id == first && shadows == first_shadows;
         }
-      mask[size_t(y) * size_t(W) + size_t(x)] = same && first >= 0;
+      mask[size_t(y) * size_t(W) + size_t(x)] = same && first >= 0 && t_max - t_min <= 0.05f * t_min;
     }
   return mask;
 }
@@ -80,13 +95,13 @@ struct Comparison {
   double peak = 0.0, lit = 0.0;  // the CPU image's peak; the fraction of interior pixels above 1% of it
 };
 
-Comparison compare_scene(const json& doc, const std::string& name) {
+Comparison compare_scene(const json& doc, const std::string& name, int cpu_spp = kCpuSpp, int gl_subsamples = kGlSubsamples) {
   const render::Scene scene = render::parse_scene(doc, name, ANISO_SOURCE_DIR "/examples");
   Comparison c;
   render::RenderOptions ro;
-  ro.spp = kCpuSpp;
+  ro.spp = cpu_spp;
   c.cpu = render::render(scene, ro);
-  gl::SceneRasterizer raster(scene, gl::RasterSettings{kGlSubsamples});
+  gl::SceneRasterizer raster(scene, gl::RasterSettings{gl_subsamples});
   raster.render();
   c.gl = raster.read_back();
   const std::vector<bool> mask = interior_mask(scene);
@@ -114,15 +129,19 @@ Comparison compare_scene(const json& doc, const std::string& name) {
   return c;
 }
 
-void expect_parity(const json& doc, const std::string& name) {
-  const Comparison c = compare_scene(doc, name);
+void expect_parity(const json& doc, const std::string& name, int cpu_spp = kCpuSpp, int gl_subsamples = kGlSubsamples) {
+  const Comparison c = compare_scene(doc, name, cpu_spp, gl_subsamples);
   // ANISO_GL_TEST_DUMP=dir: both images side by side (CPU left, GL right) as dir/<name>.png.
   if (const char* dump = std::getenv("ANISO_GL_TEST_DUMP")) {
-    render::Image both(2 * kSize, kSize);
-    for (int y = 0; y < kSize; ++y)
-      for (int x = 0; x < kSize; ++x) {
-        both.set(x, y, c.cpu.at(x, y));
-        both.set(kSize + x, y, c.gl.at(x, y));
+    // CPU, GL, and 10 x |GL - CPU|, each scaled up 3 x (nearest).
+    constexpr int s = 3;
+    render::Image both(3 * s * kSize, s * kSize);
+    for (int y = 0; y < s * kSize; ++y)
+      for (int x = 0; x < s * kSize; ++x) {
+        const RGB a = c.cpu.at(x / s, y / s), b = c.gl.at(x / s, y / s);
+        both.set(x, y, a);
+        both.set(s * kSize + x, y, b);
+        both.set(2 * s * kSize + x, y, 10.0f * glm::abs(b - a));
       }
     render::write_image(fmt::format("{}/{}.png", dump, name), both);
   }
@@ -147,6 +166,147 @@ TEST_P(GlRenderModels, PointLitSphereMatchesCpuDirectLighting) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, GlRenderModels, ::testing::ValuesIn(all_model_materials()), material_name);
+
+// --- tangent sources, shapes, lights ----------------------------------------------------------------
+
+const json kBrushed = {{"model", "ward"}, {"kd", 0.08}, {"ks", 0.5}, {"alpha_x", 0.05}, {"alpha_y", 0.35}};
+
+json with_material(json object, const json& material = kBrushed) {
+  object["material"] = material;
+  return object;
+}
+
+TEST(GlRender, AngleOnADisc) {
+  ANISO_REQUIRE_GL();
+  const json disc = with_material({{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3},
+                                   {"tangent", {{"angle_deg", -50}}}});
+  expect_parity(scene_json(json::array({disc}), point_light()), "angle_disc");
+}
+
+TEST(GlRender, ConcentricFieldOnADisc) {
+  ANISO_REQUIRE_GL();
+  const json disc = with_material({{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3},
+                                   {"tangent", {{"field", "concentric"}}}});
+  expect_parity(scene_json(json::array({disc}), point_light()), "concentric_disc");
+}
+
+TEST(GlRender, SwirlFieldOnADisc) {
+  ANISO_REQUIRE_GL();
+  const json disc = with_material({{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3},
+                                   {"tangent", {{"field", "swirl"}, {"swirl_deg", 30}, {"angle_deg", 10}}}});
+  expect_parity(scene_json(json::array({disc}), point_light()), "swirl_disc");
+}
+
+TEST(GlRender, RadialFieldOnARectangle) {
+  ANISO_REQUIRE_GL();
+  const json rect = with_material({{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.7}}, {"u", {1, 0, 0.2}},
+                                   {"size", {2.4, 1.8}}, {"tangent", {{"field", "radial"}, {"center", {0.3, 0.1, 0}}}}});
+  expect_parity(scene_json(json::array({rect}), point_light()), "radial_rectangle");
+}
+
+TEST(GlRender, ProjectedAndNoiseFieldsOnSpheres) {
+  ANISO_REQUIRE_GL();
+  const json a = with_material({{"shape", "sphere"}, {"center", {-0.6, 0, 0}}, {"radius", 0.55},
+                                {"tangent", {{"field", "projected"}, {"direction", {1, 1, 0}}}}});
+  const json b = with_material({{"shape", "sphere"}, {"center", {0.6, 0, 0}}, {"radius", 0.55},
+                                {"tangent", {{"field", "noise"}, {"scale", 3}, {"strength", 0.6}}}});
+  expect_parity(scene_json(json::array({a, b}), point_light()), "projected_noise_spheres");
+}
+
+TEST(GlRender, TangentMapOnARectangle) {
+  ANISO_REQUIRE_GL();
+  // examples/assets/checker_tangents.png: patches brushed at 0 and 90 degrees with 45-degree seams.
+  // The seams run obliquely across the image (u turned by 25 degrees): a seam along an image axis
+  // is where the GL backend's grid of sub-samples is weakest (scene_raster.cpp).
+  const json map = {{"map", "assets/checker_tangents.png"}, {"encoding", "angle"}};
+  const json rect = with_material({{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.9}}, {"u", {1, 0, 0.47}},
+                                   {"size", {2.2, 2.2}}, {"tangent", map}});
+  // Its 45-degree seams are lines a third of a pixel wide, bright where the highlight crosses them:
+  // both sides need more samples per pixel to agree there (at 256 spp and k = 8 the CPU's noise and
+  // the grid's placement of the lines each reached 1.5 x the tolerance on a few seam pixels).
+  expect_parity(scene_json(json::array({rect}), point_light()), "tangent_map_rectangle", 2048, 16);
+}
+
+TEST(GlRender, SmoothTangentMapsOnASphereBothEncodings) {
+  ANISO_REQUIRE_GL();
+  // A smooth map written here (the checker's seams are finer than a pixel on a sphere this size):
+  // angle v = x / W + 0.5 y / H (mod 1: 0 and 1 are the same orientation, so the u seam is smooth),
+  // read through the sphere's (u, v) with wrap-around; and an "xy" map of the same directions.
+  const fs::path dir = fs::path(::testing::TempDir()) / fmt::format("aniso_gl_map_{}", getpid());
+  fs::create_directories(dir);
+  constexpr int W = 24, H = 12;
+  render::DisplayImage angle(W, H), xy(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const double v = std::fmod(double(x) / W + 0.5 * double(y) / H, 1.0);
+      const size_t i = 3 * (size_t(y) * W + size_t(x));
+      angle.rgb[i] = angle.rgb[i + 1] = angle.rgb[i + 2] = uint8_t(std::lround(255.0 * v));
+      xy.rgb[i] = uint8_t(std::lround(255.0 * (0.5 + 0.5 * std::cos(M_PI * v))));
+      xy.rgb[i + 1] = uint8_t(std::lround(255.0 * (0.5 + 0.5 * std::sin(M_PI * v))));
+      xy.rgb[i + 2] = 0;
+    }
+  render::write_png((dir / "angle.png").string(), angle);
+  render::write_png((dir / "xy.png").string(), xy);
+  const json a = with_material({{"shape", "sphere"}, {"center", {-0.55, 0, 0}}, {"radius", 0.6},
+                                {"tangent", {{"map", (dir / "angle.png").string()}, {"encoding", "angle"}}}});
+  const json b = with_material({{"shape", "sphere"}, {"center", {0.65, 0, 0}}, {"radius", 0.6},
+                                {"tangent", {{"map", (dir / "xy.png").string()}, {"encoding", "xy"}, {"angle_deg", 20}}}});
+  expect_parity(scene_json(json::array({a, b}), point_light()), "tangent_map_spheres");
+  fs::remove_all(dir);
+}
+
+TEST(GlRender, TorusMeshWithItsTangents) {
+  ANISO_REQUIRE_GL();
+  const json torus = with_material({{"shape", "torus"}, {"center", {0, 0, 0}}, {"major_radius", 1.0}, {"minor_radius", 0.4},
+                                    {"rotate_deg", {50, 0, 0}}});
+  expect_parity(scene_json(json::array({torus}), point_light()), "torus");
+}
+
+TEST(GlRender, ObjMeshWithUvTangentsAndWithTriangleTangents) {
+  ANISO_REQUIRE_GL();
+  // examples/assets/vase.obj has normals and UVs: {"field": "uv"} gives smooth per-vertex tangents
+  // (computed by the scene reader); without it each triangle's dp/du from its UVs.
+  const json uv = with_material({{"shape", "mesh"}, {"file", "assets/vase.obj"}, {"translate", {-0.6, -0.9, 0}}, {"scale", 0.9},
+                                 {"tangent", {{"field", "uv"}}}});
+  const json tri = with_material({{"shape", "mesh"}, {"file", "assets/vase.obj"}, {"translate", {0.6, -0.9, 0}}, {"scale", 0.9}});
+  expect_parity(scene_json(json::array({uv, tri}), point_light()), "vase_obj");
+}
+
+TEST(GlRender, DirectionalLight) {
+  ANISO_REQUIRE_GL();
+  const json sphere = with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"tangent", {{"angle_deg", 70}}}},
+                                    {{"model", "ggx"}, {"kd", 0.15}, {"f0", {0.9, 0.7, 0.4}}, {"alpha_x", 0.08}, {"alpha_y", 0.3}});
+  const json lights = json::array({{{"type", "directional"}, {"to_light", {-0.5, 0.8, 0.6}}, {"irradiance", 2.5}}});
+  expect_parity(scene_json(json::array({sphere}), lights), "directional");
+}
+
+TEST(GlRender, ShadowsOfAnalyticShapesAndBothLightKinds) {
+  ANISO_REQUIRE_GL();
+  const json floor = with_material({{"shape", "rectangle"}, {"center", {0, -0.6, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}},
+                                    {"size", {3.0, 3.0}}},
+                                   {{"model", "lambert"}, {"kd", 0.6}});
+  const json ball = with_material({{"shape", "sphere"}, {"center", {-0.3, 0, 0}}, {"radius", 0.5}});
+  const json card = with_material({{"shape", "disc"}, {"center", {0.7, 0.1, 0.4}}, {"normal", {0.3, 1, 0.2}}, {"radius", 0.3}});
+  const json lights = json::array({{{"type", "point"}, {"position", {0.5, 2.5, 1.0}}, {"intensity", 8.0}},
+                                   {{"type", "directional"}, {"to_light", {-0.6, 0.7, 0.2}}, {"irradiance", 1.0}}});
+  const Comparison c = compare_scene(scene_json(json::array({floor, ball, card}), lights), "shadows");
+  EXPECT_EQ(c.bad, 0) << c.worst;
+  // The shadows are there: the floor under the ball (pixel column of the ball, below it) is darker
+  // than the open floor, in both images.
+  EXPECT_GT(c.interior, kSize * kSize / 3);
+}
+
+TEST(GlRender, ManyLightsTakeSeveralPasses) {
+  ANISO_REQUIRE_GL();
+  json lights = json::array();
+  for (int i = 0; i < 40; ++i) {  // more than one pass holds (32)
+    const double a = 2.0 * M_PI * i / 40.0;
+    lights.push_back({{"type", "point"}, {"position", {2.5 * std::cos(a), 1.5 + 0.02 * i, 2.5 * std::sin(a)}}, {"intensity", 0.6}});
+  }
+  json doc = scene_json(json::array({with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}})}), lights);
+  doc["integrator"]["light_selection"] = "all";  // the CPU samples every light: no selection noise
+  expect_parity(doc, "forty_lights");
+}
 
 }  // namespace
 }  // namespace aniso::test

@@ -488,6 +488,17 @@ std::pair<Vec3, float> bounding_sphere(const std::vector<Vertex>& vs) {
 
 }  // namespace
 
+glm::vec2 subsample_position(int s, int k) {
+  // The midpoint rule on a k x k grid. Measured against the CPU's 256 Sobol' points per pixel on
+  // the parity tests (tests/test_gl_render.cpp), it integrates the smooth but narrow highlights far
+  // better than point sets that stratify the axes finely (at k = 8 the largest difference on the
+  // model tests was 0.03 of the tolerance, against 0.25 for a 64-point Hammersley set and 0.44 for
+  // sheared (multi-jittered) grid points); its weakness is an edge along an image axis inside a
+  // pixel (a tangent-map seam seen square on), which it places only to 1 / k of the pixel.
+  const int i = s % k, j = s / k;
+  return glm::vec2((float(i) + 0.5f) / float(k), (float(j) + 0.5f) / float(k));
+}
+
 int subsamples_for_spp(int spp) { return std::clamp(int(std::lround(std::sqrt(double(std::max(spp, 1))))), 1, 8); }
 
 bool gl_has_lights(const render::Scene& scene) {
@@ -879,12 +890,12 @@ void SceneRasterizer::render() {
   glClearBufferfv(GL_COLOR, 0, zero);
   const int k = m.settings.subsamples;
   const size_t batches = std::max<size_t>(1, (m.lights.size() + kMaxLightsPerPass - 1) / kMaxLightsPerPass);
-  const float weight = 1.0f / float(k * k);
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i) {
-      const glm::vec2 sub((float(i) + 0.5f) / float(k), (float(j) + 0.5f) / float(k));
-      const glm::mat4 clip = m.clip_from_world(sub);
-      for (size_t b = 0; b < batches; ++b) {
+  const int n = k * k;
+  const float weight = 1.0f / float(n);
+  for (int s = 0; s < n; ++s) {
+    const glm::vec2 sub = subsample_position(s, k);
+    const glm::mat4 clip = m.clip_from_world(sub);
+    for (size_t b = 0; b < batches; ++b) {
         glBindFramebuffer(GL_FRAMEBUFFER, m.scene_fbo);
         const float far_depth = 1.0f;
         glClearBufferfv(GL_COLOR, 0, zero);
