@@ -499,6 +499,26 @@ glm::vec2 subsample_position(int s, int k) {
   return glm::vec2((float(i) + 0.5f) / float(k), (float(j) + 0.5f) / float(k));
 }
 
+namespace {
+GlslMaterial object_glsl(const render::Scene& scene, size_t i, const MaterialDesc& desc) {
+  const render::Object& o = scene.objects[i];
+  try {
+    return glsl_material(desc, GlslStorage::Uniform, kMaterialPrefix);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: objects[{}] (material \"{}\"): the GL backend cannot shade it: {}", scene.source, i,
+                                 o.material_name, e.what()));
+  }
+}
+}  // namespace
+
+void check_gl_materials(const render::Scene& scene) {
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    if (!scene.objects[i].material_desc)
+      throw InputError(fmt::format("{}: objects[{}]: no material description (render::Object::material_desc)", scene.source, i));
+    object_glsl(scene, i, *scene.objects[i].material_desc);
+  }
+}
+
 int subsamples_for_spp(int spp) { return std::clamp(int(std::lround(std::sqrt(double(std::max(spp, 1))))), 1, 8); }
 
 bool gl_has_lights(const render::Scene& scene) {
@@ -629,15 +649,7 @@ struct SceneRasterizer::Impl {
     }
   }
 
-  GlslMaterial material_glsl(size_t i, const MaterialDesc& desc) const {
-    const render::Object& o = scene.objects[i];
-    try {
-      return glsl_material(desc, GlslStorage::Uniform, kMaterialPrefix);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: objects[{}] (material \"{}\"): the GL backend cannot shade it: {}", scene.source, i,
-                                   o.material_name, e.what()));
-    }
-  }
+  GlslMaterial material_glsl(size_t i, const MaterialDesc& desc) const { return object_glsl(scene, i, desc); }
 
   void draw_pass(const glm::mat4& clip_from_world, const glm::vec2& sub, size_t light_begin, size_t light_end, float alpha) {
     const render::Camera& c = scene.camera;
@@ -747,13 +759,9 @@ SceneRasterizer::SceneRasterizer(const render::Scene& scene, RasterSettings sett
   m.height = scene.film.height;
   set_lights(scene.lights);
   // Materials first: an object without a GLSL twin is an input error before anything is uploaded.
+  check_gl_materials(scene);
   std::vector<GlslMaterial> materials;
-  for (size_t i = 0; i < scene.objects.size(); ++i) {
-    const render::Object& o = scene.objects[i];
-    if (!o.material_desc)
-      throw InputError(fmt::format("{}: objects[{}]: no material description (render::Object::material_desc)", scene.source, i));
-    materials.push_back(m.material_glsl(i, *o.material_desc));
-  }
+  for (size_t i = 0; i < scene.objects.size(); ++i) materials.push_back(m.material_glsl(i, *scene.objects[i].material_desc));
   glGenTextures(1, &m.occluders);
   glBindTexture(GL_TEXTURE_2D, m.occluders);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);

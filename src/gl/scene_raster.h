@@ -64,6 +64,9 @@ int subsamples_for_spp(int spp);
 // What the GL backend leaves out of `scene`, one sentence each (sphere lights, the environment,
 // indirect light when max_depth > 1): `aniso render --backend gl` prints them as warnings.
 std::vector<std::string> gl_unsupported(const render::Scene& scene);
+// Throws the InputError SceneRasterizer's constructor would for a material without a GLSL twin,
+// without needing a GL context (the CLI checks before it opens one).
+void check_gl_materials(const render::Scene& scene);
 // Whether the scene has a point or directional light with non-zero power (else the GL render is black).
 bool gl_has_lights(const render::Scene& scene);
 
