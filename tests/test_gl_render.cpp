@@ -12,8 +12,12 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <epoxy/gl.h>
+
+#include "cli_fixture.h"
 #include "gl/scene_raster.h"
 #include "glsl_util.h"
+#include "measured/merl.h"
 #include "render/geometry.h"
 #include "render/integrator.h"
 #include "test_util.h"
@@ -306,6 +310,203 @@ TEST(GlRender, ManyLightsTakeSeveralPasses) {
   json doc = scene_json(json::array({with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}})}), lights);
   doc["integrator"]["light_selection"] = "all";  // the CPU samples every light: no selection noise
   expect_parity(doc, "forty_lights");
+}
+
+// --- the rasteriser's API: what the explorer changes per frame -----------------------------------
+
+render::Scene sphere_scene(const json& material) {
+  const json objects = json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", material}}});
+  json doc = scene_json(objects, point_light());
+  doc["film"] = {{"width", 32}, {"height", 24}, {"spp", 16}};
+  return render::parse_scene(doc, "api test", "");
+}
+
+render::Image gl_image(const render::Scene& scene) {
+  gl::SceneRasterizer r(scene, gl::RasterSettings{2});
+  r.render();
+  return r.read_back();
+}
+
+TEST(GlRasterizer, SameStructureMaterialChangesAreUniformsOnlyAndEqualAFreshBuild) {
+  ANISO_REQUIRE_GL();
+  const json a = {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};
+  const json b = {{"model", "ward"}, {"kd", 0.3}, {"ks", 0.2}, {"alpha_x", 0.2}, {"alpha_y", 0.1}, {"form", "angle"},
+                  {"normalization", "duer"}};
+  render::Scene scene = sphere_scene(a);
+  gl::SceneRasterizer r(scene, gl::RasterSettings{2});
+  EXPECT_EQ(r.program_count(), 1u);
+  r.set_material(0, parse_material(b, "b"));
+  EXPECT_EQ(r.program_count(), 1u) << "Ward's parameters, form and normalisation are uniforms: no new program";
+  r.render();
+  const render::Image changed = r.read_back();
+  EXPECT_EQ(changed.rgb, gl_image(sphere_scene(b)).rgb) << "set_material gives the image of a rasteriser built with it";
+  EXPECT_NE(changed.rgb, gl_image(scene).rgb);
+  // Another structure (a Lafortune material with two lobes) compiles once, then comes from the cache.
+  const json l2 = {{"model", "lafortune"},
+                   {"lobes", json::array({{{"cxy", -1.0}, {"cz", 1.0}, {"n", 20.0}}, {{"cxy", 0.5}, {"cz", 0.5}, {"n", 3.0}}})}};
+  r.set_material(0, parse_material(l2, "l2"));
+  EXPECT_EQ(r.program_count(), 2u);
+  r.set_material(0, parse_material(a, "a"));
+  r.set_material(0, parse_material(l2, "l2"));
+  EXPECT_EQ(r.program_count(), 2u);
+  r.render();
+  EXPECT_EQ(r.read_back().rgb, gl_image(sphere_scene(l2)).rgb);
+}
+
+TEST(GlRasterizer, CameraLightsTangentAndSizeChangesEqualAFreshBuild) {
+  ANISO_REQUIRE_GL();
+  const json m = {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};
+  const render::Scene base = sphere_scene(m);
+  gl::SceneRasterizer r(base, gl::RasterSettings{2});
+  render::Scene changed = base;
+  changed.camera.position = Vec3(1.0f, 1.5f, 3.0f);
+  changed.camera.fov_deg = 30.0f;
+  changed.lights[0].position = Vec3(-2.0f, 1.0f, 2.0f);
+  changed.lights.push_back(render::Light{render::LightKind::Directional, Vec3(0.0f), glm::normalize(Vec3(0, 1, 1)), RGB(0.5f), 0.0f});
+  changed.objects[0].tangent.field.kind = TangentFieldKind::Projected;
+  changed.objects[0].tangent.field.direction = Vec3(0, 1, 0);
+  changed.objects[0].tangent.field.angle = 0.3f;
+  changed.film.width = 40;
+  changed.film.height = 20;
+  r.set_camera(changed.camera);
+  r.set_lights(changed.lights);
+  r.set_tangent_field(0, changed.objects[0].tangent.field);
+  r.set_size(40, 20);
+  EXPECT_EQ(r.program_count(), 1u);
+  r.render();
+  const render::Image img = r.read_back();
+  EXPECT_EQ(img.width, 40);
+  EXPECT_EQ(img.height, 20);
+  EXPECT_EQ(img.rgb, gl_image(changed).rgb);
+}
+
+TEST(GlRasterizer, CoverageIsTheFractionOfSubSamplesOnASurface) {
+  ANISO_REQUIRE_GL();
+  gl::SceneRasterizer r(sphere_scene({{"model", "lambert"}, {"kd", 0.5}}), gl::RasterSettings{4});
+  r.render();
+  const std::vector<float> cov = r.read_coverage();
+  ASSERT_EQ(cov.size(), 32u * 24u);
+  EXPECT_EQ(cov[0], 0.0f);                 // a corner: background
+  EXPECT_EQ(cov[12 * 32 + 16], 1.0f);      // the centre: the sphere
+  int partial = 0;
+  for (float c : cov) {
+    EXPECT_TRUE(c == 0.0f || c == 1.0f || (c > 0.0f && c < 1.0f && std::fabs(c * 16.0f - std::round(c * 16.0f)) < 1e-4f));
+    partial += c > 0.0f && c < 1.0f ? 1 : 0;
+  }
+  EXPECT_GT(partial, 10) << "the silhouette's pixels are partly covered";
+}
+
+TEST(GlRasterizer, RenderRestoresTheCallersFramebufferAndViewport) {
+  ANISO_REQUIRE_GL();
+  gl::SceneRasterizer r(sphere_scene({{"model", "lambert"}, {"kd", 0.5}}), gl::RasterSettings{1});
+  GLuint fbo = 0;
+  glGenFramebuffers(1, &fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(3, 4, 50, 60);
+  r.render();
+  GLint bound = 0, vp[4];
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+  glGetIntegerv(GL_VIEWPORT, vp);
+  EXPECT_EQ(GLuint(bound), fbo);
+  EXPECT_EQ(vp[0], 3);
+  EXPECT_EQ(vp[1], 4);
+  EXPECT_EQ(vp[2], 50);
+  EXPECT_EQ(vp[3], 60);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDeleteFramebuffers(1, &fbo);
+  EXPECT_NE(r.color_texture(), 0u);
+  EXPECT_NE(r.framebuffer(), 0u);
+}
+
+// A small MERL table (a Lambert BRDF tabulated): the GL backend has no GLSL form for it.
+std::string write_lambert_merl(const fs::path& dir) {
+  const std::string path = (dir / "lambert.binary").string();
+  write_merl(path, tabulate_merl(build<double>({{"model", "lambert"}, {"kd", 0.5}})));
+  return path;
+}
+
+TEST(GlRasterizer, AMeasuredMaterialIsAnInputErrorNamingTheObject) {
+  // No GL needed: check_gl_materials is what the constructor and the CLI call first.
+  const fs::path dir = fs::path(::testing::TempDir()) / fmt::format("aniso_gl_merl_{}", getpid());
+  fs::create_directories(dir);
+  const std::string merl = write_lambert_merl(dir);
+  const json objects = json::array({{{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}}, {"radius", 1}, {"material", "clay"}},
+                                    {{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", merl}}});
+  const render::Scene scene = render::parse_scene(scene_json(objects, point_light()), "merl.json", "");
+  try {
+    gl::check_gl_materials(scene);
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("merl.json: objects[1]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("has no GLSL form"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+// --- the command line ---------------------------------------------------------------------------------
+
+class GlRenderCli : public Cli {
+ protected:
+  std::string scene_file(const json& lights, const json& material = kBrushed) {
+    const json objects = json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", material}}});
+    json doc = scene_json(objects, lights);
+    doc["film"] = {{"width", 48}, {"height", 32}, {"spp", 4}};
+    return write("scene.json", doc.dump());
+  }
+};
+
+TEST_F(GlRenderCli, BackendGlWritesTheImageAndSaysWhatItLeavesOut) {
+  ANISO_REQUIRE_GL();
+  json lights = point_light();
+  lights.push_back({{"type", "sphere"}, {"center", {-3, 3, 0}}, {"radius", 0.5}, {"radiance", 10}});
+  const std::string scene = scene_file(lights);
+  const Result r = run({"render", scene, "--backend", "gl", "-o", (dir_ / "out.pfm").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "wrote")) << r.out;
+  EXPECT_TRUE(contains(r.err, "warning: --backend gl: 1 sphere light is not rendered")) << r.err;
+  const render::Image img = render::read_image((dir_ / "out.pfm").string(), "test");
+  ASSERT_EQ(img.width, 48);
+  ASSERT_EQ(img.height, 32);
+  // The same image as the rasteriser in this process (4 spp: 2 x 2 sub-samples).
+  render::Scene s = render::load_scene(scene);
+  gl::SceneRasterizer raster(s, gl::RasterSettings{gl::subsamples_for_spp(4)});
+  raster.render();
+  const render::Image ref = raster.read_back();
+  ASSERT_EQ(ref.rgb.size(), img.rgb.size());
+  double peak = 0.0;
+  for (size_t i = 0; i < img.rgb.size(); ++i) {
+    EXPECT_EQ(img.rgb[i], ref.rgb[i]) << i;
+    peak = std::max(peak, double(img.rgb[i]));
+  }
+  EXPECT_GT(peak, 0.1);
+  const Result png = run({"render", scene, "--backend", "gl", "-o", (dir_ / "out.png").string()});
+  EXPECT_EQ(png.code, 0) << png.err;
+  EXPECT_TRUE(fs::exists(dir_ / "out.png"));
+}
+
+TEST_F(GlRenderCli, UnknownBackendExits2) {
+  expect_input_error(run({"render", scene_file(point_light()), "--backend", "vulkan"}), {"--backend", "vulkan"});
+}
+
+TEST_F(GlRenderCli, MeasuredMaterialExits2NamingTheObject) {
+  const std::string merl = write_lambert_merl(dir_);
+  const Result r = run({"render", scene_file(point_light(), merl), "--backend", "gl", "-o", (dir_ / "x.png").string()});
+  expect_input_error(r, {"objects[0]", "the GL backend cannot shade it", "has no GLSL form"});
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+TEST_F(GlRenderCli, NothingToLightExits2) {
+  const json sphere_light = json::array({{{"type", "sphere"}, {"center", {-3, 3, 0}}, {"radius", 0.5}, {"radiance", 10}}});
+  expect_input_error(run({"render", scene_file(sphere_light), "--backend", "gl"}), {"no point or directional light"});
+  expect_input_error(run({"render", "--backend", "gl"}), {"the gallery is lit by sphere lights"});
+}
+
+TEST_F(GlRenderCli, NoGlExits2WithTheReason) {
+  setenv("ANISO_GL_PLATFORM", "none", 1);
+  const Result r = run({"render", scene_file(point_light()), "--backend", "gl", "-o", (dir_ / "x.png").string()});
+  unsetenv("ANISO_GL_PLATFORM");
+  expect_input_error(r, {"--backend gl: no OpenGL context could be made", "ANISO_GL_PLATFORM=none"});
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }
 
 }  // namespace
