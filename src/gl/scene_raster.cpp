@@ -426,12 +426,14 @@ std::vector<Vertex> object_vertices(const render::Object& o) {
     case ShapeKind::Sphere: {
       const float h = o.radius * kProxyGrowth;
       const Vec3 x(h, 0, 0), y(0, h, 0), z(0, 0, h);
+      // Each face counter-clockwise seen from outside (a x b points out), so that back faces can be
+      // culled when the camera is outside the cube (draw_pass).
       push_quad(out, o.center + x, y, z);
-      push_quad(out, o.center - x, y, z);
-      push_quad(out, o.center + y, x, z);
+      push_quad(out, o.center - x, z, y);
+      push_quad(out, o.center + y, z, x);
       push_quad(out, o.center - y, x, z);
       push_quad(out, o.center + z, x, y);
-      push_quad(out, o.center - z, x, y);
+      push_quad(out, o.center - z, y, x);
       break;
     }
     case ShapeKind::Disc: {
@@ -712,6 +714,13 @@ struct SceneRasterizer::Impl {
       glBindTexture(GL_TEXTURE_2D, og.map ? og.map : dummy);
       glActiveTexture(GL_TEXTURE1);
       glBindTexture(GL_TEXTURE_2D, occluders);
+      // A sphere's proxy cube seen from outside: its back faces would only shade the same hits
+      // again (the depth test then drops them), so they are culled. From inside (or nearly: 1 %
+      // margin for the rounding of the comparison) every face is drawn: the far ones find the hits.
+      const Vec3 rel = glm::abs(c.position - o.center);
+      const bool outside = std::max(rel.x, std::max(rel.y, rel.z)) > 1.01f * kProxyGrowth * o.radius;
+      if (o.shape == ShapeKind::Sphere && outside) glEnable(GL_CULL_FACE);
+      else glDisable(GL_CULL_FACE);
       glBindVertexArray(og.vao);
       glDrawArrays(GL_TRIANGLES, 0, og.count);
     }
@@ -888,9 +897,10 @@ void SceneRasterizer::render() {
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &old_read);
   glGetIntegerv(GL_VIEWPORT, old_viewport);
   glViewport(0, 0, m.width, m.height);
-  glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_BLEND);
+  glCullFace(GL_BACK);
+  glFrontFace(GL_CCW);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
   glBindFramebuffer(GL_FRAMEBUFFER, m.accum_fbo);
@@ -928,6 +938,7 @@ void SceneRasterizer::render() {
         glDisable(GL_BLEND);
       }
     }
+  glDisable(GL_CULL_FACE);
   glBindVertexArray(0);
   glUseProgram(0);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(old_draw));
