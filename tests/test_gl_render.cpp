@@ -380,6 +380,58 @@ TEST(GlRasterizer, CameraLightsTangentAndSizeChangesEqualAFreshBuild) {
   EXPECT_EQ(img.rgb, gl_image(changed).rgb);
 }
 
+TEST(GlRasterizer, SetTangentUploadsAndRemovesAMap) {
+  ANISO_REQUIRE_GL();
+  const json m = {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};
+  const render::Scene plain = sphere_scene(m);
+  json doc = scene_json(json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", m},
+                                      {"tangent", {{"map", "assets/checker_tangents.png"}, {"angle_deg", 10}}}}}),
+                        point_light());
+  doc["film"] = {{"width", 32}, {"height", 24}, {"spp", 16}};
+  const render::Scene mapped = render::parse_scene(doc, "mapped", ANISO_SOURCE_DIR "/examples");
+  gl::SceneRasterizer r(plain, gl::RasterSettings{2});
+  r.set_tangent(0, mapped.objects[0].tangent);
+  r.render();
+  EXPECT_EQ(r.read_back().rgb, gl_image(mapped).rgb);
+  r.set_tangent(0, plain.objects[0].tangent);
+  r.render();
+  EXPECT_EQ(r.read_back().rgb, gl_image(plain).rgb);
+  render::TangentSource uv = plain.objects[0].tangent;
+  uv.uv_tangents = true;
+  EXPECT_THROW(r.set_tangent(0, uv), std::invalid_argument);
+}
+
+TEST(GlRasterizer, DrawTonemappedGivesThePngWritersBytes) {
+  ANISO_REQUIRE_GL();
+  gl::SceneRasterizer r(sphere_scene({{"model", "ggx"}, {"kd", 0.3}, {"f0", 0.5}, {"alpha_x", 0.1}, {"alpha_y", 0.3}}),
+                        gl::RasterSettings{2});
+  r.render();
+  for (const render::ToneMapOptions tm : {render::ToneMapOptions{0.0f, render::ToneMap::Aces}, render::ToneMapOptions{1.5f, render::ToneMap::Clamp}}) {
+    const render::DisplayImage want = render::tonemap(r.read_back(), tm);
+    GLuint tex = 0, fbo = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 32, 24, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    glViewport(0, 0, 32, 24);
+    r.draw_tonemapped(tm);
+    std::vector<uint8_t> got(32 * 24 * 4);
+    glReadPixels(0, 0, 32, 24, GL_RGBA, GL_UNSIGNED_BYTE, got.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteTextures(1, &tex);
+    int worst = 0;
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 32; ++x)
+        for (int k = 0; k < 3; ++k)
+          worst = std::max(worst, std::abs(int(got[(size_t(23 - y) * 32 + size_t(x)) * 4 + size_t(k)]) -
+                                           int(want.rgb[(size_t(y) * 32 + size_t(x)) * 3 + size_t(k)])));
+    EXPECT_LE(worst, 1) << "a byte of the window's picture differs from the PNG's by more than rounding";
+  }
+}
+
 TEST(GlRasterizer, CoverageIsTheFractionOfSubSamplesOnASurface) {
   ANISO_REQUIRE_GL();
   gl::SceneRasterizer r(sphere_scene({{"model", "lambert"}, {"kd", 0.5}}), gl::RasterSettings{4});

@@ -324,6 +324,37 @@ layout(location = 0) out vec4 o_color;
 void main() { o_color = u_weight * texelFetch(u_src, ivec2(gl_FragCoord.xy), 0); }
 )";
 
+// render::tonemap in GLSL (src/render/image.cpp): exposure, Narkowicz 2015's ACES fit or a clamp,
+// the sRGB transfer function (IEC 61966-2-1).
+const char* kTonemapFragment = R"(
+uniform sampler2D u_src;
+uniform float u_scale;  // 2^exposure
+uniform bool u_aces;
+uniform vec2 u_viewport_origin;
+uniform vec2 u_viewport_size;
+layout(location = 0) out vec4 o_color;
+float srgb_encode(float x) {
+  if (!(x > 0.0)) return 0.0;
+  if (x >= 1.0) return 1.0;
+  return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055;
+}
+void main() {
+  vec2 uv = (gl_FragCoord.xy - u_viewport_origin) / u_viewport_size;
+  vec3 c = texture(u_src, uv).rgb;
+  vec3 o;
+  for (int k = 0; k < 3; ++k) {
+    float v = c[k] * u_scale;
+    if (!(v > 0.0)) v = 0.0;
+    if (u_aces) {
+      v = min(v, 1e4);  // the curve reaches 1 near 7.24; far above, v * v would overflow
+      v = v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14);
+    }
+    o[k] = srgb_encode(clamp(v, 0.0, 1.0));
+  }
+  o_color = vec4(o, 1.0);
+}
+)";
+
 std::string shader_log(GLuint id, bool program) {
   GLint len = 0;
   if (program) glGetProgramiv(id, GL_INFO_LOG_LENGTH, &len);
@@ -565,7 +596,7 @@ struct SceneRasterizer::Impl {
   RasterSettings settings;
   int width = 0, height = 0;
   std::map<std::string, std::unique_ptr<Program>> programs;  // by the material's GLSL (structure)
-  std::unique_ptr<Program> accumulate;
+  std::unique_ptr<Program> accumulate, tonemap;
   std::vector<ObjectGpu> objects;
   std::vector<render::Light> lights;  // point and directional
   GLuint occluders = 0, dummy = 0, empty_vao = 0;
@@ -829,6 +860,8 @@ SceneRasterizer::SceneRasterizer(const render::Scene& scene, RasterSettings sett
   m.upload_occluders();
   m.accumulate = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + kFullscreenVertex,
                                            glsl_preamble(GlslDialect::Core330) + kAccumulateFragment, "GL backend: accumulation");
+  m.tonemap = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + kFullscreenVertex,
+                                        glsl_preamble(GlslDialect::Core330) + kTonemapFragment, "GL backend: tone mapping");
   m.allocate_targets();
   if (const GLenum err = glGetError(); err != GL_NO_ERROR) throw GlError(fmt::format("GL backend setup: GL error 0x{:x}", err));
 }
@@ -872,6 +905,58 @@ void SceneRasterizer::set_material(size_t object, const MaterialDesc& material) 
 void SceneRasterizer::set_tangent_field(size_t object, const TangentFieldT<float>& field) {
   if (object >= impl_->objects.size()) throw std::out_of_range(fmt::format("set_tangent_field: no object {}", object));
   impl_->objects[object].field = field;
+}
+
+void SceneRasterizer::set_tangent(size_t object, const render::TangentSource& tangent) {
+  Impl& m = *impl_;
+  if (object >= m.objects.size()) throw std::out_of_range(fmt::format("set_tangent: no object {}", object));
+  render::Object& o = m.scene.objects[object];
+  if (tangent.uv_tangents != o.tangent.uv_tangents)
+    throw std::invalid_argument("set_tangent: uv_tangents cannot change on an existing rasteriser (the mesh's tangents are "
+                                "in its vertex buffer)");
+  if (tangent.map && o.shape == ShapeKind::Mesh && o.mesh->uvs.empty())
+    throw InputError(fmt::format("{}: objects[{}]: a tangent map needs a mesh with UVs; this mesh has none", m.scene.source, object));
+  Impl::ObjectGpu& g = m.objects[object];
+  if (g.map) glDeleteTextures(1, &g.map);
+  g.map = 0;
+  g.map_size = glm::ivec2(0);
+  if (tangent.map) {
+    const render::TangentMap& tm = *tangent.map;
+    glGenTextures(1, &g.map);
+    glBindTexture(GL_TEXTURE_2D, g.map);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, tm.width, tm.height, 0, GL_RG, GL_FLOAT, tm.doubled.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    g.map_size = glm::ivec2(tm.width, tm.height);
+  }
+  g.field = tangent.field;
+  o.tangent = tangent;
+}
+
+void SceneRasterizer::draw_tonemapped(const render::ToneMapOptions& tm) const {
+  const Impl& m = *impl_;
+  GLint vp[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, vp);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glUseProgram(m.tonemap->id());
+  m.tonemap->set("u_src", 0);
+  m.tonemap->set("u_scale", std::exp2(tm.exposure_stops));
+  m.tonemap->set("u_aces", int(tm.curve == render::ToneMap::Aces));
+  m.tonemap->set("u_viewport_origin", glm::vec2(float(vp[0]), float(vp[1])));
+  m.tonemap->set("u_viewport_size", glm::vec2(float(vp[2]), float(vp[3])));
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, m.accum_color);
+  // Bilinear when the viewport is not the image's size (the explorer's window); texel centres
+  // land on pixel centres when it is.
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glBindVertexArray(m.empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  if (const GLenum err = glGetError(); err != GL_NO_ERROR) throw GlError(fmt::format("GL backend draw_tonemapped: GL error 0x{:x}", err));
 }
 
 void SceneRasterizer::set_size(int width, int height) {

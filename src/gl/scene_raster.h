@@ -94,6 +94,10 @@ class SceneRasterizer {
   // The object's tangent field (kind, angle, centre, axis, swirl, noise): uniforms only. A tangent map
   // or mesh UV tangents stay as the scene gave them.
   void set_tangent_field(size_t object, const TangentFieldT<float>& field);
+  // The object's whole tangent source: the field, and a tangent map (uploaded; null removes it).
+  // uv_tangents cannot be switched here: a mesh's tangents are in its vertex buffer (build a new
+  // rasteriser from a scene read with {"field": "uv"}); asking for a change is std::invalid_argument.
+  void set_tangent(size_t object, const render::TangentSource& tangent);
   // Image size in pixels (reallocates the targets when it changes) and sub-samples per axis.
   void set_size(int width, int height);
   void set_subsamples(int k);
@@ -106,6 +110,11 @@ class SceneRasterizer {
   unsigned color_texture() const;
   // The framebuffer object holding color_texture() (for glBlitFramebuffer to a window).
   unsigned framebuffer() const;
+  // Draws the last render() into the caller's bound draw framebuffer and viewport, tone-mapped
+  // as the CPU's PNG writer does (render::tonemap: 2^exposure, the ACES curve or a clamp, the sRGB
+  // transfer function; written as is, so GL_FRAMEBUFFER_SRGB must be off). Covers the viewport
+  // (the caller picks its aspect); depth test and blending off; restores nothing else.
+  void draw_tonemapped(const render::ToneMapOptions& tm = {}) const;
   // Linear RGB of the last render(), row 0 at the top (render::Image, what write_image takes).
   render::Image read_back() const;
   // Coverage (alpha) of the last render(), row 0 at the top, width * height values in [0, 1].
