@@ -312,6 +312,19 @@ TEST(GlRender, ManyLightsTakeSeveralPasses) {
   expect_parity(doc, "forty_lights");
 }
 
+// The shaders are GLSL 3.30 core (what a GL 3.3 window context, the explorer's, accepts), for every
+// test material: glslangValidator, independent of the driver the other tests run on.
+TEST(GlRasterizer, ShadersAreGlsl330Core) {
+  ANISO_REQUIRE_GLSLANG();
+  for (const NamedMaterial& m : all_model_materials()) {
+    const gl::RasterShaderSources src = gl::raster_shader_sources(parse_material(m.json, m.name));
+    EXPECT_EQ(src.vertex.rfind("#version 330 core\n", 0), 0u);
+    EXPECT_EQ(src.fragment.rfind("#version 330 core\n", 0), 0u);
+    EXPECT_EQ(glslang_errors(src.vertex, "vert", "raster"), "") << m.name;
+    EXPECT_EQ(glslang_errors(src.fragment, "frag", "raster"), "") << m.name;
+  }
+}
+
 // --- the rasteriser's API: what the explorer changes per frame -----------------------------------
 
 render::Scene sphere_scene(const json& material) {

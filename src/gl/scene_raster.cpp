@@ -552,6 +552,19 @@ void check_gl_materials(const render::Scene& scene) {
   }
 }
 
+namespace {
+RasterShaderSources sources_for(const GlslMaterial& m) {
+  std::string scene_part = kFragmentShader;
+  scene_part.replace(scene_part.find("%MAX_LIGHTS%"), 12, std::to_string(kMaxLightsPerPass));
+  return {glsl_preamble(GlslDialect::Core330) + kVertexShader,
+          glsl_preamble(GlslDialect::Core330) + glsl_library_source() + m.declarations + m.code + scene_part};
+}
+}  // namespace
+
+RasterShaderSources raster_shader_sources(const MaterialDesc& material) {
+  return sources_for(glsl_material(material, GlslStorage::Uniform, kMaterialPrefix));
+}
+
 int subsamples_for_spp(int spp) { return std::clamp(int(std::lround(std::sqrt(double(std::max(spp, 1))))), 1, 8); }
 
 bool gl_has_lights(const render::Scene& scene) {
@@ -608,11 +621,8 @@ struct SceneRasterizer::Impl {
     const std::string key = m.declarations + m.code;
     auto it = programs.find(key);
     if (it != programs.end()) return *it->second;
-    std::string fragment = glsl_preamble(GlslDialect::Core330) + glsl_library_source() + m.declarations + m.code;
-    std::string scene_part = kFragmentShader;
-    scene_part.replace(scene_part.find("%MAX_LIGHTS%"), 12, std::to_string(kMaxLightsPerPass));
-    fragment += scene_part;
-    auto p = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + kVertexShader, fragment, what);
+    const RasterShaderSources src = sources_for(m);
+    auto p = std::make_unique<Program>(src.vertex, src.fragment, what);
     Program& ref = *p;
     programs.emplace(key, std::move(p));
     return ref;

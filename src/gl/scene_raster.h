@@ -70,6 +70,13 @@ void check_gl_materials(const render::Scene& scene);
 // Whether the scene has a point or directional light with non-zero power (else the GL render is black).
 bool gl_has_lights(const render::Scene& scene);
 
+// The vertex and fragment shader (complete, #version 330 core) the rasteriser compiles for a
+// material: what the tests hand to glslangValidator as GLSL 3.30.
+struct RasterShaderSources {
+  std::string vertex, fragment;
+};
+RasterShaderSources raster_shader_sources(const MaterialDesc& material);
+
 class SceneRasterizer {
  public:
   // Uploads the scene's geometry, tangent maps and occluders and compiles one program per material
