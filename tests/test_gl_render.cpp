@@ -97,6 +97,7 @@ struct Comparison {
   double worst_excess = 0.0;  // largest |gl - cpu| / (tolerance) among interior pixels
   std::string worst;          // where and what
   double peak = 0.0, lit = 0.0;  // the CPU image's peak; the fraction of interior pixels above 1% of it
+  std::vector<bool> mask;        // the interior pixels
 };
 
 Comparison compare_scene(const json& doc, const std::string& name, int cpu_spp = kCpuSpp, int gl_subsamples = kGlSubsamples) {
@@ -108,7 +109,8 @@ Comparison compare_scene(const json& doc, const std::string& name, int cpu_spp =
   gl::SceneRasterizer raster(scene, gl::RasterSettings{gl_subsamples});
   raster.render();
   c.gl = raster.read_back();
-  const std::vector<bool> mask = interior_mask(scene);
+  c.mask = interior_mask(scene);
+  const std::vector<bool>& mask = c.mask;
   for (float v : c.cpu.rgb) c.peak = std::max(c.peak, double(v));
   int lit = 0;
   for (int y = 0; y < kSize; ++y)
@@ -298,6 +300,35 @@ TEST(GlRender, ShadowsOfAnalyticShapesAndBothLightKinds) {
   // The shadows are there: the floor under the ball (pixel column of the ball, below it) is darker
   // than the open floor, in both images.
   EXPECT_GT(c.interior, kSize * kSize / 3);
+}
+
+TEST(GlRender, MeshShadowsFromShadowMaps) {
+  ANISO_REQUIRE_GL();
+  // A torus over a floor, lit by a point and a directional light: its shadows on the floor (and on
+  // itself) come from the shadow maps; the interior mask leaves out the pixels a shadow edge
+  // crosses (the CPU's shadow rays decide that).
+  const json floor = with_material({{"shape", "rectangle"}, {"center", {0, -0.7, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}},
+                                    {"size", {3.2, 3.2}}},
+                                   {{"model", "lambert"}, {"kd", 0.6}});
+  const json torus = with_material({{"shape", "torus"}, {"center", {0, -0.1, 0}}, {"major_radius", 0.7}, {"minor_radius", 0.25},
+                                    {"rotate_deg", {25, 0, 0}}});
+  const json lights = json::array({{{"type", "point"}, {"position", {0.6, 2.2, 0.8}}, {"intensity", 7.0}},
+                                   {{"type", "directional"}, {"to_light", {-0.5, 0.8, 0.1}}, {"irradiance", 0.8}}});
+  const json doc = scene_json(json::array({floor, torus}), lights);
+  const Comparison c = compare_scene(doc, "mesh_shadows");
+  EXPECT_EQ(c.bad, 0) << c.bad << " of " << c.interior << "; worst " << c.worst;
+  EXPECT_GT(c.interior, kSize * kSize / 3);
+  // The test exercises the shadows: interior pixels the CPU finds lit by neither light (a Lambert
+  // floor or the torus's own underside), where the GL image must then be black too.
+  int dark = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x)
+      if (c.mask[size_t(y) * kSize + size_t(x)] && max_component(c.cpu.at(x, y)) == 0.0f) {
+        ++dark;
+        EXPECT_EQ(max_component(c.gl.at(x, y)), 0.0f) << x << ", " << y;
+      }
+  EXPECT_GT(dark, 20) << "too few pixels in full shadow to test the shadow maps";
+  fmt::print("mesh_shadows: {} interior pixels, worst {:.3f} x the tolerance ({}), {} dark\n", c.interior, c.worst_excess, c.worst, dark);
 }
 
 TEST(GlRender, ManyLightsTakeSeveralPasses) {
