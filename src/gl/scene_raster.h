@@ -23,7 +23,9 @@
 //   arithmetic of TangentMap::lookup (texelFetch, no hardware filtering).
 // - Shadows: shadow rays are intersected exactly, per fragment, with every analytic shape (and
 //   with the scene's sphere lights, which block light in the CPU's BVH too), from the CPU's
-//   offset origin (SceneGeometry::offset_origin). Meshes cast NO shadows in the GL backend.
+//   offset origin (SceneGeometry::offset_origin). Meshes cast theirs through shadow maps (an R32F
+//   atlas: 6 cube faces per point light, one orthographic tile per directional light), redrawn by
+//   render() after set_lights(); their edges are placed to about a texel.
 // - Not rendered: sphere (area) lights and environments (gl_unsupported() lists them), indirect
 //   light. A material without a GLSL twin (measured MERL tables) is an InputError naming the object.
 //
