@@ -492,13 +492,16 @@ TEST(GlRasterizer, CoverageIsTheFractionOfSubSamplesOnASurface) {
   EXPECT_GT(partial, 10) << "the silhouette's pixels are partly covered";
 }
 
-TEST(GlRasterizer, RenderRestoresTheCallersFramebufferAndViewport) {
+TEST(GlRasterizer, CallsRestoreTheCallersFramebufferAndViewport) {
   ANISO_REQUIRE_GL();
   gl::SceneRasterizer r(sphere_scene({{"model", "lambert"}, {"kd", 0.5}}), gl::RasterSettings{1});
   GLuint fbo = 0;
   glGenFramebuffers(1, &fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glViewport(3, 4, 50, 60);
+  r.render();
+  r.set_size(20, 10);  // reallocates the targets
+  r.set_lights({});
   r.render();
   GLint bound = 0, vp[4];
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
