@@ -848,6 +848,15 @@ struct SceneRasterizer::Impl {
   }
 
   void allocate_targets() {
+    GLint max_texture = 0, max_renderbuffer = 0, max_viewport[2] = {0, 0};
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_renderbuffer);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, max_viewport);
+    const int limit = std::min({max_texture, max_renderbuffer, max_viewport[0], max_viewport[1]});
+    if (width > limit || height > limit)
+      throw GlError(fmt::format("{}x{} pixels: this GL's largest render target is {}x{} (GL_MAX_TEXTURE_SIZE, "
+                                "GL_MAX_RENDERBUFFER_SIZE, GL_MAX_VIEWPORT_DIMS); render smaller or with --backend cpu",
+                                width, height, limit, limit));
     const auto color = [&](GLuint& tex) {
       if (!tex) glGenTextures(1, &tex);
       glBindTexture(GL_TEXTURE_2D, tex);
