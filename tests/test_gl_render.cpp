@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <set>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -229,8 +230,9 @@ TEST(GlRender, TangentMapOnARectangle) {
                                    {"size", {2.2, 2.2}}, {"tangent", map}});
   // Its 45-degree seams are lines a third of a pixel wide, bright where the highlight crosses them:
   // both sides need more samples per pixel to agree there (at 256 spp and k = 8 the CPU's noise and
-  // the grid's placement of the lines each reached 1.5 x the tolerance on a few seam pixels).
-  expect_parity(scene_json(json::array({rect}), point_light()), "tangent_map_rectangle", 2048, 16);
+  // the grid's placement of the lines each reached 1.5 x the tolerance on a few seam pixels; at
+  // 1024 spp and k = 16 the worst is 0.56 x, at 2048 and 16 0.36 x).
+  expect_parity(scene_json(json::array({rect}), point_light()), "tangent_map_rectangle", 1024, 16);
 }
 
 TEST(GlRender, SmoothTangentMapsOnASphereBothEncodings) {
@@ -353,15 +355,17 @@ TEST(GlRender, ManyLightsTakeSeveralPasses) {
   }
   json doc = scene_json(json::array({with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}})}), lights);
   doc["integrator"]["light_selection"] = "all";  // the CPU samples every light: no selection noise
-  expect_parity(doc, "forty_lights");
+  expect_parity(doc, "forty_lights", 64);  // a smooth, broadly lit sphere: 64 samples per pixel suffice
 }
 
 // The shaders are GLSL 3.30 core (what a GL 3.3 window context, the explorer's, accepts), for every
 // test material: glslangValidator, independent of the driver the other tests run on.
 TEST(GlRasterizer, ShadersAreGlsl330Core) {
   ANISO_REQUIRE_GLSLANG();
+  std::set<std::string> seen;  // one check per shader: Ward's forms, for one, are uniforms of the same one
   for (const NamedMaterial& m : all_model_materials()) {
     const gl::RasterShaderSources src = gl::raster_shader_sources(parse_material(m.json, m.name));
+    if (!seen.insert(src.fragment).second) continue;
     EXPECT_EQ(src.vertex.rfind("#version 330 core\n", 0), 0u);
     EXPECT_EQ(src.fragment.rfind("#version 330 core\n", 0), 0u);
     EXPECT_EQ(glslang_errors(src.vertex, "vert", "raster"), "") << m.name;

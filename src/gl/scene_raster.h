@@ -72,7 +72,8 @@ glm::vec2 subsample_position(int s, int k);
 int subsamples_for_spp(int spp);
 
 // What the GL backend leaves out of `scene`, one sentence each (sphere lights, the environment,
-// indirect light when max_depth > 1): `aniso render --backend gl` prints them as warnings.
+// indirect light when max_depth > 1, mesh shadows of lights beyond the shadow maps' 256 tiles):
+// `aniso render --backend gl` prints them as warnings.
 std::vector<std::string> gl_unsupported(const render::Scene& scene);
 // Throws the InputError SceneRasterizer's constructor would for a material without a GLSL twin,
 // without needing a GL context (the CLI checks before it opens one).
@@ -99,9 +100,10 @@ class SceneRasterizer {
   SceneRasterizer(const SceneRasterizer&) = delete;
   SceneRasterizer& operator=(const SceneRasterizer&) = delete;
 
-  // --- cheap per-frame changes (uniforms only; nothing is recompiled or re-uploaded) ---
+  // --- per-frame changes: uniforms, except where said ---
   void set_camera(const render::Camera& camera);
-  // Point and directional lights are drawn; sphere lights are kept as occluders only.
+  // Point and directional lights are drawn; sphere lights are kept as occluders only. When the scene
+  // has meshes, the next render() redraws their shadow maps (the meshes once per cube face or tile).
   void set_lights(const std::vector<render::Light>& lights);
   // A material for object `object` (e.g. a slider moved). Same structure as before (the same model,
   // Ward form / normalisation choices are uniforms too, the same Lafortune lobe count, the same metal
