@@ -19,12 +19,19 @@
 #ifndef ANISO_BATCH_KERNELS_ARGS_H_
 #define ANISO_BATCH_KERNELS_ARGS_H_
 #include <algorithm>
+#include <limits>
 #include "aniso/batch/batch.h"
 namespace aniso::batch {
 template <typename T> struct EvalArgs {
   Directions<T> wi, wo;
   Colors<T> f;
   T* pdf;
+};
+template <typename T> struct InterleavedArgs {
+  Interleaved<T> wi, wo;
+  T* f_rgb;  // evaluate: interleaved RGB rows
+  T* pdf;    // pdf
+  NonFinite non_finite;
 };
 template <typename T> struct SampleArgs {
   Directions<T> wo;
@@ -844,6 +851,77 @@ template <typename T> void RunMaterial(const MaterialT<T>& m, const EvalArgs<T>&
     case ModelKind::GGX: return RunRange(d, GGXK<T>(m.ggx), a, begin, end, want_pdf);
     case ModelKind::Metal: return RunRange(d, MetalK<T>(m.metal), a, begin, end, want_pdf);
     default: return RunRange(d, LambertK<T>(m.lambert), a, begin, end, want_pdf);
+  }
+}
+
+// The same loop on interleaved rows (batch.h, evaluate_interleaved / pdf_interleaved): each vector's
+// rows are loaded and de-interleaved in registers (LoadInterleaved3: three loads and shuffles), the
+// kernel runs on the vectors exactly as in RunRange, and f is re-interleaved in registers
+// (StoreInterleaved3). A broadcast input (stride 0) is one vector per coordinate for the whole
+// range. With NonFinite::NaN a lane whose six input values are not all finite gets NaN in every
+// output (IsFinite: false for NaN and +-Inf).
+template <class D, class Kernel, typename T>
+HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<T>& a, size_t begin, size_t end,
+                                    bool want_pdf) {
+  const size_t N = hn::Lanes(d);
+  const bool nan_rows = a.non_finite == NonFinite::NaN;
+  const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
+  const auto broadcast = [&](const Interleaved<T>& w) {
+    return w.stride == 0 ? V3<D>{hn::Set(d, w.xyz[0]), hn::Set(d, w.xyz[1]), hn::Set(d, w.xyz[2])} : V3<D>{};
+  };
+  const V3<D> wi_all = broadcast(a.wi), wo_all = broadcast(a.wo);
+  const bool wi_rows = a.wi.stride != 0, wo_rows = a.wo.stride != 0;
+  // wi and wo: the rows at pi / po (3 N values each), or the broadcast vectors; f: 3 N values at
+  // pf, or N at pp.
+  const auto one = [&](const T* pi, const T* po, T* pf, T* pp) {
+    V3<D> wi = wi_all, wo = wo_all;
+    if (wi_rows) hn::LoadInterleaved3(d, pi, wi.x, wi.y, wi.z);
+    if (wo_rows) hn::LoadInterleaved3(d, po, wo.x, wo.y, wo.z);
+    M<D> bad = hn::Lt(K(d, 1), hn::Zero(d));  // all false
+    if (nan_rows) {
+      const M<D> fi = hn::And(hn::And(hn::IsFinite(wi.x), hn::IsFinite(wi.y)), hn::IsFinite(wi.z));
+      const M<D> fo = hn::And(hn::And(hn::IsFinite(wo.x), hn::IsFinite(wo.y)), hn::IsFinite(wo.z));
+      bad = hn::Not(hn::And(fi, fo));
+    }
+    if (want_pdf) {
+      hn::StoreU(hn::IfThenElse(bad, nan, k.Pdf(d, wi, wo)), d, pp);
+    } else {
+      const RGBV<D> f = k.F(d, wi, wo);
+      hn::StoreInterleaved3(hn::IfThenElse(bad, nan, f.c[0]), hn::IfThenElse(bad, nan, f.c[1]),
+                            hn::IfThenElse(bad, nan, f.c[2]), d, pf);
+    }
+  };
+  const auto at = [](const Interleaved<T>& w, size_t i) { return w.xyz + w.stride * i; };
+  size_t i = begin;
+  for (; i + N <= end; i += N) one(at(a.wi, i), at(a.wo, i), want_pdf ? nullptr : a.f_rgb + 3 * i, want_pdf ? a.pdf + i : nullptr);
+  if (i < end) {
+    // The last, partial vector through padded copies (padding rows wi = wo = n, as RunRange).
+    constexpr size_t kMax = hn::MaxLanes(D());
+    HWY_ALIGN T bi[3 * kMax], bo[3 * kMax], bf[3 * kMax], bp[kMax];
+    for (size_t j = 0; j < kMax; ++j)
+      for (int c = 0; c < 3; ++c) bi[3 * j + c] = bo[3 * j + c] = c == 2 ? T(1) : T(0);
+    const size_t rest = end - i;
+    if (wi_rows) std::copy_n(at(a.wi, i), 3 * rest, bi);
+    if (wo_rows) std::copy_n(at(a.wo, i), 3 * rest, bo);
+    one(bi, bo, bf, bp);
+    if (want_pdf) std::copy_n(bp, rest, a.pdf + i);
+    else std::copy_n(bf, 3 * rest, a.f_rgb + 3 * i);
+  }
+}
+
+template <typename T>
+void RunMaterialInterleaved(const MaterialT<T>& m, const InterleavedArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
+  const hn::ScalableTag<T> d;
+  switch (m.kind) {
+    case ModelKind::Phong:
+      return RunRangeInterleaved(d, LambertPlusLobeK<T, PhongLobeK<T>>(m.phong), a, begin, end, want_pdf);
+    case ModelKind::Ward: return RunRangeInterleaved(d, LambertPlusLobeK<T, WardLobeK<T>>(m.ward), a, begin, end, want_pdf);
+    case ModelKind::AshikhminShirley:
+      return RunRangeInterleaved(d, AshikhminShirleyK<T>(m.ashikhmin_shirley), a, begin, end, want_pdf);
+    case ModelKind::Lafortune: return RunRangeInterleaved(d, LafortuneK<T>(m.lafortune), a, begin, end, want_pdf);
+    case ModelKind::GGX: return RunRangeInterleaved(d, GGXK<T>(m.ggx), a, begin, end, want_pdf);
+    case ModelKind::Metal: return RunRangeInterleaved(d, MetalK<T>(m.metal), a, begin, end, want_pdf);
+    default: return RunRangeInterleaved(d, LambertK<T>(m.lambert), a, begin, end, want_pdf);
   }
 }
 
