@@ -55,8 +55,12 @@ def main():
     theta_i = np.round(np.degrees(np.arccos(np.clip(wi[:, 2], -1, 1))), 1)
     angles = np.unique(theta_i)
     shown = angles[np.linspace(0, len(angles) - 1, min(4, len(angles))).round().astype(int)]
-    fig, axes = plt.subplots(1, len(shown), figsize=(4.2 * len(shown), 4.2), sharey=True)
-    axes = np.atleast_1d(axes)
+    cols = 2 if len(shown) > 1 else 1
+    rows_of_panels = (len(shown) + cols - 1) // cols
+    fig, axes = plt.subplots(rows_of_panels, cols, figsize=(5.6 * cols, 4.3 * rows_of_panels), sharey=True, squeeze=False)
+    axes = axes.ravel()
+    for ax in axes[len(shown):]:
+        ax.set_visible(False)
     in_plane = np.abs(wo[:, 1]) < IN_PLANE
     # The signed outgoing angle: + on the mirror side (wo.x of the other sign than wi.x).
     signed = np.degrees(np.arccos(np.clip(wo[:, 2], -1, 1))) * np.where(wo[:, 0] * wi[:, 0] <= 0, 1, -1)
@@ -79,11 +83,12 @@ def main():
                         label=f"{label}, l2cos {r.errors['l2cos']:.3g}" if k == 0 else None)
         ax.axvline(t, color="0.6", lw=0.6, ls=":")
         ax.set_title(f"theta_i = {t:g} deg ({rows.sum()} samples in the plane)", fontsize=10)
-        ax.set_xlabel("signed theta_o (deg), + towards the mirror direction")
+        ax.set_xlabel("theta_o (deg) in the plane, + towards the mirror direction")
         ax.set_yscale("log")
         ax.set_xlim(-90, 90)
         ax.grid(True, which="major", color="0.9")
-    axes[0].set_ylabel("f (1/sr), red / green / blue")
+    for ax in axes[::cols]:
+        ax.set_ylabel("f (1/sr): red, green, blue channel")
     axes[0].set_ylim(lo / 3, hi * 3)
     axes[0].legend(fontsize=8, loc="upper left")
     fig.suptitle(f"{pathlib.Path(args.data).name}: measured (dots) against fitted (lines)", fontsize=12)
