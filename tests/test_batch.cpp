@@ -153,8 +153,9 @@ TEST_P(BatchTest, EvaluateAndPdfMatchScalarDouble) { check_against_scalar<double
 // same elements bit for bit: the same kernels, loaded and stored by LoadInterleaved3 /
 // StoreInterleaved3; with a broadcast direction (stride 0) as with that direction repeated; with
 // NonFinite::NaN, NaN in every output of a row with a NaN or infinite input value and the other
-// rows unchanged. SIMD and scalar kernels, one and all threads; the pair count is odd (a partial
-// last vector), and the interleaved arrays start at an odd offset (unaligned rows).
+// rows unchanged (and so do evaluate / pdf with NonFinite::NaN). SIMD and scalar kernels, one and
+// all threads; the pair count is odd (a partial last vector), and the interleaved arrays start one
+// element into their buffer.
 template <typename T> void check_interleaved(const NamedMaterial& nm) {
   const MaterialT<T> m = build<T>(nm.json);
   batch::DirectionArray<T> wi, wo;
@@ -208,14 +209,31 @@ template <typename T> void check_interleaved(const NamedMaterial& nm) {
                                 batch::NonFinite::NaN);
     batch::pdf_interleaved(m, {bi.data() + 1, 3}, {bo.data() + 1, 3}, n, q.data(), batch::Threads::All, kernels,
                            batch::NonFinite::NaN);
+    // The structure-of-arrays entry points with NonFinite::NaN, on the same rows.
+    batch::DirectionArray<T> si(n), so(n);
+    for (size_t i = 0; i < n; ++i)
+      si.set(i, Vec3T<T>(bi[1 + 3 * i], bi[2 + 3 * i], bi[3 + 3 * i])), so.set(i, Vec3T<T>(bo[1 + 3 * i], bo[2 + 3 * i], bo[3 + 3 * i]));
+    batch::ColorArray<T> sf(n);
+    std::vector<T> sp(n);
+    batch::evaluate(m, si.view(), so.view(), n, sf.view(), batch::Threads::All, kernels, batch::NonFinite::NaN);
+    batch::pdf(m, si.view(), so.view(), n, sp.data(), batch::Threads::All, kernels, batch::NonFinite::NaN);
     for (size_t i = 0; i < n; ++i) {
-      const RGBT<T> ref = f.get(i);
+      const RGBT<T> ref = f.get(i), soa = sf.get(i);
       for (int c = 0; c < 3; ++c) {
-        if (bad[i]) ASSERT_TRUE(std::isnan(g[3 * i + c])) << nm.name << " " << kname << " row " << i;
-        else ASSERT_EQ(std::memcmp(&ref[c], &g[3 * i + c], sizeof(T)), 0) << nm.name << " " << kname << " row " << i;
+        if (bad[i]) {
+          ASSERT_TRUE(std::isnan(g[3 * i + c])) << nm.name << " " << kname << " row " << i;
+          ASSERT_TRUE(std::isnan(soa[c])) << nm.name << " " << kname << " SoA row " << i;
+        } else {
+          ASSERT_EQ(std::memcmp(&ref[c], &g[3 * i + c], sizeof(T)), 0) << nm.name << " " << kname << " row " << i;
+          ASSERT_EQ(std::memcmp(&ref[c], &soa[c], sizeof(T)), 0) << nm.name << " " << kname << " SoA row " << i;
+        }
       }
-      if (bad[i]) ASSERT_TRUE(std::isnan(q[i])) << nm.name << " " << kname << " pdf row " << i;
-      else ASSERT_EQ(std::memcmp(&p[i], &q[i], sizeof(T)), 0) << nm.name << " " << kname << " pdf row " << i;
+      if (bad[i]) {
+        ASSERT_TRUE(std::isnan(q[i]) && std::isnan(sp[i])) << nm.name << " " << kname << " pdf row " << i;
+      } else {
+        ASSERT_EQ(std::memcmp(&p[i], &q[i], sizeof(T)), 0) << nm.name << " " << kname << " pdf row " << i;
+        ASSERT_EQ(std::memcmp(&p[i], &sp[i], sizeof(T)), 0) << nm.name << " " << kname << " SoA pdf row " << i;
+      }
     }
   }
 }

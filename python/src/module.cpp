@@ -250,6 +250,18 @@ template <typename T> bool columns_in_place(const RowsView& v, size_t begin, siz
   return true;
 }
 
+// The columns of v as the batch API's structure of arrays, read in place: v holds T, each column
+// contiguous and aligned (Fortran order, or the transpose of a C-ordered (3, N) array). False
+// otherwise (nothing set).
+template <typename T> bool column_arrays(const RowsView& v, batch::Directions<T>& out) {
+  if (v.single || v.f32 != std::is_same_v<T, float> || v.row_stride != py::ssize_t(sizeof(T)) ||
+      reinterpret_cast<uintptr_t>(v.data) % sizeof(T) != 0)
+    return false;
+  out = {reinterpret_cast<const T*>(v.data), reinterpret_cast<const T*>(v.data + v.col_stride),
+         reinterpret_cast<const T*>(v.data + 2 * v.col_stride)};
+  return true;
+}
+
 template <typename T> py::array_t<T> rows_out(size_t n, bool single, int columns) {
   if (single) return py::array_t<T>(std::vector<py::ssize_t>{columns});
   return py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), columns});
@@ -322,6 +334,13 @@ py::array_t<T> eval_typed(const MaterialT<T>& m, const RowsView& wi, const RowsV
     batch::evaluate_interleaved(m, ri, ro, n, f, batch::Threads::All, batch::Kernels::Simd, batch::NonFinite::NaN);
     return out;
   }
+  // Column-major in and out likewise, through the structure-of-arrays entry point.
+  batch::Directions<T> ci, co;
+  if (out_columns && column_arrays(wi, ci) && column_arrays(wo, co)) {
+    py::gil_scoped_release release;
+    batch::evaluate(m, ci, co, n, {f, f + n, f + 2 * n}, batch::Threads::All, batch::Kernels::Simd, batch::NonFinite::NaN);
+    return out;
+  }
   {
     py::gil_scoped_release release;
     for_chunks(n, [&](size_t begin, size_t end) {
@@ -351,9 +370,15 @@ py::array_t<T> pdf_typed(const MaterialT<T>& m, const RowsView& wi, const RowsVi
   T* p = out.mutable_data();
   T row_i[3], row_o[3];
   batch::Interleaved<T> ri, ro;
+  batch::Directions<T> ci, co;
   if (interleaved_rows(wi, row_i, ri) && interleaved_rows(wo, row_o, ro)) {  // as in eval_typed
     py::gil_scoped_release release;
     batch::pdf_interleaved(m, ri, ro, n, p, batch::Threads::All, batch::Kernels::Simd, batch::NonFinite::NaN);
+    return out;
+  }
+  if (column_arrays(wi, ci) && column_arrays(wo, co)) {
+    py::gil_scoped_release release;
+    batch::pdf(m, ci, co, n, p, batch::Threads::All, batch::Kernels::Simd, batch::NonFinite::NaN);
     return out;
   }
   {

@@ -169,17 +169,19 @@ template <typename T> bool finite(const Vec3T<T>& v) { return std::isfinite(v.x)
 
 template <typename T>
 void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f, Threads threads,
-              Kernels kernels) {
-  const EvalArgs<T> a{wi, wo, f, nullptr};
+              Kernels kernels, NonFinite non_finite) {
+  const EvalArgs<T> a{wi, wo, f, nullptr, non_finite};
   // A measured BRDF (table lookups, gathers from 35 MB) has no SIMD twin: the scalar kernel per
   // element, on the same blocks and threads.
   if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;
+  const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
       m.visit([&](const auto& model) {
         for (size_t i = b; i < e; ++i) {
-          const RGBT<T> v = model.f(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i]), Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
-          f.r[i] = v.x, f.g[i] = v.y, f.b[i] = v.z;
+          const Vec3T<T> u(wi.x[i], wi.y[i], wi.z[i]), v(wo.x[i], wo.y[i], wo.z[i]);
+          const RGBT<T> c = nan_rows && !(finite(u) && finite(v)) ? RGBT<T>(std::numeric_limits<T>::quiet_NaN()) : model.f(u, v);
+          f.r[i] = c.x, f.g[i] = c.y, f.b[i] = c.z;
         }
       });
       return;
@@ -190,14 +192,18 @@ void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t 
 }
 
 template <typename T>
-void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads, Kernels kernels) {
-  const EvalArgs<T> a{wi, wo, {}, out};
+void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads, Kernels kernels,
+         NonFinite non_finite) {
+  const EvalArgs<T> a{wi, wo, {}, out, non_finite};
   if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
+  const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
       m.visit([&](const auto& model) {
-        for (size_t i = b; i < e; ++i)
-          out[i] = model.pdf(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i]), Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
+        for (size_t i = b; i < e; ++i) {
+          const Vec3T<T> u(wi.x[i], wi.y[i], wi.z[i]), v(wo.x[i], wo.y[i], wo.z[i]);
+          out[i] = nan_rows && !(finite(u) && finite(v)) ? std::numeric_limits<T>::quiet_NaN() : model.pdf(u, v);
+        }
       });
       return;
     }
@@ -292,12 +298,13 @@ size_t simd_lanes_double() {
 }
 
 template void evaluate<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, Colors<float>, Threads,
-                              Kernels);
+                              Kernels, NonFinite);
 template void evaluate<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, Colors<double>,
-                               Threads, Kernels);
-template void pdf<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, float*, Threads, Kernels);
+                               Threads, Kernels, NonFinite);
+template void pdf<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, float*, Threads, Kernels,
+                         NonFinite);
 template void pdf<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, double*, Threads,
-                          Kernels);
+                          Kernels, NonFinite);
 template void evaluate_interleaved<float>(const MaterialT<float>&, Interleaved<float>, Interleaved<float>, size_t, float*,
                                           Threads, Kernels, NonFinite);
 template void evaluate_interleaved<double>(const MaterialT<double>&, Interleaved<double>, Interleaved<double>, size_t,

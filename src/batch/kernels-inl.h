@@ -26,6 +26,7 @@ template <typename T> struct EvalArgs {
   Directions<T> wi, wo;
   Colors<T> f;
   T* pdf;
+  NonFinite non_finite = NonFinite::AsComputed;
 };
 template <typename T> struct InterleavedArgs {
   Interleaved<T> wi, wo;
@@ -795,22 +796,34 @@ template <typename T> struct MetalK {
 
 // --- The loops ---------------------------------------------------------------------------------
 
+// The lanes where one of the six input values is NaN or infinite (IsFinite is false for both).
+template <class D> HWY_INLINE M<D> NonFiniteLanes(const V3<D>& wi, const V3<D>& wo) {
+  const M<D> fi = hn::And(hn::And(hn::IsFinite(wi.x), hn::IsFinite(wi.y)), hn::IsFinite(wi.z));
+  const M<D> fo = hn::And(hn::And(hn::IsFinite(wo.x), hn::IsFinite(wo.y)), hn::IsFinite(wo.z));
+  return hn::Not(hn::And(fi, fo));
+}
+
 // One vector at a time over [begin, end); the last partial vector goes through a padded copy
 // (padding: wi = wo = n, a valid input, so no lane of the padding computes anything odd).
 template <class D, class Kernel, typename T>
 HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const size_t N = hn::Lanes(d);
+  const bool nan_rows = a.non_finite == NonFinite::NaN;
+  const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
   const auto one = [&](const T* wix, const T* wiy, const T* wiz, const T* wox, const T* woy, const T* woz, T* r, T* g,
                        T* b, T* p) {
     const V3<D> wi{hn::LoadU(d, wix), hn::LoadU(d, wiy), hn::LoadU(d, wiz)};
     const V3<D> wo{hn::LoadU(d, wox), hn::LoadU(d, woy), hn::LoadU(d, woz)};
+    // NonFinite::NaN: NaN in every output of a lane with a NaN or infinite input (batch.h).
+    M<D> bad = hn::Lt(K(d, 1), hn::Zero(d));  // all false
+    if (nan_rows) bad = NonFiniteLanes(wi, wo);
     if (want_pdf) {
-      hn::StoreU(k.Pdf(d, wi, wo), d, p);
+      hn::StoreU(hn::IfThenElse(bad, nan, k.Pdf(d, wi, wo)), d, p);
     } else {
       const RGBV<D> f = k.F(d, wi, wo);
-      hn::StoreU(f.c[0], d, r);
-      hn::StoreU(f.c[1], d, g);
-      hn::StoreU(f.c[2], d, b);
+      hn::StoreU(hn::IfThenElse(bad, nan, f.c[0]), d, r);
+      hn::StoreU(hn::IfThenElse(bad, nan, f.c[1]), d, g);
+      hn::StoreU(hn::IfThenElse(bad, nan, f.c[2]), d, b);
     }
   };
   size_t i = begin;
@@ -859,7 +872,7 @@ template <typename T> void RunMaterial(const MaterialT<T>& m, const EvalArgs<T>&
 // kernel runs on the vectors exactly as in RunRange, and f is re-interleaved in registers
 // (StoreInterleaved3). A broadcast input (stride 0) is one vector per coordinate for the whole
 // range. With NonFinite::NaN a lane whose six input values are not all finite gets NaN in every
-// output (IsFinite: false for NaN and +-Inf).
+// output, as in RunRange.
 template <class D, class Kernel, typename T>
 HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<T>& a, size_t begin, size_t end,
                                     bool want_pdf) {
@@ -878,11 +891,7 @@ HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<
     if (wi_rows) hn::LoadInterleaved3(d, pi, wi.x, wi.y, wi.z);
     if (wo_rows) hn::LoadInterleaved3(d, po, wo.x, wo.y, wo.z);
     M<D> bad = hn::Lt(K(d, 1), hn::Zero(d));  // all false
-    if (nan_rows) {
-      const M<D> fi = hn::And(hn::And(hn::IsFinite(wi.x), hn::IsFinite(wi.y)), hn::IsFinite(wi.z));
-      const M<D> fo = hn::And(hn::And(hn::IsFinite(wo.x), hn::IsFinite(wo.y)), hn::IsFinite(wo.z));
-      bad = hn::Not(hn::And(fi, fo));
-    }
+    if (nan_rows) bad = NonFiniteLanes(wi, wo);
     if (want_pdf) {
       hn::StoreU(hn::IfThenElse(bad, nan, k.Pdf(d, wi, wo)), d, pp);
     } else {

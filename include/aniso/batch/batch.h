@@ -33,6 +33,12 @@ enum class Threads : int { One = 0, All = 1 };
 // (for callers whose output must not depend on the input's size, such as `aniso eval`).
 enum class Kernels : int { Simd = 0, Scalar = 1 };
 
+// What evaluate and pdf return for an element with a NaN or infinite input value: what the kernels
+// compute from it (AsComputed, the default), or NaN in every output of that element (NaN: the
+// Python bindings' contract, docs/python.md), decided inside the kernel's loop, without a second
+// pass over the data.
+enum class NonFinite : int { AsComputed = 0, NaN = 1 };
+
 // n unit directions in the local shading frame, one array per coordinate.
 template <typename T> struct Directions {
   const T* x = nullptr;
@@ -62,12 +68,13 @@ template <typename T> struct Samples {
 // f[i] = m.f(wi[i], wo[i]) for i < n.
 template <typename T>
 void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f,
-              Threads threads = Threads::All, Kernels kernels = Kernels::Simd);
+              Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
+              NonFinite non_finite = NonFinite::AsComputed);
 
 // pdf[i] = m.pdf(wi[i], wo[i]).
 template <typename T>
 void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* pdf, Threads threads = Threads::All,
-         Kernels kernels = Kernels::Simd);
+         Kernels kernels = Kernels::Simd, NonFinite non_finite = NonFinite::AsComputed);
 
 // out[i] = m.sample(wo[i], uc[i], (u0[i], u1[i])).
 template <typename T>
@@ -81,12 +88,6 @@ template <typename T> struct Interleaved {
   const T* xyz = nullptr;
   size_t stride = 3;
 };
-
-// What the interleaved entry points return for an element with a NaN or infinite input value:
-// what the kernels compute from it (AsComputed, as evaluate() and pdf() above), or NaN in every
-// output of that element (NaN: the Python bindings' contract, docs/python.md), decided inside the
-// kernel's loop, without a second pass over the data.
-enum class NonFinite : int { AsComputed = 0, NaN = 1 };
 
 // evaluate() on interleaved rows, f written interleaved: f_rgb[3 i + c] = m.f(wi[i], wo[i])[c]. The
 // SIMD kernels load and store the rows themselves (Highway's LoadInterleaved3 / StoreInterleaved3),
