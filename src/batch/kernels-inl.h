@@ -805,25 +805,38 @@ template <class D> HWY_INLINE M<D> NonFiniteLanes(const V3<D>& wi, const V3<D>& 
 
 // One vector at a time over [begin, end); the last partial vector goes through a padded copy
 // (padding: wi = wo = n, a valid input, so no lane of the padding computes anything odd).
-template <class D, class Kernel, typename T>
+// kNanRows (NonFinite::NaN) is a template parameter: without it the loop is exactly the plain one,
+// and a kernel that reads only some coordinates (Lambert: the two z) loads only those.
+template <bool kNanRows, class D, class Kernel, typename T>
 HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const size_t N = hn::Lanes(d);
-  const bool nan_rows = a.non_finite == NonFinite::NaN;
+  constexpr bool nan_rows = kNanRows;
   const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
   const auto one = [&](const T* wix, const T* wiy, const T* wiz, const T* wox, const T* woy, const T* woz, T* r, T* g,
                        T* b, T* p) {
     const V3<D> wi{hn::LoadU(d, wix), hn::LoadU(d, wiy), hn::LoadU(d, wiz)};
     const V3<D> wo{hn::LoadU(d, wox), hn::LoadU(d, woy), hn::LoadU(d, woz)};
     // NonFinite::NaN: NaN in every output of a lane with a NaN or infinite input (batch.h).
-    M<D> bad = hn::Lt(K(d, 1), hn::Zero(d));  // all false
-    if (nan_rows) bad = NonFiniteLanes(wi, wo);
-    if (want_pdf) {
-      hn::StoreU(hn::IfThenElse(bad, nan, k.Pdf(d, wi, wo)), d, p);
+    if constexpr (nan_rows) {
+      const M<D> bad = NonFiniteLanes(wi, wo);
+      if (want_pdf) {
+        hn::StoreU(hn::IfThenElse(bad, nan, k.Pdf(d, wi, wo)), d, p);
+      } else {
+        const RGBV<D> f = k.F(d, wi, wo);
+        hn::StoreU(hn::IfThenElse(bad, nan, f.c[0]), d, r);
+        hn::StoreU(hn::IfThenElse(bad, nan, f.c[1]), d, g);
+        hn::StoreU(hn::IfThenElse(bad, nan, f.c[2]), d, b);
+      }
     } else {
-      const RGBV<D> f = k.F(d, wi, wo);
-      hn::StoreU(hn::IfThenElse(bad, nan, f.c[0]), d, r);
-      hn::StoreU(hn::IfThenElse(bad, nan, f.c[1]), d, g);
-      hn::StoreU(hn::IfThenElse(bad, nan, f.c[2]), d, b);
+      (void)nan;
+      if (want_pdf) {
+        hn::StoreU(k.Pdf(d, wi, wo), d, p);
+      } else {
+        const RGBV<D> f = k.F(d, wi, wo);
+        hn::StoreU(f.c[0], d, r);
+        hn::StoreU(f.c[1], d, g);
+        hn::StoreU(f.c[2], d, b);
+      }
     }
   };
   size_t i = begin;
@@ -855,15 +868,18 @@ HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begi
 
 template <typename T> void RunMaterial(const MaterialT<T>& m, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const hn::ScalableTag<T> d;
+  const auto run = [&](const auto& kernel) {
+    if (a.non_finite == NonFinite::NaN) RunRange<true>(d, kernel, a, begin, end, want_pdf);
+    else RunRange<false>(d, kernel, a, begin, end, want_pdf);
+  };
   switch (m.kind) {
-    case ModelKind::Phong: return RunRange(d, LambertPlusLobeK<T, PhongLobeK<T>>(m.phong), a, begin, end, want_pdf);
-    case ModelKind::Ward: return RunRange(d, LambertPlusLobeK<T, WardLobeK<T>>(m.ward), a, begin, end, want_pdf);
-    case ModelKind::AshikhminShirley:
-      return RunRange(d, AshikhminShirleyK<T>(m.ashikhmin_shirley), a, begin, end, want_pdf);
-    case ModelKind::Lafortune: return RunRange(d, LafortuneK<T>(m.lafortune), a, begin, end, want_pdf);
-    case ModelKind::GGX: return RunRange(d, GGXK<T>(m.ggx), a, begin, end, want_pdf);
-    case ModelKind::Metal: return RunRange(d, MetalK<T>(m.metal), a, begin, end, want_pdf);
-    default: return RunRange(d, LambertK<T>(m.lambert), a, begin, end, want_pdf);
+    case ModelKind::Phong: return run(LambertPlusLobeK<T, PhongLobeK<T>>(m.phong));
+    case ModelKind::Ward: return run(LambertPlusLobeK<T, WardLobeK<T>>(m.ward));
+    case ModelKind::AshikhminShirley: return run(AshikhminShirleyK<T>(m.ashikhmin_shirley));
+    case ModelKind::Lafortune: return run(LafortuneK<T>(m.lafortune));
+    case ModelKind::GGX: return run(GGXK<T>(m.ggx));
+    case ModelKind::Metal: return run(MetalK<T>(m.metal));
+    default: return run(LambertK<T>(m.lambert));
   }
 }
 
