@@ -887,14 +887,14 @@ template <typename T> void RunMaterial(const MaterialT<T>& m, const EvalArgs<T>&
 // rows are loaded and de-interleaved in registers (LoadInterleaved3: three loads and shuffles), the
 // kernel runs on the vectors exactly as in RunRange, and f is re-interleaved in registers
 // (StoreInterleaved3). A broadcast input (stride 0) is one vector per coordinate for the whole
-// range. With NonFinite::NaN a lane whose six input values are not all finite gets NaN in every
-// output, as in RunRange.
-template <class D, class Kernel, typename T>
+// range. With NonFinite::NaN (kNanRows, as in RunRange) a lane whose six input values are not all
+// finite gets NaN in every output.
+template <bool kNanRows, class D, class Kernel, typename T>
 HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<T>& a, size_t begin, size_t end,
                                     bool want_pdf) {
   const size_t N = hn::Lanes(d);
-  const bool nan_rows = a.non_finite == NonFinite::NaN;
   const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
+  (void)nan;  // used with kNanRows only
   const auto broadcast = [&](const Interleaved<T>& w) {
     return w.stride == 0 ? V3<D>{hn::Set(d, w.xyz[0]), hn::Set(d, w.xyz[1]), hn::Set(d, w.xyz[2])} : V3<D>{};
   };
@@ -906,14 +906,17 @@ HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<
     V3<D> wi = wi_all, wo = wo_all;
     if (wi_rows) hn::LoadInterleaved3(d, pi, wi.x, wi.y, wi.z);
     if (wo_rows) hn::LoadInterleaved3(d, po, wo.x, wo.y, wo.z);
-    M<D> bad = hn::Lt(K(d, 1), hn::Zero(d));  // all false
-    if (nan_rows) bad = NonFiniteLanes(wi, wo);
     if (want_pdf) {
-      hn::StoreU(hn::IfThenElse(bad, nan, k.Pdf(d, wi, wo)), d, pp);
+      V<D> p = k.Pdf(d, wi, wo);
+      if constexpr (kNanRows) p = hn::IfThenElse(NonFiniteLanes(wi, wo), nan, p);
+      hn::StoreU(p, d, pp);
     } else {
-      const RGBV<D> f = k.F(d, wi, wo);
-      hn::StoreInterleaved3(hn::IfThenElse(bad, nan, f.c[0]), hn::IfThenElse(bad, nan, f.c[1]),
-                            hn::IfThenElse(bad, nan, f.c[2]), d, pf);
+      RGBV<D> f = k.F(d, wi, wo);
+      if constexpr (kNanRows) {
+        const M<D> bad = NonFiniteLanes(wi, wo);
+        for (int c = 0; c < 3; ++c) f.c[c] = hn::IfThenElse(bad, nan, f.c[c]);
+      }
+      hn::StoreInterleaved3(f.c[0], f.c[1], f.c[2], d, pf);
     }
   };
   const auto at = [](const Interleaved<T>& w, size_t i) { return w.xyz + w.stride * i; };
@@ -937,16 +940,18 @@ HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<
 template <typename T>
 void RunMaterialInterleaved(const MaterialT<T>& m, const InterleavedArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const hn::ScalableTag<T> d;
+  const auto run = [&](const auto& kernel) {
+    if (a.non_finite == NonFinite::NaN) RunRangeInterleaved<true>(d, kernel, a, begin, end, want_pdf);
+    else RunRangeInterleaved<false>(d, kernel, a, begin, end, want_pdf);
+  };
   switch (m.kind) {
-    case ModelKind::Phong:
-      return RunRangeInterleaved(d, LambertPlusLobeK<T, PhongLobeK<T>>(m.phong), a, begin, end, want_pdf);
-    case ModelKind::Ward: return RunRangeInterleaved(d, LambertPlusLobeK<T, WardLobeK<T>>(m.ward), a, begin, end, want_pdf);
-    case ModelKind::AshikhminShirley:
-      return RunRangeInterleaved(d, AshikhminShirleyK<T>(m.ashikhmin_shirley), a, begin, end, want_pdf);
-    case ModelKind::Lafortune: return RunRangeInterleaved(d, LafortuneK<T>(m.lafortune), a, begin, end, want_pdf);
-    case ModelKind::GGX: return RunRangeInterleaved(d, GGXK<T>(m.ggx), a, begin, end, want_pdf);
-    case ModelKind::Metal: return RunRangeInterleaved(d, MetalK<T>(m.metal), a, begin, end, want_pdf);
-    default: return RunRangeInterleaved(d, LambertK<T>(m.lambert), a, begin, end, want_pdf);
+    case ModelKind::Phong: return run(LambertPlusLobeK<T, PhongLobeK<T>>(m.phong));
+    case ModelKind::Ward: return run(LambertPlusLobeK<T, WardLobeK<T>>(m.ward));
+    case ModelKind::AshikhminShirley: return run(AshikhminShirleyK<T>(m.ashikhmin_shirley));
+    case ModelKind::Lafortune: return run(LafortuneK<T>(m.lafortune));
+    case ModelKind::GGX: return run(GGXK<T>(m.ggx));
+    case ModelKind::Metal: return run(MetalK<T>(m.metal));
+    default: return run(LambertK<T>(m.lambert));
   }
 }
 
