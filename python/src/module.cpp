@@ -965,6 +965,9 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
   // Progress: None shows a line on stderr as `aniso fit` does (when stderr is a terminal, once the fit
   // has run a second), True always, False never; a callable gets a dict per solver iteration.
   const bool call = !progress.is_none() && PyCallable_Check(progress.ptr()) && !py::isinstance<py::bool_>(progress);
+  if (!progress.is_none() && !call && !py::isinstance<py::bool_>(progress))
+    throw py::value_error(fmt::format("progress: expected None, True, False or a callable, got {}",
+                                      std::string(py::str(py::type::of(progress).attr("__name__")))));
   const bool print = !call && (progress.is_none() ? isatty(STDERR_FILENO) != 0 : progress.cast<bool>());
   const double print_after = progress.is_none() ? 1.0 : 0.0;
   std::optional<py::error_already_set> callback_error;

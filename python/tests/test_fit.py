@@ -161,6 +161,8 @@ def test_bad_arrays_raise_value_errors_naming_the_argument():
         aniso.fit(KRYLON, wi=wi, wo=wo, value=f)
     with pytest.raises(ValueError, match="lobes: expected a number, got list"):
         aniso.fit(KRYLON, lobes=[1])
+    with pytest.raises(ValueError, match="progress: expected None, True, False or a callable, got int"):
+        aniso.fit(KRYLON, progress=1)
     with pytest.raises(ValueError, match="no samples to fit"):
         aniso.fit(wi=np.zeros((0, 3)), wo=np.zeros((0, 3)), value=np.zeros((0, 3)))
 
