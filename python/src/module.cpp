@@ -2,9 +2,9 @@
 //
 // Thin bindings over the library: materials are read by io/materials.h (load_material,
 // parse_material, build_material), so that Python accepts and rejects exactly what the CLI does,
-// with the same messages; evaluation goes through the batch API (aniso/batch/batch.h) on chunks of
-// the caller's arrays (python/src/arrays.h), the GIL released; scenes are read and rendered by
-// src/render, GLSL written by src/gl. The Python package (python/aniso/__init__.py) adds the
+// with the same messages; evaluation goes through the batch API (aniso/batch/batch.h) on the
+// caller's arrays (python/src/arrays.h), the GIL released; scenes are read and rendered by
+// src/render, fits run by src/fit (as `aniso fit`), GLSL written by src/gl. The Python package (python/aniso/__init__.py) adds the
 // per-model constructors and direction helpers on top.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
