@@ -164,7 +164,11 @@ TEST(ViewSet, ChangesTheMaterialOrKeepsIt) {
   view::MaterialSlot s = view::load_slot(R"({"model": "ward", "alpha_x": 0.2, "alpha_y": 0.3})");
   view::apply_assignment(s, "alpha_x=0.05");
   EXPECT_DOUBLE_EQ(s.edit["alpha_x"].get<double>(), 0.05);
-  EXPECT_FLOAT_EQ(float(std::get<WardT<double>>(s.kernel.v).lobe.alpha_x), 0.05f);
+  {
+    const MaterialT<double> ref = test::build<double>({{"model", "ward"}, {"alpha_x", 0.05}, {"alpha_y", 0.3}});
+    const Vec3T<double> wi = dir(30.0, 10.0), wo = dir(25.0, 200.0);
+    EXPECT_EQ(s.kernel.f(wi, wo).x, ref.f(wi, wo).x);  // the kernel is rebuilt from the edited JSON
+  }
   view::apply_assignment(s, "form=angle");  // a bare word is a string
   EXPECT_EQ(s.edit["form"], "angle");
   const json before = s.edit;

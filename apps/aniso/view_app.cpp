@@ -442,7 +442,9 @@ void App::view_lit(LitView& v, view::ObjectKind kind, const view::MaterialSlot& 
       v.raster = std::make_unique<gl::SceneRasterizer>(*scene, gl::RasterSettings{opt_.subsamples});
       v.base = base.get();
     }
-    v.raster->set_camera(scene->camera);
+    render::Camera cam = scene->camera;
+    cam.fov_deg = view::fitted_fov(cam.fov_deg, w, h);
+    v.raster->set_camera(cam);
     v.raster->set_lights(scene->lights);
     v.raster->set_material(0, slot.desc);
     if (!ex.structural_tangent()) v.raster->set_tangent_field(0, scene->objects[0].tangent.field);
@@ -538,7 +540,7 @@ void App::draw_lobe(float w, float h) {
   }
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->AddImage(tex_id(lobe_target_.texture()), p, ImVec2(p.x + w, p.y + h), ImVec2(0, 1), ImVec2(1, 0));
-  dl->AddText(ImVec2(p.x + 4, p.y + 4), IM_COL32(200, 200, 200, 255), "A: r = f(wi, wo) / max   normal / t / light");
+  dl->AddText(ImVec2(p.x + 4, p.y + 4), IM_COL32(200, 200, 200, 255), "A: r = f / max; n t light");
 }
 
 // Directional albedo of A (R, G, B) and B (luminance, blue) against theta, at the light's azimuth.
@@ -573,13 +575,13 @@ void App::draw_albedo(float w, float h) {
     }
     dl->PathStroke(col, 0, 1.8f);
   };
-  line(albedo_b_, -1, kColB);
+  line(albedo_b_, -1, IM_COL32(200, 200, 200, 255));
   line(albedo_a_, 0, IM_COL32(240, 80, 80, 255));
   line(albedo_a_, 1, IM_COL32(80, 220, 80, 255));
   line(albedo_a_, 2, IM_COL32(90, 120, 255, 255));
   const float xl = x0 + pw * float(ex.light.theta_deg / 90.0);
   dl->AddLine(ImVec2(xl, y0), ImVec2(xl, y0 - ph), kColLight);
-  dl->AddText(ImVec2(x0 + 4, p.y + 2), IM_COL32(200, 200, 200, 255), "albedo vs theta (deg): A r g b, B lum.");
+  dl->AddText(ImVec2(x0 + 4, p.y + 2), IM_COL32(200, 200, 200, 255), "A: r g b; B: grey");
 }
 
 void App::draw_compare(float w, float h) {

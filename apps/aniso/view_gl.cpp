@@ -236,7 +236,7 @@ void LobeRenderer::draw(int width, int height, float yaw_deg, float pitch_deg) c
   // to the right: world = (x, z, -y).
   const glm::mat4 to_world(glm::vec4(1, 0, 0, 0), glm::vec4(0, 0, -1, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, 0, 1));
   const float yaw = glm::radians(yaw_deg), pitch = glm::radians(pitch_deg);
-  const glm::vec3 eye = 3.2f * glm::vec3(std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch));
+  const glm::vec3 eye = 4.6f * glm::vec3(std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch));
   const glm::mat4 view = glm::lookAt(eye + glm::vec3(0, 0.35f, 0), glm::vec3(0, 0.35f, 0), glm::vec3(0, 1, 0));
   const glm::mat4 proj = glm::perspective(glm::radians(35.0f), float(width) / float(std::max(height, 1)), 0.1f, 20.0f);
   const glm::mat4 mvp = proj * view * to_world;

@@ -218,6 +218,11 @@ json OrbitCamera::to_json() const {
   return {{"position", pos}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", fov_deg}};
 }
 
+float fitted_fov(float fov_deg, int width, int height) {
+  if (height <= width) return fov_deg;
+  return glm::degrees(2.0f * std::atan(std::tan(glm::radians(fov_deg) / 2.0f) * float(height) / float(std::max(width, 1))));
+}
+
 json Explorer::scene_document(ObjectKind kind, const MaterialSlot& m, int width, int height) const {
   json doc;
   doc["camera"] = camera.to_json();
@@ -237,7 +242,7 @@ json Explorer::scene_document(ObjectKind kind, const MaterialSlot& m, int width,
   }
   // The material is the slot's: a measured one as its file reference (parse_scene would read the
   // file again; view scenes swap the kernel in instead, make_view_scene()).
-  obj["material"] = m.desc.model == "measured" ? json("lambert") : m.edit;
+  obj["material"] = m.desc.model == "measured" ? json{{"model", "lambert"}} : m.edit;
   obj["tangent"] = tangent.to_json();
   if (tangent.field == "uv" && kind == ObjectKind::Sphere) obj["tangent"].erase("field");  // spheres have no UV tangents to read
   doc["objects"] = json::array({obj});
@@ -250,7 +255,7 @@ json Explorer::preview_document(ObjectKind kind, int width, int height) const {
   doc["film"]["width"] = width;
   doc["film"]["height"] = height;
   if (doc.contains("objects") && doc["objects"].is_array() && !doc["objects"].empty())
-    doc["objects"][0]["material"] = a.desc.model == "measured" ? json("lambert") : a.edit;
+    doc["objects"][0]["material"] = a.desc.model == "measured" ? json{{"model", "lambert"}} : a.edit;
   return doc;
 }
 
@@ -265,6 +270,7 @@ namespace {
 std::shared_ptr<const render::Scene> with_material(render::Scene scene, const MaterialSlot& m) {
   if (!scene.objects.empty()) {
     scene.objects[0].material = m.kernel_f;
+    scene.objects[0].material_desc = std::make_shared<const MaterialDesc>(m.desc);  // the GL backend's shader source
     scene.objects[0].material_name = m.source;
   }
   std::shared_ptr<const MeasuredData> keep = m.desc.measured;
@@ -276,7 +282,9 @@ std::shared_ptr<const render::Scene> with_material(render::Scene scene, const Ma
 std::shared_ptr<const render::Scene> Explorer::preview_scene(ObjectKind kind, int width, int height) const {
   const json doc = preview_document(kind, width, height);
   const std::string what = scene_file.is_null() ? std::string("preview") : scene_path;
-  return with_material(render::parse_scene(doc, what, scene_file.is_null() ? std::string() : scene_base_dir), a);
+  render::Scene s = render::parse_scene(doc, what, scene_file.is_null() ? std::string() : scene_base_dir);
+  if (scene_file.is_null()) s.camera.fov_deg = fitted_fov(s.camera.fov_deg, width, height);
+  return with_material(std::move(s), a);
 }
 
 void Explorer::refresh() {
@@ -299,7 +307,7 @@ render::Light Explorer::light_value() const {
 
 TangentFieldT<float> Explorer::tangent_field() const {
   json doc = {{"camera", camera.to_json()},
-              {"objects", json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", "lambert"},
+              {"objects", json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", {{"model", "lambert"}}},
                                          {"tangent", tangent.to_json()}}})}};
   if (structural_tangent()) doc["objects"][0].erase("tangent");
   return parse_view_scene(doc, "tangent controls").objects.at(0).tangent.field;

@@ -98,6 +98,10 @@ struct OrbitCamera {
 
 enum class ObjectKind { Sphere, Object };
 
+// The orbit camera's field of view is the vertical one for a landscape view; a portrait view
+// widens it so that the same horizontal extent stays in the picture (the sphere fits either way).
+float fitted_fov(float fov_deg, int width, int height);
+
 // Everything the lit views and the path-traced preview show.
 struct Explorer {
   MaterialSlot a, b;
