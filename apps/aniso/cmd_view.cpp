@@ -27,6 +27,8 @@ void add_view_command(CLI::App& app) {
   cmd->add_option("--screenshot", o->screenshot, "write the window to this PNG after the last frame (with --frames)");
   cmd->add_option("--light", o->light_theta_deg, "light theta in degrees from the normal")->check(CLI::Range(0.0, 89.0));
   cmd->add_option("--light-phi", o->light_phi_deg, "light phi in degrees from the tangent")->check(CLI::Range(-360.0, 360.0));
+  cmd->add_option("--yaw", o->camera_yaw_deg, "orbit camera: degrees about +y (0: looking along -z)")->check(CLI::Range(-360.0, 360.0));
+  cmd->add_option("--pitch", o->camera_pitch_deg, "orbit camera: degrees above the horizon")->check(CLI::Range(-85.0, 85.0));
   cmd->add_option("--tangent-angle", o->tangent_angle_deg, "tangent rotation about the normal, degrees")->check(CLI::Range(-360.0, 360.0));
   cmd->add_option("--tangent-field", o->tangent_field, "procedural tangent field")
       ->check(CLI::IsMember({"natural", "projected", "concentric", "radial", "swirl", "noise", "uv"}));

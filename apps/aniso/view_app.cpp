@@ -515,8 +515,8 @@ void App::draw_polar(float w, float h) {
       dl->AddLine(c, ImVec2(c.x + R * std::sin(t), c.y - R * std::cos(t)), kColLight, 1.5f);
       dl->AddLine(c, ImVec2(c.x - R * std::sin(t), c.y - R * std::cos(t)), IM_COL32(255, 230, 80, 90), 1.0f);
     }
-    const std::string label = fmt::format("{} (phi {:.0f} deg){}{}", k == 0 ? "plane of incidence" : "perpendicular", plane,
-                                          log_scale_ ? ", log 4 decades" : "", times_cos_ ? ", x cos" : "");
+    const std::string label = fmt::format("{}, phi {:.0f}{}{}", k == 0 ? "incidence" : "perpendicular", plane,
+                                          log_scale_ ? ", log" : "", times_cos_ ? ", x cos" : "");
     dl->AddText(ImVec2(p.x + 4, c.y - R - 16.0f), IM_COL32(200, 200, 200, 255), label.c_str());
   }
 }
@@ -525,7 +525,7 @@ void App::draw_lobe(float w, float h) {
   const Vec3T<double> wi = ex.light.local();
   const std::string key = fmt::format("{} {} {} {}", ex.a.edit.dump(), ex.light.theta_deg, ex.light.phi_deg, times_cos_);
   if (key != lobe_key_) {
-    lobe_->upload(view::lobe_mesh(ex.a.kernel, wi, 48, 96, times_cos_), glm::vec3(wi));
+    lobe_->upload(view::lobe_mesh(ex.a.kernel, wi, 90, 360, times_cos_), glm::vec3(wi));  // 1-degree steps: sharp lobes stay smooth
     lobe_key_ = key;
   }
   lobe_target_.resize(int(w), int(h));
@@ -777,6 +777,8 @@ int run_view(const ViewOptions& o) {
   ex.light.theta_deg = o.light_theta_deg;
   ex.light.phi_deg = o.light_phi_deg;
   ex.tangent.angle_deg = o.tangent_angle_deg;
+  ex.camera.yaw_deg = o.camera_yaw_deg;
+  ex.camera.pitch_deg = o.camera_pitch_deg;
   if (!o.tangent_field.empty()) ex.tangent.field = o.tangent_field;
   if (!o.scene.empty()) ex.load_scene_file(o.scene);
   ex.refresh();

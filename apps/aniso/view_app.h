@@ -22,6 +22,7 @@ struct ViewOptions {
   std::vector<std::string> views;  // empty: all
   double light_theta_deg = 35.0, light_phi_deg = 20.0;
   double tangent_angle_deg = 0.0;
+  double camera_yaw_deg = 0.0, camera_pitch_deg = 0.0;  // the orbit camera
   std::string tangent_field;  // "" = natural
   std::string compare = "split";  // split | difference
   bool log_scale = false, times_cos = false;

@@ -93,8 +93,10 @@ layout(location = 0) in vec3 position;
 layout(location = 1) in float value;
 uniform mat4 mvp;
 out float v_value;
+out vec3 v_position;
 void main() {
   v_value = value;
+  v_position = position;
   gl_Position = mvp * vec4(position, 1.0);
 }
 )";
@@ -103,12 +105,17 @@ void main() {
 // marks the axis lines, coloured by their index.
 constexpr const char* kLobeFS = R"(#version 330 core
 in float v_value;
+in vec3 v_position;
 out vec4 color;
 void main() {
-  if (v_value < -2.5) color = vec4(1.0, 0.85, 0.2, 1.0);       // light
-  else if (v_value < -1.5) color = vec4(0.9, 0.3, 0.3, 1.0);   // tangent
-  else if (v_value < -0.5) color = vec4(0.4, 0.7, 1.0, 1.0);   // normal
-  else color = vec4(mix(vec3(0.10, 0.15, 0.45), vec3(1.0, 0.9, 0.35), clamp(v_value, 0.0, 1.0)), 1.0);
+  if (v_value < -2.5) { color = vec4(1.0, 0.85, 0.2, 1.0); return; }      // light
+  if (v_value < -1.5) { color = vec4(0.9, 0.3, 0.3, 1.0); return; }       // tangent
+  if (v_value < -0.5) { color = vec4(0.4, 0.7, 1.0, 1.0); return; }       // normal
+  // The surface's facet normal from screen-space derivatives, for a little shading of its shape
+  // (two-sided: abs), 40 % ambient.
+  vec3 n = normalize(cross(dFdx(v_position), dFdy(v_position)));
+  float shade = 0.4 + 0.6 * abs(dot(n, normalize(vec3(0.3, -0.4, 0.85))));
+  color = vec4(shade * mix(vec3(0.15, 0.2, 0.55), vec3(1.0, 0.9, 0.35), clamp(v_value, 0.0, 1.0)), 1.0);
 }
 )";
 

@@ -283,7 +283,10 @@ std::shared_ptr<const render::Scene> Explorer::preview_scene(ObjectKind kind, in
   const json doc = preview_document(kind, width, height);
   const std::string what = scene_file.is_null() ? std::string("preview") : scene_path;
   render::Scene s = render::parse_scene(doc, what, scene_file.is_null() ? std::string() : scene_base_dir);
-  if (scene_file.is_null()) s.camera.fov_deg = fitted_fov(s.camera.fov_deg, width, height);
+  if (scene_file.is_null()) {
+    s.camera = camera_value(kind);
+    s.camera.fov_deg = fitted_fov(s.camera.fov_deg, width, height);
+  }
   return with_material(std::move(s), a);
 }
 
@@ -292,11 +295,29 @@ void Explorer::refresh() {
   auto sphere = std::make_shared<const render::Scene>(parse_view_scene(scene_document(ObjectKind::Sphere, a, 64, 64), "sphere view"));
   auto object = std::make_shared<const render::Scene>(
       parse_view_scene(scene_document(ObjectKind::Object, a, 64, 64), obj_path.empty() ? std::string("object view") : obj_path));
+  // The bounding sphere of a mesh (the box's centre and half diagonal), or of the generated torus.
+  Vec3T<double> center(0.0);
+  double radius = 1.0;
+  if (!object->objects.empty() && object->objects[0].mesh && !object->objects[0].mesh->positions.empty()) {
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    for (const Vec3& p : object->objects[0].mesh->positions) lo = glm::min(lo, glm::dvec3(p)), hi = glm::max(hi, glm::dvec3(p));
+    center = 0.5 * (lo + hi);
+    radius = std::max(0.5 * glm::length(hi - lo), 1e-3);
+  }
+  if (obj_path.empty()) center = Vec3T<double>(0.0), radius = 0.95 + 0.4;  // the torus: major + minor radius
   sphere_base = std::move(sphere), object_base = std::move(object);
+  object_center = center, object_radius = radius;
 }
 
-render::Camera Explorer::camera_value() const {
-  return parse_view_scene({{"camera", camera.to_json()}, {"objects", json::array()}}, "camera").camera;
+render::Camera Explorer::camera_value(ObjectKind kind) const {
+  render::Camera c = parse_view_scene({{"camera", camera.to_json()}, {"objects", json::array()}}, "camera").camera;
+  if (kind == ObjectKind::Object) {
+    // The same orbit about the object's centre, scaled to its size (a mesh rarely fills its bounding
+    // sphere: 0.8 of its radius frames the example meshes).
+    c.position = Vec3(object_center + (glm::dvec3(c.position) - glm::dvec3(c.look_at)) * (obj_path.empty() ? object_radius : 0.8 * object_radius));
+    c.look_at = Vec3(object_center);
+  }
+  return c;
 }
 
 render::Light Explorer::light_value() const {
@@ -317,7 +338,7 @@ std::shared_ptr<const render::Scene> Explorer::view_scene(ObjectKind kind, const
   const std::shared_ptr<const render::Scene>& base = kind == ObjectKind::Sphere ? sphere_base : object_base;
   if (!base) throw std::logic_error("Explorer::view_scene before refresh()");
   render::Scene s = *base;
-  s.camera = camera_value();
+  s.camera = camera_value(kind);
   if (!s.lights.empty()) s.lights[0] = light_value();
   if (!s.objects.empty() && !structural_tangent()) s.objects[0].tangent.field = tangent_field();
   return with_material(std::move(s), m);

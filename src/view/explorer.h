@@ -118,6 +118,9 @@ struct Explorer {
   // The views' scenes as parsed (geometry, tangent map, UV tangents), rebuilt by refresh() after
   // a structural change (an OBJ, a tangent map, the uv field); view_scene() patches the rest.
   std::shared_ptr<const render::Scene> sphere_base, object_base;
+  // The object's bounding sphere (refresh()): the orbit camera of the object views frames it.
+  Vec3T<double> object_center{0.0};
+  double object_radius = 1.0;
 
   // The scene document of a view: the sphere (or the object) with the material, the light as a
   // directional light, a dim uniform environment, the orbit camera, the film size given.
@@ -133,7 +136,7 @@ struct Explorer {
   // A view's scene now: the parsed base with the orbit camera, the light, the tangent field of the
   // controls and the slot's material on its object (cheap: no file is read). refresh() first.
   std::shared_ptr<const render::Scene> view_scene(ObjectKind kind, const MaterialSlot& m) const;
-  render::Camera camera_value() const;
+  render::Camera camera_value(ObjectKind kind = ObjectKind::Sphere) const;
   render::Light light_value() const;
   // The procedural field of the controls as the scene reader makes it (InputError when invalid).
   TangentFieldT<float> tangent_field() const;
