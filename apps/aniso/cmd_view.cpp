@@ -38,6 +38,9 @@ void add_view_command(CLI::App& app) {
   cmd->add_flag("--animate", o->animate, "turn the light 3 degrees a frame (speed measurement: every view redraws)");
   cmd->add_option("--preview-spp", o->preview_spp, "with --frames: wait for this many path-traced samples before the last frame")
       ->check(CLI::Range(0, 4096));
+  cmd->add_option("--interactive-scale", o->interactive_scale,
+                  "lit views' resolution while something changes, relative to full (full again 0.3 s after the last change)")
+      ->check(CLI::Range(0.1, 1.0));
   cmd->add_option("--subsamples", o->subsamples, "rasteriser sub-pixel positions per axis (anti-aliasing)")->check(CLI::Range(1, 8));
   cmd->add_option("--load-material", o->load_material, "script action: load material A from a file, as the Load button does");
   cmd->add_option("--load-material-b", o->load_material_b, "script action: load material B from a file");

@@ -59,6 +59,7 @@ struct LitView {
   std::string key;                      // what was last drawn (material, light, camera, size)
   viewgl::RenderTarget display;
   std::string error;                    // shown in the view instead of the picture
+  bool scaled = false;                  // drawn at the interactive scale (below the view's size)
 };
 
 class App {
@@ -103,7 +104,7 @@ class App {
   bool difference_ = false;
   float diff_gain_ = 4.0f, exposure_ = 0.0f;
   bool log_scale_ = false, times_cos_ = false;
-  Clock::time_point camera_moved_{}, changed_ = Clock::now();
+  Clock::time_point camera_moved_{}, changed_ = Clock::now() - std::chrono::seconds(1);
   std::string path_a_, path_b_, path_map_, path_obj_, path_save_ = "material.json", path_glsl_ = "material.glsl",
                                                       path_brdf_ = "material.brdf", path_shot_ = "aniso-view.png";
   std::vector<double> frame_ms_;
@@ -426,8 +427,13 @@ void App::drag_camera(bool active) {
   after_change();
 }
 
-void App::view_lit(LitView& v, view::ObjectKind kind, const view::MaterialSlot& slot, int w, int h) {
-  v.display.resize(w, h);
+void App::view_lit(LitView& v, view::ObjectKind kind, const view::MaterialSlot& slot, int display_w, int display_h) {
+  v.display.resize(display_w, display_h);
+  // Fewer pixels while the user drags (the display pass scales the picture up), all of them once
+  // the state has been still for 0.3 s.
+  const bool changing = Clock::now() - changed_ < std::chrono::milliseconds(300);
+  const double scale = changing ? opt_.interactive_scale : 1.0;
+  const int w = std::max(8, int(std::lround(display_w * scale))), h = std::max(8, int(std::lround(display_h * scale)));
 #if ANISO_VIEW_HAVE_RASTER
   const std::shared_ptr<const render::Scene>& base = kind == view::ObjectKind::Sphere ? ex.sphere_base : ex.object_base;
   const std::string key = fmt::format("{} {} {} {} {} {} {} {} {} {}", slot.edit.dump(), ex.light.theta_deg, ex.light.phi_deg,
@@ -453,6 +459,7 @@ void App::view_lit(LitView& v, view::ObjectKind kind, const view::MaterialSlot& 
     v.error.clear();
     v.display.bind();
     display_->draw(v.raster->color_texture(), 0, false, exposure_, 1.0f, kBackground);
+    v.scaled = w != display_w;
   } catch (const std::exception& e) {
     v.error = e.what();
     v.display.bind();
@@ -612,14 +619,17 @@ void App::draw_compare(float w, float h) {
     if (!v->error.empty()) dl->AddText(nullptr, 0.0f, ImVec2(p.x + 6, p.y + 24), IM_COL32(255, 110, 110, 255), v->error.c_str(), nullptr, w - 12);
 }
 
-// The path-traced preview: restarted once the camera has been still for 0.3 s after a change.
+// The path-traced preview of the lit object's scene (or the --scene file).
 void App::draw_preview(float w, float h) {
   const int pw = std::max(16, int(w)), ph = std::max(16, int(h));
   const std::string key = fmt::format("{} {} {} {} {} {} {} {} {} {} {}", ex.a.edit.dump(), ex.light.theta_deg, ex.light.phi_deg,
                                       ex.light_irradiance, ex.tangent.to_json().dump(), ex.camera.yaw_deg, ex.camera.pitch_deg,
                                       static_cast<const void*>(ex.object_base.get()), pw, ph, ex.scene_path);
+  // Restarted once the camera (and everything else) has been still for 0.3 s: while a slider or
+  // the light is dragged the path tracer does not compete with the window for the cores.
   const bool moving = Clock::now() - camera_moved_ < std::chrono::milliseconds(300);
-  if (key != preview_key_ && !moving) {
+  const bool still = Clock::now() - changed_ >= std::chrono::milliseconds(300);
+  if (key != preview_key_ && still) {
     try {
       preview_.restart(ex.preview_scene(view::ObjectKind::Object, pw, ph));
       preview_key_ = key;
@@ -639,7 +649,9 @@ void App::draw_preview(float w, float h) {
   drag_camera(ImGui::IsItemActive());
   ImDrawList* dl = ImGui::GetWindowDrawList();
   if (preview_tex_.texture()) dl->AddImage(tex_id(preview_tex_.texture()), p, ImVec2(p.x + w, p.y + h));
-  const std::string label = moving ? std::string("camera moving") : fmt::format("path traced: {} spp", preview_spp_);
+  const std::string label = moving ? std::string("camera moving")
+                                   : (key != preview_key_ ? std::string("waiting for the changes to stop")
+                                                          : fmt::format("path traced: {} spp", preview_spp_));
   dl->AddText(ImVec2(p.x + 4, p.y + 4), IM_COL32(230, 230, 230, 255), label.c_str());
 }
 

@@ -29,6 +29,9 @@ struct ViewOptions {
   bool animate = false;     // turn the light 3 degrees a frame (speed measurements: every view redraws)
   int preview_spp = 4;      // scripted runs: the preview's samples per pixel before the last frame
   int subsamples = 1;       // the rasteriser's sub-pixel positions per axis
+  // The lit views' resolution while something changes (a slider or the light dragged, --animate),
+  // relative to the view's size; full resolution 0.3 s after the last change. 1: always full.
+  double interactive_scale = 0.5;
   // Script actions: what the window's buttons do, in this order after --set (errors go to the
   // window and stderr; the run goes on with the last good state).
   std::vector<std::string> load_material, load_material_b, load_obj, load_tangent_map;
