@@ -132,7 +132,7 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
   ImGui::PushID(id);
   // Presets (fitted materials and metals among them) and each model's defaults.
   static const std::vector<std::string> choices = view::material_choices();
-  if (ImGui::BeginCombo("preset", slot.source.c_str())) {
+  if (ImGui::BeginCombo("preset", slot.label().c_str())) {
     for (const ModelSpec* m : model_specs()) {
       if (m->name == "measured") continue;  // a file: load it by path
       const std::string label = fmt::format("model: {}", m->name);
@@ -613,8 +613,8 @@ void App::draw_compare(float w, float h) {
   dl->AddImage(tex_id(cmp_a_.display.texture()), p, ImVec2(p.x + w / 2, p.y + h), ImVec2(0, 1), ImVec2(0.5f, 0));
   dl->AddImage(tex_id(cmp_b_.display.texture()), ImVec2(p.x + w / 2, p.y), ImVec2(p.x + w, p.y + h), ImVec2(0.5f, 1), ImVec2(1, 0));
   dl->AddLine(ImVec2(p.x + w / 2, p.y), ImVec2(p.x + w / 2, p.y + h), IM_COL32(255, 255, 255, 160));
-  dl->AddText(ImVec2(p.x + 4, p.y + 4), kColA, ("A " + ex.a.source).c_str());
-  dl->AddText(ImVec2(p.x + w / 2 + 4, p.y + 4), kColB, ("B " + ex.b.source).c_str());
+  dl->AddText(ImVec2(p.x + 4, p.y + 4), kColA, ("A " + ex.a.label()).c_str());
+  dl->AddText(ImVec2(p.x + w / 2 + 4, p.y + 4), kColB, ("B " + ex.b.label()).c_str());
   for (const LitView* v : {&cmp_a_, &cmp_b_})
     if (!v->error.empty()) dl->AddText(nullptr, 0.0f, ImVec2(p.x + 6, p.y + 24), IM_COL32(255, 110, 110, 255), v->error.c_str(), nullptr, w - 12);
 }

@@ -92,6 +92,7 @@ void set_key(MaterialSlot& slot, std::string_view key, const json& value) {
   // the value's type and range.
   MaterialSlot next = slot_from_json(edited, fmt::format("{} (edited)", slot.source));
   next.source = slot.source;
+  next.edited = true;
   slot = std::move(next);
 }
 

@@ -25,7 +25,9 @@ namespace aniso::view {
 // A material being edited: as loaded (desc) and as the JSON the sliders edit (every key of its
 // table, shorthands expanded: resolved_json), with its double-precision kernel for the plots.
 struct MaterialSlot {
-  std::string source;  // what it was loaded from: a preset name, a file, "inline material", "edited"
+  std::string source;  // what it was loaded from: a preset name, a file, "inline material"
+  bool edited = false; // changed since (set_key: a slider, --set)
+  std::string label() const { return edited ? source + " (edited)" : source; }
   MaterialDesc desc;
   nlohmann::json edit;
   MaterialT<double> kernel;
