@@ -12,8 +12,12 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <epoxy/gl.h>
+
+#include "cli_fixture.h"
 #include "gl/scene_raster.h"
 #include "glsl_util.h"
+#include "measured/merl.h"
 #include "render/geometry.h"
 #include "render/integrator.h"
 #include "test_util.h"
@@ -49,7 +53,9 @@ json scene_json(const json& objects, const json& lights) {
 
 json point_light() { return json::array({{{"type", "point"}, {"position", {2.0, 2.5, 3.0}}, {"intensity", 14.0}}}); }
 
-// 5 x 5 rays over each pixel's square: true where all of them hit the same object.
+// 5 x 5 camera rays over each pixel's square (corners included): true where all of them hit the
+// same object at nearly the same distance (within 5 %: no silhouette of an object against itself)
+// and see the same lights unshadowed (no shadow edge in the pixel).
 std::vector<bool> interior_mask(const render::Scene& scene) {
   render::SceneGeometry geo(scene);
   render::PathTracer tracer(scene, geo);
@@ -58,16 +64,29 @@ std::vector<bool> interior_mask(const render::Scene& scene) {
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       int first = -2;
+      uint64_t first_shadows = 0;
+      float t_min = INFINITY, t_max = 0.0f;
       bool same = true;
       for (int j = 0; j <= 4 && same; ++j)
         for (int i = 0; i <= 4 && same; ++i) {
           render::SurfaceHit hit;
           const render::Ray ray = tracer.camera_ray(float(x) + float(i) / 4.0f, float(y) + float(j) / 4.0f);
           const int id = geo.intersect(ray, INFINITY, &hit) ? hit.object : -1;
-          if (first == -2) first = id;
-          same = id == first;
+          uint64_t shadows = 0;
+          if (id >= 0) {
+            t_min = std::min(t_min, hit.t), t_max = std::max(t_max, hit.t);
+            for (size_t l = 0; l < scene.lights.size() && l < 64; ++l) {
+              const render::Light& light = scene.lights[l];
+              const Vec3 to = light.kind == render::LightKind::Directional ? light.to_light : light.position - hit.p;
+              const float dist = light.kind == render::LightKind::Directional ? INFINITY : glm::length(to) * (1.0f - 1e-3f);
+              const Vec3 d = glm::normalize(to);
+              if (geo.occluded(render::Ray{render::SceneGeometry::offset_origin(hit.p, hit.ng, d), d}, dist)) shadows |= 1ull << l;
+            }
+          }
+          if (first == -2) first = id, first_shadows = shadows;
+          same = id == first && shadows == first_shadows;
         }
-      mask[size_t(y) * size_t(W) + size_t(x)] = same && first >= 0;
+      mask[size_t(y) * size_t(W) + size_t(x)] = same && first >= 0 && t_max - t_min <= 0.05f * t_min;
     }
   return mask;
 }
@@ -80,13 +99,13 @@ struct Comparison {
   double peak = 0.0, lit = 0.0;  // the CPU image's peak; the fraction of interior pixels above 1% of it
 };
 
-Comparison compare_scene(const json& doc, const std::string& name) {
+Comparison compare_scene(const json& doc, const std::string& name, int cpu_spp = kCpuSpp, int gl_subsamples = kGlSubsamples) {
   const render::Scene scene = render::parse_scene(doc, name, ANISO_SOURCE_DIR "/examples");
   Comparison c;
   render::RenderOptions ro;
-  ro.spp = kCpuSpp;
+  ro.spp = cpu_spp;
   c.cpu = render::render(scene, ro);
-  gl::SceneRasterizer raster(scene, gl::RasterSettings{kGlSubsamples});
+  gl::SceneRasterizer raster(scene, gl::RasterSettings{gl_subsamples});
   raster.render();
   c.gl = raster.read_back();
   const std::vector<bool> mask = interior_mask(scene);
@@ -114,15 +133,19 @@ Comparison compare_scene(const json& doc, const std::string& name) {
   return c;
 }
 
-void expect_parity(const json& doc, const std::string& name) {
-  const Comparison c = compare_scene(doc, name);
+void expect_parity(const json& doc, const std::string& name, int cpu_spp = kCpuSpp, int gl_subsamples = kGlSubsamples) {
+  const Comparison c = compare_scene(doc, name, cpu_spp, gl_subsamples);
   // ANISO_GL_TEST_DUMP=dir: both images side by side (CPU left, GL right) as dir/<name>.png.
   if (const char* dump = std::getenv("ANISO_GL_TEST_DUMP")) {
-    render::Image both(2 * kSize, kSize);
-    for (int y = 0; y < kSize; ++y)
-      for (int x = 0; x < kSize; ++x) {
-        both.set(x, y, c.cpu.at(x, y));
-        both.set(kSize + x, y, c.gl.at(x, y));
+    // CPU, GL, and 10 x |GL - CPU|, each scaled up 3 x (nearest).
+    constexpr int s = 3;
+    render::Image both(3 * s * kSize, s * kSize);
+    for (int y = 0; y < s * kSize; ++y)
+      for (int x = 0; x < s * kSize; ++x) {
+        const RGB a = c.cpu.at(x / s, y / s), b = c.gl.at(x / s, y / s);
+        both.set(x, y, a);
+        both.set(s * kSize + x, y, b);
+        both.set(2 * s * kSize + x, y, 10.0f * glm::abs(b - a));
       }
     render::write_image(fmt::format("{}/{}.png", dump, name), both);
   }
@@ -147,6 +170,344 @@ TEST_P(GlRenderModels, PointLitSphereMatchesCpuDirectLighting) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, GlRenderModels, ::testing::ValuesIn(all_model_materials()), material_name);
+
+// --- tangent sources, shapes, lights ----------------------------------------------------------------
+
+const json kBrushed = {{"model", "ward"}, {"kd", 0.08}, {"ks", 0.5}, {"alpha_x", 0.05}, {"alpha_y", 0.35}};
+
+json with_material(json object, const json& material = kBrushed) {
+  object["material"] = material;
+  return object;
+}
+
+TEST(GlRender, AngleOnADisc) {
+  ANISO_REQUIRE_GL();
+  const json disc = with_material({{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3},
+                                   {"tangent", {{"angle_deg", -50}}}});
+  expect_parity(scene_json(json::array({disc}), point_light()), "angle_disc");
+}
+
+TEST(GlRender, ConcentricFieldOnADisc) {
+  ANISO_REQUIRE_GL();
+  const json disc = with_material({{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3},
+                                   {"tangent", {{"field", "concentric"}}}});
+  expect_parity(scene_json(json::array({disc}), point_light()), "concentric_disc");
+}
+
+TEST(GlRender, SwirlFieldOnADisc) {
+  ANISO_REQUIRE_GL();
+  const json disc = with_material({{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3},
+                                   {"tangent", {{"field", "swirl"}, {"swirl_deg", 30}, {"angle_deg", 10}}}});
+  expect_parity(scene_json(json::array({disc}), point_light()), "swirl_disc");
+}
+
+TEST(GlRender, RadialFieldOnARectangle) {
+  ANISO_REQUIRE_GL();
+  const json rect = with_material({{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.7}}, {"u", {1, 0, 0.2}},
+                                   {"size", {2.4, 1.8}}, {"tangent", {{"field", "radial"}, {"center", {0.3, 0.1, 0}}}}});
+  expect_parity(scene_json(json::array({rect}), point_light()), "radial_rectangle");
+}
+
+TEST(GlRender, ProjectedAndNoiseFieldsOnSpheres) {
+  ANISO_REQUIRE_GL();
+  const json a = with_material({{"shape", "sphere"}, {"center", {-0.6, 0, 0}}, {"radius", 0.55},
+                                {"tangent", {{"field", "projected"}, {"direction", {1, 1, 0}}}}});
+  const json b = with_material({{"shape", "sphere"}, {"center", {0.6, 0, 0}}, {"radius", 0.55},
+                                {"tangent", {{"field", "noise"}, {"scale", 3}, {"strength", 0.6}}}});
+  expect_parity(scene_json(json::array({a, b}), point_light()), "projected_noise_spheres");
+}
+
+TEST(GlRender, TangentMapOnARectangle) {
+  ANISO_REQUIRE_GL();
+  // examples/assets/checker_tangents.png: patches brushed at 0 and 90 degrees with 45-degree seams.
+  // The seams run obliquely across the image (u turned by 25 degrees): a seam along an image axis
+  // is where the GL backend's grid of sub-samples is weakest (scene_raster.cpp).
+  const json map = {{"map", "assets/checker_tangents.png"}, {"encoding", "angle"}};
+  const json rect = with_material({{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.9}}, {"u", {1, 0, 0.47}},
+                                   {"size", {2.2, 2.2}}, {"tangent", map}});
+  // Its 45-degree seams are lines a third of a pixel wide, bright where the highlight crosses them:
+  // both sides need more samples per pixel to agree there (at 256 spp and k = 8 the CPU's noise and
+  // the grid's placement of the lines each reached 1.5 x the tolerance on a few seam pixels).
+  expect_parity(scene_json(json::array({rect}), point_light()), "tangent_map_rectangle", 2048, 16);
+}
+
+TEST(GlRender, SmoothTangentMapsOnASphereBothEncodings) {
+  ANISO_REQUIRE_GL();
+  // A smooth map written here (the checker's seams are finer than a pixel on a sphere this size):
+  // angle v = x / W + 0.5 y / H (mod 1: 0 and 1 are the same orientation, so the u seam is smooth),
+  // read through the sphere's (u, v) with wrap-around; and an "xy" map of the same directions.
+  const fs::path dir = fs::path(::testing::TempDir()) / fmt::format("aniso_gl_map_{}", getpid());
+  fs::create_directories(dir);
+  constexpr int W = 24, H = 12;
+  render::DisplayImage angle(W, H), xy(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const double v = std::fmod(double(x) / W + 0.5 * double(y) / H, 1.0);
+      const size_t i = 3 * (size_t(y) * W + size_t(x));
+      angle.rgb[i] = angle.rgb[i + 1] = angle.rgb[i + 2] = uint8_t(std::lround(255.0 * v));
+      xy.rgb[i] = uint8_t(std::lround(255.0 * (0.5 + 0.5 * std::cos(M_PI * v))));
+      xy.rgb[i + 1] = uint8_t(std::lround(255.0 * (0.5 + 0.5 * std::sin(M_PI * v))));
+      xy.rgb[i + 2] = 0;
+    }
+  render::write_png((dir / "angle.png").string(), angle);
+  render::write_png((dir / "xy.png").string(), xy);
+  const json a = with_material({{"shape", "sphere"}, {"center", {-0.55, 0, 0}}, {"radius", 0.6},
+                                {"tangent", {{"map", (dir / "angle.png").string()}, {"encoding", "angle"}}}});
+  const json b = with_material({{"shape", "sphere"}, {"center", {0.65, 0, 0}}, {"radius", 0.6},
+                                {"tangent", {{"map", (dir / "xy.png").string()}, {"encoding", "xy"}, {"angle_deg", 20}}}});
+  expect_parity(scene_json(json::array({a, b}), point_light()), "tangent_map_spheres");
+  fs::remove_all(dir);
+}
+
+TEST(GlRender, TorusMeshWithItsTangents) {
+  ANISO_REQUIRE_GL();
+  const json torus = with_material({{"shape", "torus"}, {"center", {0, 0, 0}}, {"major_radius", 1.0}, {"minor_radius", 0.4},
+                                    {"rotate_deg", {50, 0, 0}}});
+  expect_parity(scene_json(json::array({torus}), point_light()), "torus");
+}
+
+TEST(GlRender, ObjMeshWithUvTangentsAndWithTriangleTangents) {
+  ANISO_REQUIRE_GL();
+  // examples/assets/vase.obj has normals and UVs: {"field": "uv"} gives smooth per-vertex tangents
+  // (computed by the scene reader); without it each triangle's dp/du from its UVs.
+  const json uv = with_material({{"shape", "mesh"}, {"file", "assets/vase.obj"}, {"translate", {-0.6, -0.9, 0}}, {"scale", 0.9},
+                                 {"tangent", {{"field", "uv"}}}});
+  const json tri = with_material({{"shape", "mesh"}, {"file", "assets/vase.obj"}, {"translate", {0.6, -0.9, 0}}, {"scale", 0.9}});
+  expect_parity(scene_json(json::array({uv, tri}), point_light()), "vase_obj");
+}
+
+TEST(GlRender, DirectionalLight) {
+  ANISO_REQUIRE_GL();
+  const json sphere = with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"tangent", {{"angle_deg", 70}}}},
+                                    {{"model", "ggx"}, {"kd", 0.15}, {"f0", {0.9, 0.7, 0.4}}, {"alpha_x", 0.08}, {"alpha_y", 0.3}});
+  const json lights = json::array({{{"type", "directional"}, {"to_light", {-0.5, 0.8, 0.6}}, {"irradiance", 2.5}}});
+  expect_parity(scene_json(json::array({sphere}), lights), "directional");
+}
+
+TEST(GlRender, ShadowsOfAnalyticShapesAndBothLightKinds) {
+  ANISO_REQUIRE_GL();
+  const json floor = with_material({{"shape", "rectangle"}, {"center", {0, -0.6, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}},
+                                    {"size", {3.0, 3.0}}},
+                                   {{"model", "lambert"}, {"kd", 0.6}});
+  const json ball = with_material({{"shape", "sphere"}, {"center", {-0.3, 0, 0}}, {"radius", 0.5}});
+  const json card = with_material({{"shape", "disc"}, {"center", {0.7, 0.1, 0.4}}, {"normal", {0.3, 1, 0.2}}, {"radius", 0.3}});
+  const json lights = json::array({{{"type", "point"}, {"position", {0.5, 2.5, 1.0}}, {"intensity", 8.0}},
+                                   {{"type", "directional"}, {"to_light", {-0.6, 0.7, 0.2}}, {"irradiance", 1.0}}});
+  const Comparison c = compare_scene(scene_json(json::array({floor, ball, card}), lights), "shadows");
+  EXPECT_EQ(c.bad, 0) << c.worst;
+  // The shadows are there: the floor under the ball (pixel column of the ball, below it) is darker
+  // than the open floor, in both images.
+  EXPECT_GT(c.interior, kSize * kSize / 3);
+}
+
+TEST(GlRender, ManyLightsTakeSeveralPasses) {
+  ANISO_REQUIRE_GL();
+  json lights = json::array();
+  for (int i = 0; i < 40; ++i) {  // more than one pass holds (32)
+    const double a = 2.0 * M_PI * i / 40.0;
+    lights.push_back({{"type", "point"}, {"position", {2.5 * std::cos(a), 1.5 + 0.02 * i, 2.5 * std::sin(a)}}, {"intensity", 0.6}});
+  }
+  json doc = scene_json(json::array({with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}})}), lights);
+  doc["integrator"]["light_selection"] = "all";  // the CPU samples every light: no selection noise
+  expect_parity(doc, "forty_lights");
+}
+
+// --- the rasteriser's API: what the explorer changes per frame -----------------------------------
+
+render::Scene sphere_scene(const json& material) {
+  const json objects = json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", material}}});
+  json doc = scene_json(objects, point_light());
+  doc["film"] = {{"width", 32}, {"height", 24}, {"spp", 16}};
+  return render::parse_scene(doc, "api test", "");
+}
+
+render::Image gl_image(const render::Scene& scene) {
+  gl::SceneRasterizer r(scene, gl::RasterSettings{2});
+  r.render();
+  return r.read_back();
+}
+
+TEST(GlRasterizer, SameStructureMaterialChangesAreUniformsOnlyAndEqualAFreshBuild) {
+  ANISO_REQUIRE_GL();
+  const json a = {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};
+  const json b = {{"model", "ward"}, {"kd", 0.3}, {"ks", 0.2}, {"alpha_x", 0.2}, {"alpha_y", 0.1}, {"form", "angle"},
+                  {"normalization", "duer"}};
+  render::Scene scene = sphere_scene(a);
+  gl::SceneRasterizer r(scene, gl::RasterSettings{2});
+  EXPECT_EQ(r.program_count(), 1u);
+  r.set_material(0, parse_material(b, "b"));
+  EXPECT_EQ(r.program_count(), 1u) << "Ward's parameters, form and normalisation are uniforms: no new program";
+  r.render();
+  const render::Image changed = r.read_back();
+  EXPECT_EQ(changed.rgb, gl_image(sphere_scene(b)).rgb) << "set_material gives the image of a rasteriser built with it";
+  EXPECT_NE(changed.rgb, gl_image(scene).rgb);
+  // Another structure (a Lafortune material with two lobes) compiles once, then comes from the cache.
+  const json l2 = {{"model", "lafortune"},
+                   {"lobes", json::array({{{"cxy", -1.0}, {"cz", 1.0}, {"n", 20.0}}, {{"cxy", 0.5}, {"cz", 0.5}, {"n", 3.0}}})}};
+  r.set_material(0, parse_material(l2, "l2"));
+  EXPECT_EQ(r.program_count(), 2u);
+  r.set_material(0, parse_material(a, "a"));
+  r.set_material(0, parse_material(l2, "l2"));
+  EXPECT_EQ(r.program_count(), 2u);
+  r.render();
+  EXPECT_EQ(r.read_back().rgb, gl_image(sphere_scene(l2)).rgb);
+}
+
+TEST(GlRasterizer, CameraLightsTangentAndSizeChangesEqualAFreshBuild) {
+  ANISO_REQUIRE_GL();
+  const json m = {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};
+  const render::Scene base = sphere_scene(m);
+  gl::SceneRasterizer r(base, gl::RasterSettings{2});
+  render::Scene changed = base;
+  changed.camera.position = Vec3(1.0f, 1.5f, 3.0f);
+  changed.camera.fov_deg = 30.0f;
+  changed.lights[0].position = Vec3(-2.0f, 1.0f, 2.0f);
+  changed.lights.push_back(render::Light{render::LightKind::Directional, Vec3(0.0f), glm::normalize(Vec3(0, 1, 1)), RGB(0.5f), 0.0f});
+  changed.objects[0].tangent.field.kind = TangentFieldKind::Projected;
+  changed.objects[0].tangent.field.direction = Vec3(0, 1, 0);
+  changed.objects[0].tangent.field.angle = 0.3f;
+  changed.film.width = 40;
+  changed.film.height = 20;
+  r.set_camera(changed.camera);
+  r.set_lights(changed.lights);
+  r.set_tangent_field(0, changed.objects[0].tangent.field);
+  r.set_size(40, 20);
+  EXPECT_EQ(r.program_count(), 1u);
+  r.render();
+  const render::Image img = r.read_back();
+  EXPECT_EQ(img.width, 40);
+  EXPECT_EQ(img.height, 20);
+  EXPECT_EQ(img.rgb, gl_image(changed).rgb);
+}
+
+TEST(GlRasterizer, CoverageIsTheFractionOfSubSamplesOnASurface) {
+  ANISO_REQUIRE_GL();
+  gl::SceneRasterizer r(sphere_scene({{"model", "lambert"}, {"kd", 0.5}}), gl::RasterSettings{4});
+  r.render();
+  const std::vector<float> cov = r.read_coverage();
+  ASSERT_EQ(cov.size(), 32u * 24u);
+  EXPECT_EQ(cov[0], 0.0f);                 // a corner: background
+  EXPECT_EQ(cov[12 * 32 + 16], 1.0f);      // the centre: the sphere
+  int partial = 0;
+  for (float c : cov) {
+    EXPECT_TRUE(c == 0.0f || c == 1.0f || (c > 0.0f && c < 1.0f && std::fabs(c * 16.0f - std::round(c * 16.0f)) < 1e-4f));
+    partial += c > 0.0f && c < 1.0f ? 1 : 0;
+  }
+  EXPECT_GT(partial, 10) << "the silhouette's pixels are partly covered";
+}
+
+TEST(GlRasterizer, RenderRestoresTheCallersFramebufferAndViewport) {
+  ANISO_REQUIRE_GL();
+  gl::SceneRasterizer r(sphere_scene({{"model", "lambert"}, {"kd", 0.5}}), gl::RasterSettings{1});
+  GLuint fbo = 0;
+  glGenFramebuffers(1, &fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(3, 4, 50, 60);
+  r.render();
+  GLint bound = 0, vp[4];
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+  glGetIntegerv(GL_VIEWPORT, vp);
+  EXPECT_EQ(GLuint(bound), fbo);
+  EXPECT_EQ(vp[0], 3);
+  EXPECT_EQ(vp[1], 4);
+  EXPECT_EQ(vp[2], 50);
+  EXPECT_EQ(vp[3], 60);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDeleteFramebuffers(1, &fbo);
+  EXPECT_NE(r.color_texture(), 0u);
+  EXPECT_NE(r.framebuffer(), 0u);
+}
+
+// A small MERL table (a Lambert BRDF tabulated): the GL backend has no GLSL form for it.
+std::string write_lambert_merl(const fs::path& dir) {
+  const std::string path = (dir / "lambert.binary").string();
+  write_merl(path, tabulate_merl(build<double>({{"model", "lambert"}, {"kd", 0.5}})));
+  return path;
+}
+
+TEST(GlRasterizer, AMeasuredMaterialIsAnInputErrorNamingTheObject) {
+  // No GL needed: check_gl_materials is what the constructor and the CLI call first.
+  const fs::path dir = fs::path(::testing::TempDir()) / fmt::format("aniso_gl_merl_{}", getpid());
+  fs::create_directories(dir);
+  const std::string merl = write_lambert_merl(dir);
+  const json objects = json::array({{{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}}, {"radius", 1}, {"material", "clay"}},
+                                    {{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", merl}}});
+  const render::Scene scene = render::parse_scene(scene_json(objects, point_light()), "merl.json", "");
+  try {
+    gl::check_gl_materials(scene);
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("merl.json: objects[1]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("has no GLSL form"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+// --- the command line ---------------------------------------------------------------------------------
+
+class GlRenderCli : public Cli {
+ protected:
+  std::string scene_file(const json& lights, const json& material = kBrushed) {
+    const json objects = json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", material}}});
+    json doc = scene_json(objects, lights);
+    doc["film"] = {{"width", 48}, {"height", 32}, {"spp", 4}};
+    return write("scene.json", doc.dump());
+  }
+};
+
+TEST_F(GlRenderCli, BackendGlWritesTheImageAndSaysWhatItLeavesOut) {
+  ANISO_REQUIRE_GL();
+  json lights = point_light();
+  lights.push_back({{"type", "sphere"}, {"center", {-3, 3, 0}}, {"radius", 0.5}, {"radiance", 10}});
+  const std::string scene = scene_file(lights);
+  const Result r = run({"render", scene, "--backend", "gl", "-o", (dir_ / "out.pfm").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "wrote")) << r.out;
+  EXPECT_TRUE(contains(r.err, "warning: --backend gl: 1 sphere light is not rendered")) << r.err;
+  const render::Image img = render::read_image((dir_ / "out.pfm").string(), "test");
+  ASSERT_EQ(img.width, 48);
+  ASSERT_EQ(img.height, 32);
+  // The same image as the rasteriser in this process (4 spp: 2 x 2 sub-samples).
+  render::Scene s = render::load_scene(scene);
+  gl::SceneRasterizer raster(s, gl::RasterSettings{gl::subsamples_for_spp(4)});
+  raster.render();
+  const render::Image ref = raster.read_back();
+  ASSERT_EQ(ref.rgb.size(), img.rgb.size());
+  double peak = 0.0;
+  for (size_t i = 0; i < img.rgb.size(); ++i) {
+    EXPECT_EQ(img.rgb[i], ref.rgb[i]) << i;
+    peak = std::max(peak, double(img.rgb[i]));
+  }
+  EXPECT_GT(peak, 0.1);
+  const Result png = run({"render", scene, "--backend", "gl", "-o", (dir_ / "out.png").string()});
+  EXPECT_EQ(png.code, 0) << png.err;
+  EXPECT_TRUE(fs::exists(dir_ / "out.png"));
+}
+
+TEST_F(GlRenderCli, UnknownBackendExits2) {
+  expect_input_error(run({"render", scene_file(point_light()), "--backend", "vulkan"}), {"--backend", "vulkan"});
+}
+
+TEST_F(GlRenderCli, MeasuredMaterialExits2NamingTheObject) {
+  const std::string merl = write_lambert_merl(dir_);
+  const Result r = run({"render", scene_file(point_light(), merl), "--backend", "gl", "-o", (dir_ / "x.png").string()});
+  expect_input_error(r, {"objects[0]", "the GL backend cannot shade it", "has no GLSL form"});
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+TEST_F(GlRenderCli, NothingToLightExits2) {
+  const json sphere_light = json::array({{{"type", "sphere"}, {"center", {-3, 3, 0}}, {"radius", 0.5}, {"radiance", 10}}});
+  expect_input_error(run({"render", scene_file(sphere_light), "--backend", "gl"}), {"no point or directional light"});
+  expect_input_error(run({"render", "--backend", "gl"}), {"the gallery is lit by sphere lights"});
+}
+
+TEST_F(GlRenderCli, NoGlExits2WithTheReason) {
+  setenv("ANISO_GL_PLATFORM", "none", 1);
+  const Result r = run({"render", scene_file(point_light()), "--backend", "gl", "-o", (dir_ / "x.png").string()});
+  unsetenv("ANISO_GL_PLATFORM");
+  expect_input_error(r, {"--backend gl: no OpenGL context could be made", "ANISO_GL_PLATFORM=none"});
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
 
 }  // namespace
 }  // namespace aniso::test

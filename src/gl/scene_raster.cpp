@@ -426,12 +426,14 @@ std::vector<Vertex> object_vertices(const render::Object& o) {
     case ShapeKind::Sphere: {
       const float h = o.radius * kProxyGrowth;
       const Vec3 x(h, 0, 0), y(0, h, 0), z(0, 0, h);
+      // Each face counter-clockwise seen from outside (a x b points out), so that back faces can be
+      // culled when the camera is outside the cube (draw_pass).
       push_quad(out, o.center + x, y, z);
-      push_quad(out, o.center - x, y, z);
-      push_quad(out, o.center + y, x, z);
+      push_quad(out, o.center - x, z, y);
+      push_quad(out, o.center + y, z, x);
       push_quad(out, o.center - y, x, z);
       push_quad(out, o.center + z, x, y);
-      push_quad(out, o.center - z, x, y);
+      push_quad(out, o.center - z, y, x);
       break;
     }
     case ShapeKind::Disc: {
@@ -487,6 +489,37 @@ std::pair<Vec3, float> bounding_sphere(const std::vector<Vertex>& vs) {
 }
 
 }  // namespace
+
+glm::vec2 subsample_position(int s, int k) {
+  // The midpoint rule on a k x k grid. Measured against the CPU's 256 Sobol' points per pixel on
+  // the parity tests (tests/test_gl_render.cpp), it integrates the smooth but narrow highlights far
+  // better than point sets that stratify the axes finely (at k = 8 the largest difference on the
+  // model tests was 0.03 of the tolerance, against 0.25 for a 64-point Hammersley set and 0.44 for
+  // sheared (multi-jittered) grid points); its weakness is an edge along an image axis inside a
+  // pixel (a tangent-map seam seen square on), which it places only to 1 / k of the pixel.
+  const int i = s % k, j = s / k;
+  return glm::vec2((float(i) + 0.5f) / float(k), (float(j) + 0.5f) / float(k));
+}
+
+namespace {
+GlslMaterial object_glsl(const render::Scene& scene, size_t i, const MaterialDesc& desc) {
+  const render::Object& o = scene.objects[i];
+  try {
+    return glsl_material(desc, GlslStorage::Uniform, kMaterialPrefix);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: objects[{}] (material \"{}\"): the GL backend cannot shade it: {}", scene.source, i,
+                                 o.material_name, e.what()));
+  }
+}
+}  // namespace
+
+void check_gl_materials(const render::Scene& scene) {
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    if (!scene.objects[i].material_desc)
+      throw InputError(fmt::format("{}: objects[{}]: no material description (render::Object::material_desc)", scene.source, i));
+    object_glsl(scene, i, *scene.objects[i].material_desc);
+  }
+}
 
 int subsamples_for_spp(int spp) { return std::clamp(int(std::lround(std::sqrt(double(std::max(spp, 1))))), 1, 8); }
 
@@ -618,15 +651,7 @@ struct SceneRasterizer::Impl {
     }
   }
 
-  GlslMaterial material_glsl(size_t i, const MaterialDesc& desc) const {
-    const render::Object& o = scene.objects[i];
-    try {
-      return glsl_material(desc, GlslStorage::Uniform, kMaterialPrefix);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: objects[{}] (material \"{}\"): the GL backend cannot shade it: {}", scene.source, i,
-                                   o.material_name, e.what()));
-    }
-  }
+  GlslMaterial material_glsl(size_t i, const MaterialDesc& desc) const { return object_glsl(scene, i, desc); }
 
   void draw_pass(const glm::mat4& clip_from_world, const glm::vec2& sub, size_t light_begin, size_t light_end, float alpha) {
     const render::Camera& c = scene.camera;
@@ -689,6 +714,13 @@ struct SceneRasterizer::Impl {
       glBindTexture(GL_TEXTURE_2D, og.map ? og.map : dummy);
       glActiveTexture(GL_TEXTURE1);
       glBindTexture(GL_TEXTURE_2D, occluders);
+      // A sphere's proxy cube seen from outside: its back faces would only shade the same hits
+      // again (the depth test then drops them), so they are culled. From inside (or nearly: 1 %
+      // margin for the rounding of the comparison) every face is drawn: the far ones find the hits.
+      const Vec3 rel = glm::abs(c.position - o.center);
+      const bool outside = std::max(rel.x, std::max(rel.y, rel.z)) > 1.01f * kProxyGrowth * o.radius;
+      if (o.shape == ShapeKind::Sphere && outside) glEnable(GL_CULL_FACE);
+      else glDisable(GL_CULL_FACE);
       glBindVertexArray(og.vao);
       glDrawArrays(GL_TRIANGLES, 0, og.count);
     }
@@ -736,13 +768,9 @@ SceneRasterizer::SceneRasterizer(const render::Scene& scene, RasterSettings sett
   m.height = scene.film.height;
   set_lights(scene.lights);
   // Materials first: an object without a GLSL twin is an input error before anything is uploaded.
+  check_gl_materials(scene);
   std::vector<GlslMaterial> materials;
-  for (size_t i = 0; i < scene.objects.size(); ++i) {
-    const render::Object& o = scene.objects[i];
-    if (!o.material_desc)
-      throw InputError(fmt::format("{}: objects[{}]: no material description (render::Object::material_desc)", scene.source, i));
-    materials.push_back(m.material_glsl(i, *o.material_desc));
-  }
+  for (size_t i = 0; i < scene.objects.size(); ++i) materials.push_back(m.material_glsl(i, *scene.objects[i].material_desc));
   glGenTextures(1, &m.occluders);
   glBindTexture(GL_TEXTURE_2D, m.occluders);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -869,9 +897,10 @@ void SceneRasterizer::render() {
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &old_read);
   glGetIntegerv(GL_VIEWPORT, old_viewport);
   glViewport(0, 0, m.width, m.height);
-  glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_BLEND);
+  glCullFace(GL_BACK);
+  glFrontFace(GL_CCW);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
   glBindFramebuffer(GL_FRAMEBUFFER, m.accum_fbo);
@@ -879,12 +908,12 @@ void SceneRasterizer::render() {
   glClearBufferfv(GL_COLOR, 0, zero);
   const int k = m.settings.subsamples;
   const size_t batches = std::max<size_t>(1, (m.lights.size() + kMaxLightsPerPass - 1) / kMaxLightsPerPass);
-  const float weight = 1.0f / float(k * k);
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i) {
-      const glm::vec2 sub((float(i) + 0.5f) / float(k), (float(j) + 0.5f) / float(k));
-      const glm::mat4 clip = m.clip_from_world(sub);
-      for (size_t b = 0; b < batches; ++b) {
+  const int n = k * k;
+  const float weight = 1.0f / float(n);
+  for (int s = 0; s < n; ++s) {
+    const glm::vec2 sub = subsample_position(s, k);
+    const glm::mat4 clip = m.clip_from_world(sub);
+    for (size_t b = 0; b < batches; ++b) {
         glBindFramebuffer(GL_FRAMEBUFFER, m.scene_fbo);
         const float far_depth = 1.0f;
         glClearBufferfv(GL_COLOR, 0, zero);
@@ -909,6 +938,7 @@ void SceneRasterizer::render() {
         glDisable(GL_BLEND);
       }
     }
+  glDisable(GL_CULL_FACE);
   glBindVertexArray(0);
   glUseProgram(0);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(old_draw));

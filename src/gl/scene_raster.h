@@ -8,8 +8,8 @@
 //   (PathTracer::camera_ray), and the rasteriser's projection is that pinhole, shifted by the
 //   sub-pixel offset of the pass, so the rasterised sample and the fragment's ray are one ray.
 // - Pixels: the CPU averages radiance over each pixel's square (box filter). Here each pixel gets
-//   k x k sub-samples at ((i + 0.5) / k, (j + 0.5) / k), one render pass each, averaged in a float
-//   accumulation target (RasterSettings::subsamples).
+//   k^2 sub-samples at the centres of a k x k grid over its square (subsample_position()),
+//   one render pass each, averaged in a float accumulation target (RasterSettings::subsamples).
 // - Analytic shapes (sphere, disc, rectangle): a slightly larger convex proxy (a cube about the
 //   sphere, a square about the disc, the rectangle grown by 1 %) is rasterised only to find the
 //   pixels; the fragment intersects its ray with the exact shape, discards a miss, and writes
@@ -50,8 +50,12 @@
 namespace aniso::gl {
 
 struct RasterSettings {
-  int subsamples = 4;  // k: k x k sub-pixel positions per pixel (one pass each), in [1, 16]
+  int subsamples = 4;  // k: k^2 sub-pixel positions per pixel (one pass each), k in [1, 16]
 };
+
+// Sub-sample s in [0, k^2) within a pixel's square, (0, 0) its top-left corner: the centre
+// ((i + 0.5) / k, (j + 0.5) / k) of cell (i, j) = (s mod k, s / k) of the k x k grid.
+glm::vec2 subsample_position(int s, int k);
 
 // The sub-sample count per axis the CLI uses for a scene with `spp` samples per pixel:
 // round(sqrt(spp)) clamped to [1, 8] (k^2 sub-samples per pixel).
@@ -60,6 +64,9 @@ int subsamples_for_spp(int spp);
 // What the GL backend leaves out of `scene`, one sentence each (sphere lights, the environment,
 // indirect light when max_depth > 1): `aniso render --backend gl` prints them as warnings.
 std::vector<std::string> gl_unsupported(const render::Scene& scene);
+// Throws the InputError SceneRasterizer's constructor would for a material without a GLSL twin,
+// without needing a GL context (the CLI checks before it opens one).
+void check_gl_materials(const render::Scene& scene);
 // Whether the scene has a point or directional light with non-zero power (else the GL render is black).
 bool gl_has_lights(const render::Scene& scene);
 
