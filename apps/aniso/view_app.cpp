@@ -348,7 +348,9 @@ void App::tangent_controls() {
   if (!ex.tangent.map_path.empty()) ImGui::TextDisabled("map: %s", std::filesystem::path(ex.tangent.map_path).filename().c_str());
   if (!changed) return;
   const view::TangentControls saved = ex.tangent;
-  const bool structural = saved.field == "uv" || t.field == "uv" || saved.map_path != t.map_path || saved.map_encoding != t.map_encoding;
+  // A tangent map or mesh UV tangents live in the parsed scene (view_scene() does not patch them):
+  // any change while one is in use, or to or from one, parses the scenes again.
+  const bool structural = !saved.map_path.empty() || !t.map_path.empty() || saved.field == "uv" || t.field == "uv";
   ex.tangent = t;
   try {
     if (structural) ex.refresh();
