@@ -99,6 +99,8 @@ class App {
   float lobe_yaw_ = 30.0f, lobe_pitch_ = 25.0f;
   view::ProgressivePreview preview_{0, 1024};
   viewgl::ImageTexture preview_tex_;
+  render::Image preview_img_;
+  float preview_exposure_ = 0.0f;
   uint64_t preview_gen_ = 0;
   int preview_spp_ = 0;
   bool difference_ = false;
@@ -417,9 +419,15 @@ void App::panel_controls(float height) {
   ImGui::End();
 }
 
-// Orbit: dragging in a lit view turns the camera (yaw, pitch); the path-traced preview restarts
-// when the camera has stopped.
+// Orbit: dragging in a lit view turns the camera (yaw, pitch), the wheel zooms; the path-traced
+// preview restarts when the camera has stopped.
 void App::drag_camera(bool active) {
+  // The mouse wheel over a lit view moves the camera closer or further (10 % a notch).
+  if (ImGui::IsItemHovered() && ImGui::GetIO().MouseWheel != 0.0f) {
+    ex.camera.distance = std::clamp(ex.camera.distance * std::pow(0.9, double(ImGui::GetIO().MouseWheel)), 1.5, 40.0);
+    camera_moved_ = Clock::now();
+    after_change();
+  }
   if (!active) return;
   const ImVec2 d = ImGui::GetIO().MouseDelta;
   if (d.x == 0.0f && d.y == 0.0f) return;
@@ -438,9 +446,9 @@ void App::view_lit(LitView& v, view::ObjectKind kind, const view::MaterialSlot& 
   const int w = std::max(8, int(std::lround(display_w * scale))), h = std::max(8, int(std::lround(display_h * scale)));
 #if ANISO_VIEW_HAVE_RASTER
   const std::shared_ptr<const render::Scene>& base = kind == view::ObjectKind::Sphere ? ex.sphere_base : ex.object_base;
-  const std::string key = fmt::format("{} {} {} {} {} {} {} {} {} {}", slot.edit.dump(), ex.light.theta_deg, ex.light.phi_deg,
+  const std::string key = fmt::format("{} {} {} {} {} {} {} {} {} {} {}", slot.edit.dump(), ex.light.theta_deg, ex.light.phi_deg,
                                       ex.light_irradiance, ex.tangent.to_json().dump(), ex.camera.yaw_deg, ex.camera.pitch_deg,
-                                      w, h, exposure_);
+                                      ex.camera.distance, w, h, exposure_);
   if (key == v.key && base.get() == v.base) return;
   v.key = key;
   try {
@@ -624,9 +632,9 @@ void App::draw_compare(float w, float h) {
 // The path-traced preview of the lit object's scene (or the --scene file).
 void App::draw_preview(float w, float h) {
   const int pw = std::max(16, int(w)), ph = std::max(16, int(h));
-  const std::string key = fmt::format("{} {} {} {} {} {} {} {} {} {} {}", ex.a.edit.dump(), ex.light.theta_deg, ex.light.phi_deg,
+  const std::string key = fmt::format("{} {} {} {} {} {} {} {} {} {} {} {}", ex.a.edit.dump(), ex.light.theta_deg, ex.light.phi_deg,
                                       ex.light_irradiance, ex.tangent.to_json().dump(), ex.camera.yaw_deg, ex.camera.pitch_deg,
-                                      static_cast<const void*>(ex.object_base.get()), pw, ph, ex.scene_path);
+                                      ex.camera.distance, static_cast<const void*>(ex.object_base.get()), pw, ph, ex.scene_path);
   // Restarted once the camera (and everything else) has been still for 0.3 s: while a slider or
   // the light is dragged the path tracer does not compete with the window for the cores.
   const bool moving = Clock::now() - camera_moved_ < std::chrono::milliseconds(300);
@@ -640,11 +648,13 @@ void App::draw_preview(float w, float h) {
       preview_key_ = key;
     }
   }
-  render::Image img;
-  if (preview_.snapshot(&img, &preview_spp_, &preview_gen_) && img.width > 0) {
+  // A new average, or the exposure changed: tone-map again (the exposure does not restart the path tracer).
+  const bool fresh = preview_.snapshot(&preview_img_, &preview_spp_, &preview_gen_);
+  if ((fresh || exposure_ != preview_exposure_) && preview_img_.width > 0) {
     render::ToneMapOptions tm;
     tm.exposure_stops = exposure_;
-    preview_tex_.upload(render::tonemap(img, tm));
+    preview_tex_.upload(render::tonemap(preview_img_, tm));
+    preview_exposure_ = exposure_;
   }
   const ImVec2 p = ImGui::GetCursorScreenPos();
   ImGui::InvisibleButton("pt", ImVec2(w, h));
@@ -749,6 +759,8 @@ int App::run() {
     const auto t0 = Clock::now();
     frame(last);
     glFinish();  // wall time of the frame's GL work too (GL timer queries are unreliable on llvmpipe)
+    // Every frame's time for the scripted run's figure; an interactive session keeps the last one.
+    if (!scripted) frame_ms_.clear();
     frame_ms_.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     glfwSwapBuffers(window_);
   }
