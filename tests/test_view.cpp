@@ -272,6 +272,47 @@ TEST(ViewScene, LinkedToTheControls) {
   EXPECT_EQ(s->objects[0].material.f(wi, wo).x, ex.a.kernel_f.f(wi, wo).x);
 }
 
+// The tangent controls become the scene reader's field: each procedural field by name, its angle
+// in radians, and an invalid parameter is an InputError.
+TEST(ViewScene, TangentControlsAreTheScenesField) {
+  view::Explorer ex;
+  const std::pair<const char*, TangentFieldKind> kinds[] = {{"natural", TangentFieldKind::Natural}, {"projected", TangentFieldKind::Projected},
+                                                            {"concentric", TangentFieldKind::Concentric}, {"radial", TangentFieldKind::Radial},
+                                                            {"swirl", TangentFieldKind::Swirl}, {"noise", TangentFieldKind::Noise}};
+  for (const auto& [name, kind] : kinds) {
+    ex.tangent.field = name;
+    ex.tangent.angle_deg = 90.0;
+    const TangentFieldT<float> f = ex.tangent_field();
+    EXPECT_EQ(f.kind, kind) << name;
+    EXPECT_NEAR(f.angle, kPi<float> / 2.0f, 1e-6f) << name;
+  }
+  ex.tangent.field = "noise";
+  ex.tangent.noise_strength = 3.0;  // the scene reader's range is [0, 1]
+  EXPECT_THROW(ex.tangent_field(), InputError);
+}
+
+// --scene: the preview path-traces the file's scene with material A on its first object; a bad
+// scene file is an InputError and changes nothing.
+TEST_F(ViewFiles, SceneFileGoesToThePreview) {
+  view::Explorer ex;
+  ex.a = view::load_slot("clay");
+  ex.b = ex.a;
+  ex.refresh();
+  EXPECT_THROW(ex.load_scene_file(write("bad.json", R"({"camera": {"position": [0, 0, 1]}, "objects": []})")), InputError);
+  EXPECT_TRUE(ex.scene_file.is_null());
+  ex.load_scene_file(std::string(ANISO_SOURCE_DIR) + "/examples/brushed-vase.json");
+  const auto s = ex.preview_scene(view::ObjectKind::Object, 64, 48);
+  EXPECT_EQ(s->film.width, 64);
+  EXPECT_EQ(s->film.height, 48);
+  const render::Scene file = render::load_scene(std::string(ANISO_SOURCE_DIR) + "/examples/brushed-vase.json");
+  ASSERT_EQ(s->objects.size(), file.objects.size());
+  EXPECT_EQ(s->camera.position, file.camera.position);  // the file's camera, not the orbit
+  const Vec3 wi(0.3f, 0.2f, 0.93f), wo(-0.2f, 0.1f, 0.97f);
+  EXPECT_EQ(s->objects[0].material.f(wi, wo).x, ex.a.kernel_f.f(wi, wo).x);
+  ASSERT_EQ(s->objects.size(), 2u);
+  EXPECT_EQ(s->objects[1].material.f(wi, wo).x, file.objects[1].material.f(wi, wo).x);  // the plate keeps its own
+}
+
 // The progressive preview's average converges to the renderer's image of the same scene.
 TEST(ViewPreview, ConvergesToTheRenderersImage) {
   view::Explorer ex;
