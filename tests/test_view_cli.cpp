@@ -239,6 +239,8 @@ TEST_F(Cli, ViewCommandLineErrors) {
   expect_input_error(run({"view", "--views", "sphere,bogus", "--frames", "1"}), {"bogus"});
   expect_input_error(run({"view", "--size", "10x10", "--frames", "1"}), {"--size"});
   expect_input_error(run({"view", "--screenshot", "x.png"}), {"--frames"});
+  expect_input_error(run({"view", "--light", "nan", "--frames", "1"}), {"--light", "finite"});
+  expect_input_error(run({"view", "--tangent-field", "spiral", "--frames", "1"}), {"--tangent-field"});
 }
 
 }  // namespace
