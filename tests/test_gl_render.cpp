@@ -97,6 +97,7 @@ struct Comparison {
   double worst_excess = 0.0;  // largest |gl - cpu| / (tolerance) among interior pixels
   std::string worst;          // where and what
   double peak = 0.0, lit = 0.0;  // the CPU image's peak; the fraction of interior pixels above 1% of it
+  std::vector<bool> mask;        // the interior pixels
 };
 
 Comparison compare_scene(const json& doc, const std::string& name, int cpu_spp = kCpuSpp, int gl_subsamples = kGlSubsamples) {
@@ -108,7 +109,8 @@ Comparison compare_scene(const json& doc, const std::string& name, int cpu_spp =
   gl::SceneRasterizer raster(scene, gl::RasterSettings{gl_subsamples});
   raster.render();
   c.gl = raster.read_back();
-  const std::vector<bool> mask = interior_mask(scene);
+  c.mask = interior_mask(scene);
+  const std::vector<bool>& mask = c.mask;
   for (float v : c.cpu.rgb) c.peak = std::max(c.peak, double(v));
   int lit = 0;
   for (int y = 0; y < kSize; ++y)
@@ -300,6 +302,35 @@ TEST(GlRender, ShadowsOfAnalyticShapesAndBothLightKinds) {
   EXPECT_GT(c.interior, kSize * kSize / 3);
 }
 
+TEST(GlRender, MeshShadowsFromShadowMaps) {
+  ANISO_REQUIRE_GL();
+  // A torus over a floor, lit by a point and a directional light: its shadows on the floor (and on
+  // itself) come from the shadow maps; the interior mask leaves out the pixels a shadow edge
+  // crosses (the CPU's shadow rays decide that).
+  const json floor = with_material({{"shape", "rectangle"}, {"center", {0, -0.7, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}},
+                                    {"size", {3.2, 3.2}}},
+                                   {{"model", "lambert"}, {"kd", 0.6}});
+  const json torus = with_material({{"shape", "torus"}, {"center", {0, -0.1, 0}}, {"major_radius", 0.7}, {"minor_radius", 0.25},
+                                    {"rotate_deg", {25, 0, 0}}});
+  const json lights = json::array({{{"type", "point"}, {"position", {0.6, 2.2, 0.8}}, {"intensity", 7.0}},
+                                   {{"type", "directional"}, {"to_light", {-0.5, 0.8, 0.1}}, {"irradiance", 0.8}}});
+  const json doc = scene_json(json::array({floor, torus}), lights);
+  const Comparison c = compare_scene(doc, "mesh_shadows");
+  EXPECT_EQ(c.bad, 0) << c.bad << " of " << c.interior << "; worst " << c.worst;
+  EXPECT_GT(c.interior, kSize * kSize / 3);
+  // The test exercises the shadows: interior pixels the CPU finds lit by neither light (a Lambert
+  // floor or the torus's own underside), where the GL image must then be black too.
+  int dark = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x)
+      if (c.mask[size_t(y) * kSize + size_t(x)] && max_component(c.cpu.at(x, y)) == 0.0f) {
+        ++dark;
+        EXPECT_EQ(max_component(c.gl.at(x, y)), 0.0f) << x << ", " << y;
+      }
+  EXPECT_GT(dark, 20) << "too few pixels in full shadow to test the shadow maps";
+  fmt::print("mesh_shadows: {} interior pixels, worst {:.3f} x the tolerance ({}), {} dark\n", c.interior, c.worst_excess, c.worst, dark);
+}
+
 TEST(GlRender, ManyLightsTakeSeveralPasses) {
   ANISO_REQUIRE_GL();
   json lights = json::array();
@@ -310,6 +341,19 @@ TEST(GlRender, ManyLightsTakeSeveralPasses) {
   json doc = scene_json(json::array({with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}})}), lights);
   doc["integrator"]["light_selection"] = "all";  // the CPU samples every light: no selection noise
   expect_parity(doc, "forty_lights");
+}
+
+// The shaders are GLSL 3.30 core (what a GL 3.3 window context, the explorer's, accepts), for every
+// test material: glslangValidator, independent of the driver the other tests run on.
+TEST(GlRasterizer, ShadersAreGlsl330Core) {
+  ANISO_REQUIRE_GLSLANG();
+  for (const NamedMaterial& m : all_model_materials()) {
+    const gl::RasterShaderSources src = gl::raster_shader_sources(parse_material(m.json, m.name));
+    EXPECT_EQ(src.vertex.rfind("#version 330 core\n", 0), 0u);
+    EXPECT_EQ(src.fragment.rfind("#version 330 core\n", 0), 0u);
+    EXPECT_EQ(glslang_errors(src.vertex, "vert", "raster"), "") << m.name;
+    EXPECT_EQ(glslang_errors(src.fragment, "frag", "raster"), "") << m.name;
+  }
 }
 
 // --- the rasteriser's API: what the explorer changes per frame -----------------------------------
@@ -378,6 +422,58 @@ TEST(GlRasterizer, CameraLightsTangentAndSizeChangesEqualAFreshBuild) {
   EXPECT_EQ(img.width, 40);
   EXPECT_EQ(img.height, 20);
   EXPECT_EQ(img.rgb, gl_image(changed).rgb);
+}
+
+TEST(GlRasterizer, SetTangentUploadsAndRemovesAMap) {
+  ANISO_REQUIRE_GL();
+  const json m = {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};
+  const render::Scene plain = sphere_scene(m);
+  json doc = scene_json(json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", m},
+                                      {"tangent", {{"map", "assets/checker_tangents.png"}, {"angle_deg", 10}}}}}),
+                        point_light());
+  doc["film"] = {{"width", 32}, {"height", 24}, {"spp", 16}};
+  const render::Scene mapped = render::parse_scene(doc, "mapped", ANISO_SOURCE_DIR "/examples");
+  gl::SceneRasterizer r(plain, gl::RasterSettings{2});
+  r.set_tangent(0, mapped.objects[0].tangent);
+  r.render();
+  EXPECT_EQ(r.read_back().rgb, gl_image(mapped).rgb);
+  r.set_tangent(0, plain.objects[0].tangent);
+  r.render();
+  EXPECT_EQ(r.read_back().rgb, gl_image(plain).rgb);
+  render::TangentSource uv = plain.objects[0].tangent;
+  uv.uv_tangents = true;
+  EXPECT_THROW(r.set_tangent(0, uv), std::invalid_argument);
+}
+
+TEST(GlRasterizer, DrawTonemappedGivesThePngWritersBytes) {
+  ANISO_REQUIRE_GL();
+  gl::SceneRasterizer r(sphere_scene({{"model", "ggx"}, {"kd", 0.3}, {"f0", 0.5}, {"alpha_x", 0.1}, {"alpha_y", 0.3}}),
+                        gl::RasterSettings{2});
+  r.render();
+  for (const render::ToneMapOptions tm : {render::ToneMapOptions{0.0f, render::ToneMap::Aces}, render::ToneMapOptions{1.5f, render::ToneMap::Clamp}}) {
+    const render::DisplayImage want = render::tonemap(r.read_back(), tm);
+    GLuint tex = 0, fbo = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 32, 24, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    glViewport(0, 0, 32, 24);
+    r.draw_tonemapped(tm);
+    std::vector<uint8_t> got(32 * 24 * 4);
+    glReadPixels(0, 0, 32, 24, GL_RGBA, GL_UNSIGNED_BYTE, got.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteTextures(1, &tex);
+    int worst = 0;
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 32; ++x)
+        for (int k = 0; k < 3; ++k)
+          worst = std::max(worst, std::abs(int(got[(size_t(23 - y) * 32 + size_t(x)) * 4 + size_t(k)]) -
+                                           int(want.rgb[(size_t(y) * 32 + size_t(x)) * 3 + size_t(k)])));
+    EXPECT_LE(worst, 1) << "a byte of the window's picture differs from the PNG's by more than rounding";
+  }
 }
 
 TEST(GlRasterizer, CoverageIsTheFractionOfSubSamplesOnASurface) {

@@ -109,6 +109,60 @@ uniform vec3 u_light_power[kMaxLights];
 uniform int u_occluder_count;
 uniform sampler2D u_occluders;
 
+// Shadow maps of the meshes (meshes cannot be ray-tested per fragment): one R32F atlas of square
+// tiles, u_shadow_tile texels each, u_shadow_cols to a row. Per light: x = its first tile (-1:
+// none); a point light has 6 (cube faces), a directional light 1 (orthographic over the scene's
+// bounding sphere u_shadow_center, u_shadow_radius). A texel holds the distance from the light to
+// the nearest mesh surface (point) or the height towards the light above the plane through the
+// centre (directional).
+uniform vec4 u_light_shadow[kMaxLights];
+uniform sampler2D u_shadow_atlas;
+uniform int u_shadow_tile;
+uniform int u_shadow_cols;
+uniform vec3 u_shadow_center;
+uniform float u_shadow_radius;
+
+// The cube face of direction r (from the light) and the position on it in [-1, 1]^2: the face of
+// r's largest component (index a, sign s), (u, v) = (r[b], r[c]) / |r[a]| with (b, c) the other
+// two axes in order. The shadow pass (kShadowVertex) projects with the same rule.
+int cube_face(vec3 r, out vec2 uv) {
+  vec3 m = abs(r);
+  int a = m.x >= m.y && m.x >= m.z ? 0 : (m.y >= m.z ? 1 : 2);
+  int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
+  float s = r[a] < 0.0 ? -1.0 : 1.0;
+  uv = vec2(r[b], r[c]) / (s * r[a]);
+  return 2 * a + (s < 0.0 ? 1 : 0);
+}
+
+float shadow_texel(int tile, vec2 uv) {
+  ivec2 t = clamp(ivec2(floor((0.5 * uv + 0.5) * float(u_shadow_tile))), ivec2(0), ivec2(u_shadow_tile - 1));
+  ivec2 origin = ivec2(tile - (tile / u_shadow_cols) * u_shadow_cols, tile / u_shadow_cols) * u_shadow_tile;
+  return texelFetch(u_shadow_atlas, origin + t, 0).r;
+}
+
+// Is p, on a surface with geometric normal ng, hidden from light i by a mesh? The bias covers what
+// a texel's footprint hides: 3 texels' width at p over the cosine to the light (a slope makes one
+// texel span more depth), plus 1e-3 of the distance (the CPU's shadow rays also stop 1e-3 short).
+bool mesh_shadowed(int i, vec3 p, vec3 ng, vec3 wi_world) {
+  int first = int(u_light_shadow[i].x);
+  if (first < 0) return false;
+  float slope = 1.0 / max(dot(ng, wi_world), 0.15);
+  if (u_light_pos[i].w == 0.0) {
+    vec3 r = p - u_light_pos[i].xyz;
+    vec2 uv;
+    int face = cube_face(r, uv);
+    float dist = length(r);
+    float texel = dist * 2.0 / float(u_shadow_tile);
+    return shadow_texel(first + face, uv) < dist - (3.0 * texel * slope + 1e-3 * dist);
+  }
+  Frame f = Frame_from_normal(u_light_pos[i].xyz);
+  vec3 q = p - u_shadow_center;
+  vec2 uv = vec2(dot(q, f.t), dot(q, f.b)) / u_shadow_radius;
+  float height = u_shadow_radius - dot(q, f.n);  // distance below the plane facing the light
+  float texel = 2.0 * u_shadow_radius / float(u_shadow_tile);
+  return shadow_texel(first, uv) < height - (3.0 * texel * slope + 1e-3 * u_shadow_radius);
+}
+
 const float kNoHit = -1.0;
 
 // The smallest t > 0 at which o + t d (d unit) meets the sphere, or kNoHit. The discriminant is
@@ -301,12 +355,51 @@ void main() {
       vec3 fr = aniso_f(wi, wo);
       if (fr == vec3(0.0)) continue;
       if (occluded(offset_origin(p, ng, wi_world), wi_world, tmax)) continue;
+      if (mesh_shadowed(i, p, ng, wi_world)) continue;
       L += fr * li * wi.z;
     }
   }
   // The CPU drops a non-finite sample (a bug if ever seen); so does this.
   if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);
   o_color = vec4(L, u_alpha);
+}
+)";
+
+// The shadow pass: a mesh's triangles into one tile of the atlas, the nearest surface kept by
+// GL_MIN blending. Point light: the cube face (u_axes = a, b, c; u_sign) as a 90-degree perspective
+// with x = r[b], y = r[c], w = s r[a] (z = 0: the clipper keeps w >= 0, the side the face looks at).
+// Directional: orthographic over the bounding sphere, x, y along Frame_from_normal(to_light).
+const char* kShadowVertex = R"(
+layout(location = 0) in vec3 a_p;
+uniform int u_mode;  // 0 point, 1 directional
+uniform vec3 u_light;  // position, or the unit direction towards the light
+uniform ivec3 u_axes;
+uniform float u_sign;
+uniform vec3 u_center;
+uniform float u_radius;
+out vec3 v_p;
+void main() {
+  v_p = a_p;
+  if (u_mode == 0) {
+    vec3 r = a_p - u_light;
+    gl_Position = vec4(r[u_axes.y], r[u_axes.z], 0.0, u_sign * r[u_axes.x]);
+  } else {
+    Frame f = Frame_from_normal(u_light);
+    vec3 q = a_p - u_center;
+    gl_Position = vec4(dot(q, f.t) / u_radius, dot(q, f.b) / u_radius, 0.0, 1.0);
+  }
+}
+)";
+const char* kShadowFragment = R"(
+in vec3 v_p;
+uniform int u_mode;
+uniform vec3 u_light;
+uniform vec3 u_center;
+uniform float u_radius;
+layout(location = 0) out vec4 o_value;
+void main() {
+  float v = u_mode == 0 ? length(v_p - u_light) : u_radius - dot(v_p - u_center, u_light);
+  o_value = vec4(v, 0.0, 0.0, 0.0);
 }
 )";
 
@@ -322,6 +415,37 @@ uniform sampler2D u_src;
 uniform float u_weight;
 layout(location = 0) out vec4 o_color;
 void main() { o_color = u_weight * texelFetch(u_src, ivec2(gl_FragCoord.xy), 0); }
+)";
+
+// render::tonemap in GLSL (src/render/image.cpp): exposure, Narkowicz 2015's ACES fit or a clamp,
+// the sRGB transfer function (IEC 61966-2-1).
+const char* kTonemapFragment = R"(
+uniform sampler2D u_src;
+uniform float u_scale;  // 2^exposure
+uniform bool u_aces;
+uniform vec2 u_viewport_origin;
+uniform vec2 u_viewport_size;
+layout(location = 0) out vec4 o_color;
+float srgb_encode(float x) {
+  if (!(x > 0.0)) return 0.0;
+  if (x >= 1.0) return 1.0;
+  return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055;
+}
+void main() {
+  vec2 uv = (gl_FragCoord.xy - u_viewport_origin) / u_viewport_size;
+  vec3 c = texture(u_src, uv).rgb;
+  vec3 o;
+  for (int k = 0; k < 3; ++k) {
+    float v = c[k] * u_scale;
+    if (!(v > 0.0)) v = 0.0;
+    if (u_aces) {
+      v = min(v, 1e4);  // the curve reaches 1 near 7.24; far above, v * v would overflow
+      v = v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14);
+    }
+    o[k] = srgb_encode(clamp(v, 0.0, 1.0));
+  }
+  o_color = vec4(o, 1.0);
+}
 )";
 
 std::string shader_log(GLuint id, bool program) {
@@ -521,6 +645,19 @@ void check_gl_materials(const render::Scene& scene) {
   }
 }
 
+namespace {
+RasterShaderSources sources_for(const GlslMaterial& m) {
+  std::string scene_part = kFragmentShader;
+  scene_part.replace(scene_part.find("%MAX_LIGHTS%"), 12, std::to_string(kMaxLightsPerPass));
+  return {glsl_preamble(GlslDialect::Core330) + kVertexShader,
+          glsl_preamble(GlslDialect::Core330) + glsl_library_source() + m.declarations + m.code + scene_part};
+}
+}  // namespace
+
+RasterShaderSources raster_shader_sources(const MaterialDesc& material) {
+  return sources_for(glsl_material(material, GlslStorage::Uniform, kMaterialPrefix));
+}
+
 int subsamples_for_spp(int spp) { return std::clamp(int(std::lround(std::sqrt(double(std::max(spp, 1))))), 1, 8); }
 
 bool gl_has_lights(const render::Scene& scene) {
@@ -544,7 +681,13 @@ std::vector<std::string> gl_unsupported(const render::Scene& scene) {
                               scene.integrator.max_depth));
   bool mesh = false;
   for (const render::Object& o : scene.objects) mesh = mesh || o.shape == ShapeKind::Mesh;
-  if (mesh) out.push_back("meshes cast no shadows in the GL backend (spheres, discs and rectangles do)");
+  size_t tiles = 0, lights = 0;
+  for (const render::Light& l : scene.lights)
+    if (l.kind != LightKind::Sphere) tiles += l.kind == LightKind::Point ? 6 : 1, ++lights;
+  if (mesh && tiles > 256)
+    out.push_back(fmt::format("meshes cast shadows from the first lights only: the shadow maps hold 256 tiles "
+                              "(a point light takes 6, a directional light 1) and the {} lights need {}",
+                              lights, tiles));
   return out;
 }
 
@@ -565,23 +708,107 @@ struct SceneRasterizer::Impl {
   RasterSettings settings;
   int width = 0, height = 0;
   std::map<std::string, std::unique_ptr<Program>> programs;  // by the material's GLSL (structure)
-  std::unique_ptr<Program> accumulate;
+  std::unique_ptr<Program> accumulate, tonemap;
   std::vector<ObjectGpu> objects;
   std::vector<render::Light> lights;  // point and directional
   GLuint occluders = 0, dummy = 0, empty_vao = 0;
   int occluder_count = 0;
   std::vector<glm::vec4> analytic_occluders;  // the objects' rows (sphere lights added per set_lights)
   GLuint scene_fbo = 0, scene_color = 0, scene_depth = 0, accum_fbo = 0, accum_color = 0;
+  // Mesh shadow maps (see kShadowVertex): rebuilt by render() after the lights changed.
+  std::unique_ptr<Program> shadow;
+  GLuint shadow_atlas = 0, shadow_fbo = 0;
+  int shadow_tile = 0, shadow_cols = 1;
+  std::vector<int> shadow_first;  // per light in `lights`: first tile, or -1
+  Vec3 shadow_center{0.0f};
+  float shadow_radius = 1.0f;
+  bool shadows_dirty = true;
+  size_t shadowless_lights = 0;  // lights beyond the atlas's budget: meshes cast no shadow from them
+
+  bool has_meshes() const {
+    for (const render::Object& o : scene.objects)
+      if (o.shape == ShapeKind::Mesh) return true;
+    return false;
+  }
+
+  // The atlas: tiles of 1024 texels, halved until every light's tiles fit in 4096 x 4096 (64 MB of
+  // R32F), down to 256; lights beyond 256 tiles get none (said by gl_unsupported's caller).
+  void build_shadow_maps() {
+    shadows_dirty = false;
+    shadow_first.assign(lights.size(), -1);
+    shadowless_lights = 0;
+    if (!has_meshes() || lights.empty()) return;
+    constexpr int kAtlas = 4096;
+    int tiles = 0;
+    for (const render::Light& l : lights) tiles += l.kind == LightKind::Point ? 6 : 1;
+    shadow_tile = 1024;
+    while (shadow_tile > 256 && tiles > (kAtlas / shadow_tile) * (kAtlas / shadow_tile)) shadow_tile /= 2;
+    shadow_cols = kAtlas / shadow_tile;
+    const int capacity = shadow_cols * shadow_cols;
+    int next = 0;
+    for (size_t i = 0; i < lights.size(); ++i) {
+      const int need = lights[i].kind == LightKind::Point ? 6 : 1;
+      if (next + need > capacity) {
+        ++shadowless_lights;
+        continue;
+      }
+      shadow_first[i] = next;
+      next += need;
+    }
+    const int rows = (next + shadow_cols - 1) / shadow_cols;
+    // The bounding sphere of everything (the directional maps cover it).
+    Vec3 lo(INFINITY), hi(-INFINITY);
+    for (const ObjectGpu& o : objects) lo = glm::min(lo, o.bound_center - o.bound_radius), hi = glm::max(hi, o.bound_center + o.bound_radius);
+    shadow_center = 0.5f * (lo + hi);
+    shadow_radius = std::max(0.5f * glm::length(hi - lo), 1e-6f) * 1.01f;
+    if (!shadow_atlas) glGenTextures(1, &shadow_atlas);
+    glBindTexture(GL_TEXTURE_2D, shadow_atlas);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, shadow_cols * shadow_tile, rows * shadow_tile, 0, GL_RED, GL_FLOAT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    if (!shadow_fbo) glGenFramebuffers(1, &shadow_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, shadow_atlas, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) throw GlError("the shadow-map atlas framebuffer is incomplete");
+    const float far_value[4] = {3.0e38f, 0, 0, 0};  // nothing in the way
+    glClearBufferfv(GL_COLOR, 0, far_value);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_MIN);
+    glBlendFunc(GL_ONE, GL_ONE);
+    glUseProgram(shadow->id());
+    shadow->set("u_center", shadow_center);
+    shadow->set("u_radius", shadow_radius);
+    for (size_t i = 0; i < lights.size(); ++i) {
+      if (shadow_first[i] < 0) continue;
+      const render::Light& l = lights[i];
+      const bool point = l.kind == LightKind::Point;
+      shadow->set("u_mode", point ? 0 : 1);
+      shadow->set("u_light", point ? l.position : l.to_light);
+      for (int face = 0; face < (point ? 6 : 1); ++face) {
+        const int a = face / 2, b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
+        glUniform3i(shadow->loc("u_axes"), a, b, c);
+        shadow->set("u_sign", face % 2 == 0 ? 1.0f : -1.0f);
+        const int tile = shadow_first[i] + face;
+        glViewport((tile % shadow_cols) * shadow_tile, (tile / shadow_cols) * shadow_tile, shadow_tile, shadow_tile);
+        for (size_t k = 0; k < objects.size(); ++k) {
+          if (scene.objects[k].shape != ShapeKind::Mesh) continue;
+          glBindVertexArray(objects[k].vao);
+          glDrawArrays(GL_TRIANGLES, 0, objects[k].count);
+        }
+      }
+    }
+    glBlendEquation(GL_FUNC_ADD);
+    glDisable(GL_BLEND);
+  }
 
   Program& program_for(const GlslMaterial& m, const std::string& what) {
     const std::string key = m.declarations + m.code;
     auto it = programs.find(key);
     if (it != programs.end()) return *it->second;
-    std::string fragment = glsl_preamble(GlslDialect::Core330) + glsl_library_source() + m.declarations + m.code;
-    std::string scene_part = kFragmentShader;
-    scene_part.replace(scene_part.find("%MAX_LIGHTS%"), 12, std::to_string(kMaxLightsPerPass));
-    fragment += scene_part;
-    auto p = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + kVertexShader, fragment, what);
+    const RasterShaderSources src = sources_for(m);
+    auto p = std::make_unique<Program>(src.vertex, src.fragment, what);
     Program& ref = *p;
     programs.emplace(key, std::move(p));
     return ref;
@@ -659,12 +886,13 @@ struct SceneRasterizer::Impl {
     const Vec3 right = glm::normalize(glm::cross(fwd, c.up));
     const Vec3 up = glm::cross(right, fwd);
     const float far = far_plane();
-    std::vector<glm::vec4> lpos;
+    std::vector<glm::vec4> lpos, lshadow;
     std::vector<glm::vec3> lpow;
     for (size_t i = light_begin; i < light_end; ++i) {
       const render::Light& l = lights[i];
       lpos.push_back(l.kind == LightKind::Point ? glm::vec4(l.position, 0.0f) : glm::vec4(l.to_light, 1.0f));
       lpow.push_back(l.power);
+      lshadow.push_back(glm::vec4(float(i < shadow_first.size() ? shadow_first[i] : -1), 0.0f, 0.0f, 0.0f));
     }
     for (const ObjectGpu& og : objects) {
       const render::Object& o = scene.objects[size_t(&og - objects.data())];
@@ -708,12 +936,20 @@ struct SceneRasterizer::Impl {
       if (!lpos.empty()) {
         glUniform4fv(p.loc("u_light_pos"), GLsizei(lpos.size()), &lpos[0][0]);
         glUniform3fv(p.loc("u_light_power"), GLsizei(lpow.size()), &lpow[0][0]);
+        glUniform4fv(p.loc("u_light_shadow"), GLsizei(lshadow.size()), &lshadow[0][0]);
       }
+      p.set("u_shadow_atlas", 2);
+      p.set("u_shadow_tile", std::max(shadow_tile, 1));
+      p.set("u_shadow_cols", shadow_cols);
+      p.set("u_shadow_center", shadow_center);
+      p.set("u_shadow_radius", shadow_radius);
       set_material_slots(p, og.material);
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, og.map ? og.map : dummy);
       glActiveTexture(GL_TEXTURE1);
       glBindTexture(GL_TEXTURE_2D, occluders);
+      glActiveTexture(GL_TEXTURE2);
+      glBindTexture(GL_TEXTURE_2D, shadow_atlas ? shadow_atlas : dummy);
       // A sphere's proxy cube seen from outside: its back faces would only shade the same hits
       // again (the depth test then drops them), so they are culled. From inside (or nearly: 1 %
       // margin for the rounding of the comparison) every face is drawn: the far ones find the hits.
@@ -829,6 +1065,10 @@ SceneRasterizer::SceneRasterizer(const render::Scene& scene, RasterSettings sett
   m.upload_occluders();
   m.accumulate = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + kFullscreenVertex,
                                            glsl_preamble(GlslDialect::Core330) + kAccumulateFragment, "GL backend: accumulation");
+  m.shadow = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + glsl_library_source() + kShadowVertex,
+                                       glsl_preamble(GlslDialect::Core330) + kShadowFragment, "GL backend: shadow maps");
+  m.tonemap = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + kFullscreenVertex,
+                                        glsl_preamble(GlslDialect::Core330) + kTonemapFragment, "GL backend: tone mapping");
   m.allocate_targets();
   if (const GLenum err = glGetError(); err != GL_NO_ERROR) throw GlError(fmt::format("GL backend setup: GL error 0x{:x}", err));
 }
@@ -844,8 +1084,9 @@ SceneRasterizer::~SceneRasterizer() {
   glDeleteTextures(4, textures);
   if (m.empty_vao) glDeleteVertexArrays(1, &m.empty_vao);
   if (m.scene_depth) glDeleteRenderbuffers(1, &m.scene_depth);
-  const GLuint fbos[] = {m.scene_fbo, m.accum_fbo};
-  glDeleteFramebuffers(2, fbos);
+  const GLuint fbos[] = {m.scene_fbo, m.accum_fbo, m.shadow_fbo};
+  glDeleteFramebuffers(3, fbos);
+  if (m.shadow_atlas) glDeleteTextures(1, &m.shadow_atlas);
 }
 
 void SceneRasterizer::set_camera(const render::Camera& camera) { impl_->scene.camera = camera; }
@@ -857,6 +1098,7 @@ void SceneRasterizer::set_lights(const std::vector<render::Light>& lights) {
   for (const render::Light& l : lights)
     if (l.kind != LightKind::Sphere) m.lights.push_back(l);
   if (m.occluders) m.upload_occluders();
+  m.shadows_dirty = true;
 }
 
 void SceneRasterizer::set_material(size_t object, const MaterialDesc& material) {
@@ -872,6 +1114,58 @@ void SceneRasterizer::set_material(size_t object, const MaterialDesc& material) 
 void SceneRasterizer::set_tangent_field(size_t object, const TangentFieldT<float>& field) {
   if (object >= impl_->objects.size()) throw std::out_of_range(fmt::format("set_tangent_field: no object {}", object));
   impl_->objects[object].field = field;
+}
+
+void SceneRasterizer::set_tangent(size_t object, const render::TangentSource& tangent) {
+  Impl& m = *impl_;
+  if (object >= m.objects.size()) throw std::out_of_range(fmt::format("set_tangent: no object {}", object));
+  render::Object& o = m.scene.objects[object];
+  if (tangent.uv_tangents != o.tangent.uv_tangents)
+    throw std::invalid_argument("set_tangent: uv_tangents cannot change on an existing rasteriser (the mesh's tangents are "
+                                "in its vertex buffer)");
+  if (tangent.map && o.shape == ShapeKind::Mesh && o.mesh->uvs.empty())
+    throw InputError(fmt::format("{}: objects[{}]: a tangent map needs a mesh with UVs; this mesh has none", m.scene.source, object));
+  Impl::ObjectGpu& g = m.objects[object];
+  if (g.map) glDeleteTextures(1, &g.map);
+  g.map = 0;
+  g.map_size = glm::ivec2(0);
+  if (tangent.map) {
+    const render::TangentMap& tm = *tangent.map;
+    glGenTextures(1, &g.map);
+    glBindTexture(GL_TEXTURE_2D, g.map);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, tm.width, tm.height, 0, GL_RG, GL_FLOAT, tm.doubled.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    g.map_size = glm::ivec2(tm.width, tm.height);
+  }
+  g.field = tangent.field;
+  o.tangent = tangent;
+}
+
+void SceneRasterizer::draw_tonemapped(const render::ToneMapOptions& tm) const {
+  const Impl& m = *impl_;
+  GLint vp[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, vp);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glUseProgram(m.tonemap->id());
+  m.tonemap->set("u_src", 0);
+  m.tonemap->set("u_scale", std::exp2(tm.exposure_stops));
+  m.tonemap->set("u_aces", int(tm.curve == render::ToneMap::Aces));
+  m.tonemap->set("u_viewport_origin", glm::vec2(float(vp[0]), float(vp[1])));
+  m.tonemap->set("u_viewport_size", glm::vec2(float(vp[2]), float(vp[3])));
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, m.accum_color);
+  // Bilinear when the viewport is not the image's size (the explorer's window); texel centres
+  // land on pixel centres when it is.
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glBindVertexArray(m.empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  if (const GLenum err = glGetError(); err != GL_NO_ERROR) throw GlError(fmt::format("GL backend draw_tonemapped: GL error 0x{:x}", err));
 }
 
 void SceneRasterizer::set_size(int width, int height) {
@@ -896,8 +1190,9 @@ void SceneRasterizer::render() {
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &old_draw);
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &old_read);
   glGetIntegerv(GL_VIEWPORT, old_viewport);
-  glViewport(0, 0, m.width, m.height);
   glDisable(GL_SCISSOR_TEST);
+  if (m.shadows_dirty) m.build_shadow_maps();
+  glViewport(0, 0, m.width, m.height);
   glDisable(GL_BLEND);
   glCullFace(GL_BACK);
   glFrontFace(GL_CCW);

@@ -23,7 +23,9 @@
 //   arithmetic of TangentMap::lookup (texelFetch, no hardware filtering).
 // - Shadows: shadow rays are intersected exactly, per fragment, with every analytic shape (and
 //   with the scene's sphere lights, which block light in the CPU's BVH too), from the CPU's
-//   offset origin (SceneGeometry::offset_origin). Meshes cast NO shadows in the GL backend.
+//   offset origin (SceneGeometry::offset_origin). Meshes cast theirs through shadow maps (an R32F
+//   atlas: 6 cube faces per point light, one orthographic tile per directional light), redrawn by
+//   render() after set_lights(); their edges are placed to about a texel.
 // - Not rendered: sphere (area) lights and environments (gl_unsupported() lists them), indirect
 //   light. A material without a GLSL twin (measured MERL tables) is an InputError naming the object.
 //
@@ -70,6 +72,13 @@ void check_gl_materials(const render::Scene& scene);
 // Whether the scene has a point or directional light with non-zero power (else the GL render is black).
 bool gl_has_lights(const render::Scene& scene);
 
+// The vertex and fragment shader (complete, #version 330 core) the rasteriser compiles for a
+// material: what the tests hand to glslangValidator as GLSL 3.30.
+struct RasterShaderSources {
+  std::string vertex, fragment;
+};
+RasterShaderSources raster_shader_sources(const MaterialDesc& material);
+
 class SceneRasterizer {
  public:
   // Uploads the scene's geometry, tangent maps and occluders and compiles one program per material
@@ -94,6 +103,10 @@ class SceneRasterizer {
   // The object's tangent field (kind, angle, centre, axis, swirl, noise): uniforms only. A tangent map
   // or mesh UV tangents stay as the scene gave them.
   void set_tangent_field(size_t object, const TangentFieldT<float>& field);
+  // The object's whole tangent source: the field, and a tangent map (uploaded; null removes it).
+  // uv_tangents cannot be switched here: a mesh's tangents are in its vertex buffer (build a new
+  // rasteriser from a scene read with {"field": "uv"}); asking for a change is std::invalid_argument.
+  void set_tangent(size_t object, const render::TangentSource& tangent);
   // Image size in pixels (reallocates the targets when it changes) and sub-samples per axis.
   void set_size(int width, int height);
   void set_subsamples(int k);
@@ -106,6 +119,11 @@ class SceneRasterizer {
   unsigned color_texture() const;
   // The framebuffer object holding color_texture() (for glBlitFramebuffer to a window).
   unsigned framebuffer() const;
+  // Draws the last render() into the caller's bound draw framebuffer and viewport, tone-mapped
+  // as the CPU's PNG writer does (render::tonemap: 2^exposure, the ACES curve or a clamp, the sRGB
+  // transfer function; written as is, so GL_FRAMEBUFFER_SRGB must be off). Covers the viewport
+  // (the caller picks its aspect); depth test and blending off; restores nothing else.
+  void draw_tonemapped(const render::ToneMapOptions& tm = {}) const;
   // Linear RGB of the last render(), row 0 at the top (render::Image, what write_image takes).
   render::Image read_back() const;
   // Coverage (alpha) of the last render(), row 0 at the top, width * height values in [0, 1].
