@@ -340,6 +340,16 @@ TEST(ViewPreview, ConvergesToTheRenderersImage) {
   ASSERT_GT(sum_ref, 0.0);
   EXPECT_NEAR(sum / sum_ref, 1.0, 0.03);  // the image mean of 16 spp on 1536 pixels: well under 1 % noise
   EXPECT_FALSE(preview.snapshot(&img, &spp, &gen));  // nothing new since
+
+  // A restart (the material changed) starts again from zero samples, at the new scene's size.
+  auto other = std::make_shared<render::Scene>(*scene);
+  other->film.width = 24, other->film.height = 16;
+  other->objects[0].material = view::load_slot("gold").kernel_f;
+  preview.restart(other);
+  preview.wait_for(16);
+  ASSERT_TRUE(preview.snapshot(&img, &spp, &gen));
+  EXPECT_EQ(img.width, 24);
+  EXPECT_EQ(spp, 16);
 }
 
 }  // namespace

@@ -28,6 +28,10 @@ void ProgressivePreview::restart(std::shared_ptr<const render::Scene> scene) {
     std::lock_guard lock(mutex_);
     pending_ = std::move(scene);
     cancel_ = true;  // the pass in flight stops at its next check
+    // The old picture is gone at once: spp() and wait_for() count the new scene's samples only.
+    average_ = render::Image();
+    spp_ = 0;
+    ++generation_;
   }
   cv_.notify_all();
 }
