@@ -219,6 +219,24 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
       }
     }
   }
+  // Lafortune's lobes: one more (a forward-scattering cosine lobe, the table's defaults for C and
+  // n = 10) or one fewer, within the table's 1 to 8.
+  if (slot.edit.contains("lobes") && slot.edit["lobes"].is_array()) {
+    json lobes = slot.edit["lobes"];
+    bool changed = false;
+    if (ImGui::SmallButton("+ lobe") && lobes.size() < 8) lobes.push_back({{"cx", -1.0}, {"cy", -1.0}, {"cz", 1.0}, {"n", 10.0}}), changed = true;
+    ImGui::SameLine();
+    if (ImGui::SmallButton("- lobe") && lobes.size() > 1) lobes.erase(lobes.size() - 1), changed = true;
+    if (changed) {
+      try {
+        view::set_key(slot, "lobes", lobes);
+        ex.last_error.clear();
+        after_change();
+      } catch (const std::exception& e) {
+        report("lobes", e);
+      }
+    }
+  }
   // Files, as the script actions do them.
   std::string& path = is_a ? path_a_ : path_b_;
   input_path("file", path);
