@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <unistd.h>
+
 #include "cli_fixture.h"
 #include "io/json_read.h"
 #include "io/materials.h"
@@ -30,6 +32,14 @@ class ViewCli : public Cli {
     if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run is not installed (Debian's xvfb)";
   }
 
+  // Where xvfb-run -a starts looking for a free display: spread by process, so that tests run in
+  // parallel (ctest -j) rarely race for the same number (xvfb-run checks the lock file, then starts
+  // Xvfb: two runs starting from the same number can both pick it, and one fails).
+  static int first_display() {
+    static int calls = 0;
+    return 100 + int((unsigned(::getpid()) * 37u + unsigned(calls++) * 7u) % 3000u);
+  }
+
   // `xvfb-run -a aniso view ARGS`; skips the test when no GL 3.3 window can be opened there.
   Result view(const std::vector<std::string>& args) {
     std::string cmd = "cd ";
@@ -38,7 +48,9 @@ class ViewCli : public Cli {
     // libraries' exit-time allocations cannot be named in tests/lsan.supp. The explorer's own
     // logic runs under LeakSanitizer in tests/test_view.cpp. Release builds ignore the variable.
     cmd.append(shell_quote(dir_.string()))
-        .append(" && ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" xvfb-run -a -s '-screen 0 1600x1000x24' ");
+        .append(" && ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" xvfb-run -a -n ")
+        .append(std::to_string(first_display()))
+        .append(" -s '-screen 0 1600x1000x24' ");
     cmd.append(shell_quote(ANISO_CLI)).append(" view");
     for (const std::string& a : args) cmd.append(" ").append(shell_quote(a));
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
