@@ -331,6 +331,19 @@ TEST(GlRender, MeshShadowsFromShadowMaps) {
   fmt::print("mesh_shadows: {} interior pixels, worst {:.3f} x the tolerance ({}), {} dark\n", c.interior, c.worst_excess, c.worst, dark);
 }
 
+TEST(GlRender, CameraInsideASphereAndOffAxisMeshes) {
+  ANISO_REQUIRE_GL();
+  // Inside a big sphere the proxy cube's far faces find the hits (no culling); a small sphere and a
+  // torus sit inside too, with the light.
+  json doc = scene_json(json::array({with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 6.0}},
+                                                   {{"model", "lambert"}, {"kd", 0.5}}),
+                                     with_material({{"shape", "sphere"}, {"center", {0.8, -0.2, -1.0}}, {"radius", 0.6}}),
+                                     with_material({{"shape", "torus"}, {"center", {-0.9, 0.1, -0.5}}, {"major_radius", 0.5},
+                                                    {"minor_radius", 0.2}, {"rotate_deg", {70, 20, 0}}})}),
+                        json::array({{{"type", "point"}, {"position", {0.5, 1.5, 1.5}}, {"intensity", 10.0}}}));
+  expect_parity(doc, "inside_sphere");
+}
+
 TEST(GlRender, ManyLightsTakeSeveralPasses) {
   ANISO_REQUIRE_GL();
   json lights = json::array();
@@ -492,13 +505,16 @@ TEST(GlRasterizer, CoverageIsTheFractionOfSubSamplesOnASurface) {
   EXPECT_GT(partial, 10) << "the silhouette's pixels are partly covered";
 }
 
-TEST(GlRasterizer, RenderRestoresTheCallersFramebufferAndViewport) {
+TEST(GlRasterizer, CallsRestoreTheCallersFramebufferAndViewport) {
   ANISO_REQUIRE_GL();
   gl::SceneRasterizer r(sphere_scene({{"model", "lambert"}, {"kd", 0.5}}), gl::RasterSettings{1});
   GLuint fbo = 0;
   glGenFramebuffers(1, &fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glViewport(3, 4, 50, 60);
+  r.render();
+  r.set_size(20, 10);  // reallocates the targets
+  r.set_lights({});
   r.render();
   GLint bound = 0, vp[4];
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);

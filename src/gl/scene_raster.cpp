@@ -526,6 +526,24 @@ class Program {
   std::unordered_map<std::string, GLint> locations_;
 };
 
+// Puts back the caller's framebuffer bindings and viewport when a public call ends (the explorer
+// draws its window between our calls).
+struct FramebufferRestore {
+  GLint draw = 0, read = 0, viewport[4] = {0, 0, 0, 0};
+  FramebufferRestore() {
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+  }
+  ~FramebufferRestore() {
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw));
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read));
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  }
+  FramebufferRestore(const FramebufferRestore&) = delete;
+  FramebufferRestore& operator=(const FramebufferRestore&) = delete;
+};
+
 // One vertex of the vertex buffer (the attributes of kVertexShader, in order).
 struct Vertex {
   glm::vec3 p{0.0f}, n{0.0f};
@@ -830,6 +848,15 @@ struct SceneRasterizer::Impl {
   }
 
   void allocate_targets() {
+    GLint max_texture = 0, max_renderbuffer = 0, max_viewport[2] = {0, 0};
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_renderbuffer);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, max_viewport);
+    const int limit = std::min({max_texture, max_renderbuffer, max_viewport[0], max_viewport[1]});
+    if (width > limit || height > limit)
+      throw GlError(fmt::format("{}x{} pixels: this GL's largest render target is {}x{} (GL_MAX_TEXTURE_SIZE, "
+                                "GL_MAX_RENDERBUFFER_SIZE, GL_MAX_VIEWPORT_DIMS); render smaller or with --backend cpu",
+                                width, height, limit, limit));
     const auto color = [&](GLuint& tex) {
       if (!tex) glGenTextures(1, &tex);
       glBindTexture(GL_TEXTURE_2D, tex);
@@ -996,6 +1023,7 @@ struct SceneRasterizer::Impl {
 
 SceneRasterizer::SceneRasterizer(const render::Scene& scene, RasterSettings settings) : impl_(std::make_unique<Impl>()) {
   if (epoxy_gl_version() < 33) throw GlUnavailable(fmt::format("OpenGL {} < 3.3 (the GL backend needs 3.3 core)", epoxy_gl_version()));
+  const FramebufferRestore restore;
   Impl& m = *impl_;
   m.scene = scene;
   m.settings = settings;
@@ -1176,6 +1204,7 @@ void SceneRasterizer::set_size(int width, int height) {
   m.height = height;
   m.scene.film.width = width;
   m.scene.film.height = height;
+  const FramebufferRestore restore;
   m.allocate_targets();
 }
 
@@ -1186,10 +1215,7 @@ void SceneRasterizer::set_subsamples(int k) {
 
 void SceneRasterizer::render() {
   Impl& m = *impl_;
-  GLint old_draw = 0, old_read = 0, old_viewport[4] = {0, 0, 0, 0};
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &old_draw);
-  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &old_read);
-  glGetIntegerv(GL_VIEWPORT, old_viewport);
+  const FramebufferRestore restore;
   glDisable(GL_SCISSOR_TEST);
   if (m.shadows_dirty) m.build_shadow_maps();
   glViewport(0, 0, m.width, m.height);
@@ -1236,9 +1262,6 @@ void SceneRasterizer::render() {
   glDisable(GL_CULL_FACE);
   glBindVertexArray(0);
   glUseProgram(0);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(old_draw));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(old_read));
-  glViewport(old_viewport[0], old_viewport[1], old_viewport[2], old_viewport[3]);
   if (const GLenum err = glGetError(); err != GL_NO_ERROR) throw GlError(fmt::format("GL backend render: GL error 0x{:x}", err));
 }
 

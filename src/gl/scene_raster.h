@@ -35,9 +35,17 @@
 //
 // Context: the caller's OpenGL >= 3.3 core context must be current on the calling thread for the
 // whole life of the object (gl::GlContext::get() for headless use, a GLFW window's context in the
-// explorer). Only GL 3.3 core entry points are used (no DSA, no compute). render() binds its own
-// framebuffers, programs, vertex arrays and textures, and restores the draw framebuffer and the
-// viewport it found; it leaves GL_DEPTH_TEST, GL_BLEND, GL_CULL_FACE and GL_SCISSOR_TEST disabled.
+// explorer). Only GL 3.3 core entry points are used (no DSA, no compute). Every call puts back the
+// draw and read framebuffers and the viewport it found; it changes the bound program, vertex array,
+// active texture unit and the textures on units 0 to 2, and leaves GL_DEPTH_TEST, GL_BLEND,
+// GL_CULL_FACE and GL_SCISSOR_TEST disabled.
+//
+// Use from a window (the explorer's lit sphere):
+//   render::Scene s = render::parse_scene(doc, "lit sphere", "");  // camera, a sphere, a directional light
+//   gl::SceneRasterizer r(s, gl::RasterSettings{2});
+//   per frame: r.set_material(0, desc); r.set_lights(lights); r.set_size(w, h); r.render();
+//              bind the window's framebuffer, glViewport(...), r.draw_tonemapped({exposure, curve});
+//   screenshot / tests: r.read_back() (linear RGB) or render::tonemap(r.read_back(), tm).
 #pragma once
 
 #include <cstddef>
