@@ -441,6 +441,31 @@ TEST(GlRasterizer, CameraLightsTangentAndSizeChangesEqualAFreshBuild) {
   EXPECT_EQ(img.rgb, gl_image(changed).rgb);
 }
 
+TEST(GlRasterizer, MovingALightRedrawsTheMeshShadowMaps) {
+  ANISO_REQUIRE_GL();
+  json doc = scene_json(json::array({with_material({{"shape", "rectangle"}, {"center", {0, -0.7, 0}}, {"normal", {0, 1, 0}},
+                                                    {"u", {1, 0, 0}}, {"size", {3.0, 3.0}}},
+                                                   {{"model", "lambert"}, {"kd", 0.6}}),
+                                     with_material({{"shape", "torus"}, {"center", {0, -0.1, 0}}, {"major_radius", 0.7},
+                                                    {"minor_radius", 0.25}})}),
+                        point_light());
+  doc["film"] = {{"width", 32}, {"height", 24}, {"spp", 4}};
+  const render::Scene a = render::parse_scene(doc, "a", "");
+  render::Scene b = a, c = a;
+  b.lights[0].position = Vec3(-1.5f, 2.0f, 0.5f);
+  c.lights[0].power = RGB(3.0f);  // power alone: the same maps
+  gl::SceneRasterizer r(a, gl::RasterSettings{2});
+  r.render();
+  EXPECT_EQ(r.read_back().rgb, gl_image(a).rgb);
+  r.set_lights(b.lights);
+  r.render();
+  EXPECT_EQ(r.read_back().rgb, gl_image(b).rgb);
+  EXPECT_NE(gl_image(b).rgb, gl_image(a).rgb);
+  r.set_lights(c.lights);
+  r.render();
+  EXPECT_EQ(r.read_back().rgb, gl_image(c).rgb);
+}
+
 TEST(GlRasterizer, SetTangentUploadsAndRemovesAMap) {
   ANISO_REQUIRE_GL();
   const json m = {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};

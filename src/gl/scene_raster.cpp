@@ -737,6 +737,7 @@ struct SceneRasterizer::Impl {
   std::unique_ptr<Program> shadow;
   GLuint shadow_atlas = 0, shadow_fbo = 0;
   int shadow_tile = 0, shadow_cols = 1;
+  glm::ivec2 shadow_atlas_size{0};
   std::vector<int> shadow_first;  // per light in `lights`: first tile, or -1
   Vec3 shadow_center{0.0f};
   float shadow_radius = 1.0f;
@@ -773,7 +774,7 @@ struct SceneRasterizer::Impl {
       shadow_first[i] = next;
       next += need;
     }
-    const int rows = (next + shadow_cols - 1) / shadow_cols;
+    const int rows = (next + shadow_cols - 1) / shadow_cols, cols_used = std::min(next, shadow_cols);
     // The bounding sphere of everything (the directional maps cover it).
     Vec3 lo(INFINITY), hi(-INFINITY);
     for (const ObjectGpu& o : objects) lo = glm::min(lo, o.bound_center - o.bound_radius), hi = glm::max(hi, o.bound_center + o.bound_radius);
@@ -781,9 +782,13 @@ struct SceneRasterizer::Impl {
     shadow_radius = std::max(0.5f * glm::length(hi - lo), 1e-6f) * 1.01f;
     if (!shadow_atlas) glGenTextures(1, &shadow_atlas);
     glBindTexture(GL_TEXTURE_2D, shadow_atlas);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, shadow_cols * shadow_tile, rows * shadow_tile, 0, GL_RED, GL_FLOAT, nullptr);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    const glm::ivec2 size(cols_used * shadow_tile, rows * shadow_tile);
+    if (size != shadow_atlas_size) {  // the same lights moving (a dragged light) keep the texture
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, size.x, size.y, 0, GL_RED, GL_FLOAT, nullptr);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      shadow_atlas_size = size;
+    }
     if (!shadow_fbo) glGenFramebuffers(1, &shadow_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, shadow_atlas, 0);
@@ -1121,12 +1126,17 @@ void SceneRasterizer::set_camera(const render::Camera& camera) { impl_->scene.ca
 
 void SceneRasterizer::set_lights(const std::vector<render::Light>& lights) {
   Impl& m = *impl_;
+  const std::vector<render::Light> before = m.lights;
   m.scene.lights = lights;
   m.lights.clear();
   for (const render::Light& l : lights)
     if (l.kind != LightKind::Sphere) m.lights.push_back(l);
   if (m.occluders) m.upload_occluders();
-  m.shadows_dirty = true;
+  // The shadow maps depend on where the lights are, not on their power.
+  bool moved = before.size() != m.lights.size();
+  for (size_t i = 0; !moved && i < before.size(); ++i)
+    moved = before[i].kind != m.lights[i].kind || before[i].position != m.lights[i].position || before[i].to_light != m.lights[i].to_light;
+  m.shadows_dirty = m.shadows_dirty || moved;
 }
 
 void SceneRasterizer::set_material(size_t object, const MaterialDesc& material) {
