@@ -17,8 +17,10 @@ template <typename S, typename T>
   for (size_t i = 0; i < len; ++i) {
     const S a = p[3 * i], b = p[3 * i + 1], c = p[3 * i + 2];
     x[i] = T(a), y[i] = T(b), z[i] = T(c);
-    // |v| <= max is false for NaN and for +-Inf; & (not &&) keeps the loop free of branches.
-    bad[i] |= uint8_t(!((std::fabs(a) <= kMax) & (std::fabs(b) <= kMax) & (std::fabs(c) <= kMax)));
+    // |v| <= max is false for NaN and for +-Inf; & on 0/1 bytes (not &&) keeps the loop free of
+    // branches.
+    const uint8_t finite = uint8_t(std::fabs(a) <= kMax) & uint8_t(std::fabs(b) <= kMax) & uint8_t(std::fabs(c) <= kMax);
+    bad[i] |= uint8_t(finite ^ 1u);
   }
 }
 
