@@ -27,6 +27,10 @@ packages=(
   libegl-mesa0 libgl1-mesa-dri        # Mesa's EGL (surfaceless platform) and llvmpipe
   libepoxy-dev        # GL entry points through eglGetProcAddress (works without GLX)
   glslang-tools       # glslangValidator: the library compiles as GLSL 3.30 core and ES 3.00
+  # The explorer (`aniso view`, docs/explorer.md): a GLFW window with Dear ImGui (its GLFW and
+  # OpenGL 3 backends are inside Debian's libimgui.a), tested under a virtual X server.
+  libglfw3-dev libimgui-dev
+  xvfb xauth          # xvfb-run (xauth: only "recommended" by xvfb, needed by xvfb-run)
   # The Python module (python/, docs/python.md): built for Debian's /usr/bin/python3 and its NumPy,
   # tested with pytest; the example plots with matplotlib.
   python3-dev pybind11-dev python3-numpy

@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -147,6 +148,98 @@ template <typename T> void check_against_scalar(const NamedMaterial& nm) {
 
 TEST_P(BatchTest, EvaluateAndPdfMatchScalarFloat) { check_against_scalar<float>(GetParam()); }
 TEST_P(BatchTest, EvaluateAndPdfMatchScalarDouble) { check_against_scalar<double>(GetParam()); }
+
+// evaluate_interleaved / pdf_interleaved (rows (x, y, z) in, RGB rows out) are evaluate / pdf on the
+// same elements bit for bit: the same kernels, loaded and stored by LoadInterleaved3 /
+// StoreInterleaved3; with a broadcast direction (stride 0) as with that direction repeated; with
+// NonFinite::NaN, NaN in every output of a row with a NaN or infinite input value and the other
+// rows unchanged (and so do evaluate / pdf with NonFinite::NaN). SIMD and scalar kernels, one and
+// all threads; the pair count is odd (a partial last vector), and the interleaved arrays start one
+// element into their buffer.
+template <typename T> void check_interleaved(const NamedMaterial& nm) {
+  const MaterialT<T> m = build<T>(nm.json);
+  batch::DirectionArray<T> wi, wo;
+  make_pairs(wi, wo);
+  const size_t n = wi.size();
+  // Rows 7, 100, 101, ... get a NaN or an infinity in one coordinate of wi or wo.
+  const T bad_values[3] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::infinity(),
+                           -std::numeric_limits<T>::infinity()};
+  std::vector<bool> bad(n, false);
+  std::vector<T> wi_rows(3 * n + 1), wo_rows(3 * n + 1);
+  T* pi = wi_rows.data() + 1;
+  T* po = wo_rows.data() + 1;
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) pi[3 * i + c] = wi.get(i)[c], po[3 * i + c] = wo.get(i)[c];
+  const Vec3T<T> fixed = wi.get(3);
+  for (batch::Kernels kernels : {batch::Kernels::Simd, batch::Kernels::Scalar}) {
+    const char* kname = kernels == batch::Kernels::Simd ? "simd" : "scalar";
+    batch::ColorArray<T> f(n), f_fixed(n);
+    std::vector<T> p(n), p_fixed(n);
+    batch::DirectionArray<T> wi_fixed(n);
+    for (size_t i = 0; i < n; ++i) wi_fixed.set(i, fixed);
+    batch::evaluate(m, wi.view(), wo.view(), n, f.view(), batch::Threads::One, kernels);
+    batch::pdf(m, wi.view(), wo.view(), n, p.data(), batch::Threads::One, kernels);
+    batch::evaluate(m, wi_fixed.view(), wo.view(), n, f_fixed.view(), batch::Threads::One, kernels);
+    batch::pdf(m, wi_fixed.view(), wo.view(), n, p_fixed.data(), batch::Threads::One, kernels);
+    for (batch::Threads threads : {batch::Threads::One, batch::Threads::All}) {
+      std::vector<T> g(3 * n), q(n), g_fixed(3 * n), q_fixed(n);
+      batch::evaluate_interleaved(m, {pi, 3}, {po, 3}, n, g.data(), threads, kernels);
+      batch::pdf_interleaved(m, {pi, 3}, {po, 3}, n, q.data(), threads, kernels);
+      const T fixed_row[3] = {fixed.x, fixed.y, fixed.z};
+      batch::evaluate_interleaved(m, {fixed_row, 0}, {po, 3}, n, g_fixed.data(), threads, kernels);
+      batch::pdf_interleaved(m, {fixed_row, 0}, {po, 3}, n, q_fixed.data(), threads, kernels);
+      for (size_t i = 0; i < n; ++i) {
+        const RGBT<T> ref = f.get(i), ref_fixed = f_fixed.get(i);
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_EQ(std::memcmp(&ref[c], &g[3 * i + c], sizeof(T)), 0) << nm.name << " " << kname << " f row " << i << " channel " << c;
+          ASSERT_EQ(std::memcmp(&ref_fixed[c], &g_fixed[3 * i + c], sizeof(T)), 0) << nm.name << " " << kname << " broadcast f row " << i;
+        }
+        ASSERT_EQ(std::memcmp(&p[i], &q[i], sizeof(T)), 0) << nm.name << " " << kname << " pdf row " << i;
+        ASSERT_EQ(std::memcmp(&p_fixed[i], &q_fixed[i], sizeof(T)), 0) << nm.name << " " << kname << " broadcast pdf row " << i;
+      }
+    }
+    // NaN rows: the NaN / Inf rows give NaN, every other row the value it had.
+    std::vector<T> bi(wi_rows), bo(wo_rows);
+    for (size_t i = 7, k = 0; i < n; i += 93 + k % 5, ++k) {
+      (k % 2 ? bo : bi)[1 + 3 * i + k % 3] = bad_values[k % 3];
+      bad[i] = true;
+    }
+    std::vector<T> g(3 * n), q(n);
+    batch::evaluate_interleaved(m, {bi.data() + 1, 3}, {bo.data() + 1, 3}, n, g.data(), batch::Threads::All, kernels,
+                                batch::NonFinite::NaN);
+    batch::pdf_interleaved(m, {bi.data() + 1, 3}, {bo.data() + 1, 3}, n, q.data(), batch::Threads::All, kernels,
+                           batch::NonFinite::NaN);
+    // The structure-of-arrays entry points with NonFinite::NaN, on the same rows.
+    batch::DirectionArray<T> si(n), so(n);
+    for (size_t i = 0; i < n; ++i)
+      si.set(i, Vec3T<T>(bi[1 + 3 * i], bi[2 + 3 * i], bi[3 + 3 * i])), so.set(i, Vec3T<T>(bo[1 + 3 * i], bo[2 + 3 * i], bo[3 + 3 * i]));
+    batch::ColorArray<T> sf(n);
+    std::vector<T> sp(n);
+    batch::evaluate(m, si.view(), so.view(), n, sf.view(), batch::Threads::All, kernels, batch::NonFinite::NaN);
+    batch::pdf(m, si.view(), so.view(), n, sp.data(), batch::Threads::All, kernels, batch::NonFinite::NaN);
+    for (size_t i = 0; i < n; ++i) {
+      const RGBT<T> ref = f.get(i), soa = sf.get(i);
+      for (int c = 0; c < 3; ++c) {
+        if (bad[i]) {
+          ASSERT_TRUE(std::isnan(g[3 * i + c])) << nm.name << " " << kname << " row " << i;
+          ASSERT_TRUE(std::isnan(soa[c])) << nm.name << " " << kname << " SoA row " << i;
+        } else {
+          ASSERT_EQ(std::memcmp(&ref[c], &g[3 * i + c], sizeof(T)), 0) << nm.name << " " << kname << " row " << i;
+          ASSERT_EQ(std::memcmp(&ref[c], &soa[c], sizeof(T)), 0) << nm.name << " " << kname << " SoA row " << i;
+        }
+      }
+      if (bad[i]) {
+        ASSERT_TRUE(std::isnan(q[i]) && std::isnan(sp[i])) << nm.name << " " << kname << " pdf row " << i;
+      } else {
+        ASSERT_EQ(std::memcmp(&p[i], &q[i], sizeof(T)), 0) << nm.name << " " << kname << " pdf row " << i;
+        ASSERT_EQ(std::memcmp(&p[i], &sp[i], sizeof(T)), 0) << nm.name << " " << kname << " SoA pdf row " << i;
+      }
+    }
+  }
+}
+
+TEST_P(BatchTest, InterleavedRowsEqualStructureOfArraysFloat) { check_interleaved<float>(GetParam()); }
+TEST_P(BatchTest, InterleavedRowsEqualStructureOfArraysDouble) { check_interleaved<double>(GetParam()); }
 
 // The batch sampler fed the same uniforms gives the scalar sampler's records. The SIMD samplers
 // compute the same directions with other sin / cos / atan / log implementations: the same validity, wi within 1e-4, and a record whose pdf and weight are the

@@ -20,9 +20,9 @@ namespace aniso {
 namespace {
 
 struct FitArgs {
-  std::string data, model = "lafortune", output, plot, metric = "l2cos", normalization = "ward", metal, metal_lobe = "ggx";
-  std::string loss = "none", lobes = "1", starts = "6", seed = "1", threads = "0", max_iterations = "200", loss_scale = "0", progress_after = "1";
-  bool anisotropic = false, shared_exponents = false, compare = false, quiet = false;
+  FitOptionText options;  // as typed: parse_fit_options reads them (fit/fit.h)
+  std::string data, output, plot, progress_after = "1";
+  bool compare = false, quiet = false;
 };
 
 // The progress line on stderr: shown once a fit has run for a second; redrawn in place on a
@@ -50,30 +50,6 @@ class ProgressDisplay {
   bool quiet_, tty_, shown_ = false;
   double after_, last_ = 0.0;
 };
-
-FitOptions options_from(const FitArgs& a) {
-  FitOptions o;
-  o.model = a.model;
-  o.lobes = int(parse_integer(a.lobes, 1, kLafortuneMaxLobes, "--lobes"));
-  o.anisotropic = a.anisotropic;
-  o.shared_exponents = a.shared_exponents;
-  o.normalization = a.normalization;
-  o.metal = a.metal;
-  o.metal_lobe = a.metal_lobe;
-  if (a.metric == "l2cos") o.metric = FitMetric::L2Cos;
-  else if (a.metric == "log") o.metric = FitMetric::Log;
-  else throw InputError(fmt::format("--metric: expected l2cos or log, got \"{}\"", a.metric));
-  o.loss = a.loss;
-  const std::optional<double> scale = parse_decimal(a.loss_scale);
-  if (!scale || !(*scale >= 0.0))
-    throw InputError(fmt::format("--loss-scale: expected a finite decimal number >= 0, got \"{}\"", a.loss_scale));
-  o.loss_scale = *scale;
-  o.starts = int(parse_integer(a.starts, 1, 1000, "--starts"));
-  o.seed = parse_unsigned(a.seed, UINT64_MAX, "--seed");
-  o.threads = int(parse_integer(a.threads, 0, 256, "--threads"));
-  o.max_iterations = int(parse_integer(a.max_iterations, 1, 100000, "--max-iterations"));
-  return o;
-}
 
 std::string error_table(const FitErrors& e) {
   std::string s = fmt::format("{:<22} {:>11} {:>11} {:>11} {:>11}\n", "error", "red", "green", "blue", "all");
@@ -125,7 +101,7 @@ void print_warnings(const SampleSet& data) {
 }
 
 void run_fit(const FitArgs& a) {
-  FitOptions o = options_from(a);
+  FitOptions o = parse_fit_options(a.options);
   if (!a.compare && a.output.empty()) throw InputError("-o: required: the file to write the fitted material to (fitted.json)");
   const SampleSet data = read_measured(a.data);
   print_warnings(data);
@@ -198,20 +174,20 @@ void add_fit_command(CLI::App& app) {
   auto* fit = app.add_subcommand("fit", "fit a model to measured data (MERL .binary, Cornell .brdf, CSV of samples): "
                                         "write the material, print the parameters and errors");
   fit->add_option("data", a->data, "measured data: .binary (MERL), .brdf (Cornell), .csv (theta_i,phi_i,theta_o,phi_o,r,g,b)")->required();
-  fit->add_option("--model", a->model, "lafortune | ward | ashikhmin-shirley | ggx | metal");
-  fit->add_option("--lobes", a->lobes, "Lafortune: number of lobes, 1 to 8");
-  fit->add_flag("--anisotropic", a->anisotropic, "fit C_x != C_y, alpha_x != alpha_y, n_u != n_v");
-  fit->add_flag("--shared-exponents", a->shared_exponents, "Lafortune: one exponent per lobe for all channels");
-  fit->add_option("--normalization", a->normalization, "Ward: ward | duer | balanced");
-  fit->add_option("--metal", a->metal, "metal: a measured metal's eta, k (fixed); default: fit eta and k");
-  fit->add_option("--metal-lobe", a->metal_lobe, "metal: ggx | ward | ashikhmin-shirley");
-  fit->add_option("--metric", a->metric, "l2cos (Ngan 2005's cosine-weighted L2) | log (relative)");
-  fit->add_option("--loss", a->loss, "robust loss per sample: none | huber | cauchy | soft_l1");
-  fit->add_option("--loss-scale", a->loss_scale, "the robust loss's scale (residual units); 0: from the data");
-  fit->add_option("--starts", a->starts, "number of starts (moments, Ngan 2005's nearest fit, random), 1 to 1000");
-  fit->add_option("--seed", a->seed, "seed of the random starts, 0 to 2^64-1");
-  fit->add_option("--threads", a->threads, "solver threads; 0: all cores");
-  fit->add_option("--max-iterations", a->max_iterations, "Levenberg-Marquardt iterations of the final refinement");
+  fit->add_option("--model", a->options.model, "lafortune | ward | ashikhmin-shirley | ggx | metal");
+  fit->add_option("--lobes", a->options.lobes, "Lafortune: number of lobes, 1 to 8");
+  fit->add_flag("--anisotropic", a->options.anisotropic, "fit C_x != C_y, alpha_x != alpha_y, n_u != n_v");
+  fit->add_flag("--shared-exponents", a->options.shared_exponents, "Lafortune: one exponent per lobe for all channels");
+  fit->add_option("--normalization", a->options.normalization, "Ward: ward | duer | balanced");
+  fit->add_option("--metal", a->options.metal, "metal: a measured metal's eta, k (fixed); default: fit eta and k");
+  fit->add_option("--metal-lobe", a->options.metal_lobe, "metal: ggx | ward | ashikhmin-shirley");
+  fit->add_option("--metric", a->options.metric, "l2cos (Ngan 2005's cosine-weighted L2) | log (relative)");
+  fit->add_option("--loss", a->options.loss, "robust loss per sample: none | huber | cauchy | soft_l1");
+  fit->add_option("--loss-scale", a->options.loss_scale, "the robust loss's scale (residual units); 0: from the data");
+  fit->add_option("--starts", a->options.starts, "number of starts (moments, Ngan 2005's nearest fit, random), 1 to 1000");
+  fit->add_option("--seed", a->options.seed, "seed of the random starts, 0 to 2^64-1");
+  fit->add_option("--threads", a->options.threads, "solver threads; 0: all cores");
+  fit->add_option("--max-iterations", a->options.max_iterations, "Levenberg-Marquardt iterations of the final refinement");
   fit->add_option("-o,--output", a->output, "fitted material (JSON with a \"fit\" object); required unless --compare");
   fit->add_flag("--compare", a->compare, "fit every model and print a ranking table (Ngan 2005's comparison)");
   fit->add_option("--plot", a->plot, "PNG of measured vs fitted in-plane slices at several incidence angles");

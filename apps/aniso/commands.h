@@ -37,4 +37,7 @@ void add_fit_command(CLI::App& app);
 // export-glsl and export-brdf (cmd_export.cpp, docs/glsl.md).
 void add_export_commands(CLI::App& app);
 
+// view: the interactive explorer (cmd_view.cpp, view_app.cpp, docs/explorer.md).
+void add_view_command(CLI::App& app);
+
 }  // namespace aniso

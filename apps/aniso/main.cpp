@@ -24,6 +24,8 @@
 #include "aniso/batch/batch.h"
 #include "commands.h"
 #include "data/metals.h"
+#include "gl/gl_context.h"
+#include "gl/scene_raster.h"
 #include "io/json_read.h"
 #include "io/materials.h"
 #include "io/names.h"
@@ -305,7 +307,7 @@ class ProgressBar {
 };
 
 struct RenderArgs {
-  std::string scene, output, material, strategy, sampler, tonemap = "aces";
+  std::string scene, output, material, strategy, sampler, tonemap = "aces", backend = "cpu";
   int spp = 0, width = 0, height = 0, threads = 0, max_depth = 0;
   uint64_t seed = 1;
   double exposure = 0.0;
@@ -316,6 +318,35 @@ std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   return ext;
+}
+
+// `--backend gl`: the scene's direct light from point and directional lights, rasterised through
+// OpenGL (gl/scene_raster.h), headless (EGL). What it leaves out is said on stderr; a material
+// without a GLSL twin, a scene with nothing it can light, or no GL at all exit 2.
+int render_gl(const aniso::render::Scene& scene, const RenderArgs& a, const aniso::render::ToneMapOptions& tm) {
+  using namespace aniso::render;
+  gl::check_gl_materials(scene);
+  if (!gl::gl_has_lights(scene))
+    throw InputError(fmt::format("{}: --backend gl: the scene has no point or directional light with power, the only lights the "
+                                 "GL backend draws (it renders no sphere lights and no environment): the image would be black",
+                                 scene.source));
+  for (const std::string& w : gl::gl_unsupported(scene)) fmt::print(stderr, "aniso render: warning: --backend gl: {}\n", w);
+  try {
+    gl::GlContext::get();
+  } catch (const gl::GlUnavailable& e) {
+    throw InputError(fmt::format("--backend gl: no OpenGL context could be made ({}); render with --backend cpu", e.what()));
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const int k = gl::subsamples_for_spp(scene.film.spp);
+  gl::SceneRasterizer raster(scene, gl::RasterSettings{k});
+  raster.render();
+  gl::GlContext::get().finish();
+  const Image img = raster.read_back();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  write_image(a.output, img, tm);
+  fmt::print("wrote {} ({}x{}, {} sub-samples per pixel, GL: {}) in {:.2f} s\n", a.output, img.width, img.height, k * k,
+             gl::GlContext::get().renderer(), seconds);
+  return 0;
 }
 
 int cmd_render(RenderArgs a) {
@@ -338,6 +369,9 @@ int cmd_render(RenderArgs a) {
       fmt::print("{}\n", gallery_document().dump(2));
       return 0;
     }
+    if (a.backend == "gl")
+      throw InputError("--backend gl: the gallery is lit by sphere lights and a sky, which the GL backend does not render; "
+                       "give a scene file with point or directional lights");
     if (a.output.empty()) a.output = "aniso-gallery.png";
     if (ext_out != ".png") throw InputError(fmt::format("-o {}: the gallery is a labelled figure: PNG only", a.output));
     if (!a.strategy.empty() || a.max_depth > 0) throw InputError("--strategy and --max-depth apply to scene files, not to the gallery");
@@ -389,6 +423,7 @@ int cmd_render(RenderArgs a) {
   if (!a.sampler.empty()) scene.integrator.sampler = a.sampler == "independent" ? SamplerKind::Independent : SamplerKind::Sobol;
   if (!a.strategy.empty())
     scene.integrator.strategy = a.strategy == "bsdf" ? Strategy::Bsdf : (a.strategy == "light" ? Strategy::Light : Strategy::Mis);
+  if (a.backend == "gl") return render_gl(scene, a, tm);
   ProgressBar bar(fmt::format("aniso render: {}", source));
   ro.progress = [&](double f) { bar.update(f); };
   std::signal(SIGINT, on_sigint);
@@ -520,10 +555,15 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")->transform(whole_range(1, 1024));
   render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(finite_range(-30.0, 30.0));
   render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp")->check(CLI::IsMember({"aces", "clamp"}));
+  render_cmd->add_option("--backend", ra.backend,
+                         "cpu (default: the path tracer) or gl (direct light of point and directional lights through OpenGL, "
+                         "headless; docs/scenes.md, \"GL backend\")")
+      ->check(CLI::IsMember({"cpu", "gl"}));
   render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
 
   add_export_commands(app);
   add_fit_command(app);
+  add_view_command(app);
 
   // An unknown command would otherwise be reported by CLI11 as "A subcommand is required".
   if (argc > 1 && argv[1][0] != '-') {

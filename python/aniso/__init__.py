@@ -2,7 +2,8 @@
 
 NumPy in and out: materials from presets, dicts, files or keywords (``Material``), evaluated,
 sampled and integrated through the library's batch path on all cores; conductor Fresnel, tangent
-frames, the path tracer (``render``) and the GLSL export.
+frames, the path tracer (``render``), fitting measured data (``fit``, ``read_measured``) and the GLSL
+export.
 
     >>> import aniso, numpy as np
     >>> m = aniso.Material("brushed-gold")
@@ -16,15 +17,18 @@ import inspect as _inspect
 import numpy as _np
 
 from ._aniso import (  # noqa: F401  (re-exported)
+    FitResult,
     Frame,
     Material,
     export_brdf,
     export_glsl,
+    fit,
     fresnel,
     metals,
     models,
     preset_source,
     presets,
+    read_measured,
     render,
     simd_target,
 )
@@ -77,9 +81,10 @@ for _model in models().values():
 del _model, _name, _fn
 
 # Shown as aniso.Material etc. in help() and reprs.
-for _cls in (Material, Frame):
+for _cls in (Material, Frame, FitResult):
     _cls.__module__ = "aniso"
 del _cls
 
-__all__ = ["Material", "Frame", "presets", "preset_source", "models", "metals", "fresnel", "render",
-           "export_glsl", "export_brdf", "simd_target", "direction", "angles", *_MODEL_CONSTRUCTORS]
+__all__ = ["Material", "Frame", "FitResult", "presets", "preset_source", "models", "metals", "fresnel", "render",
+           "fit", "read_measured", "export_glsl", "export_brdf", "simd_target", "direction", "angles",
+           *_MODEL_CONSTRUCTORS]

@@ -3,8 +3,10 @@
 // them), converts them once into the batch API's structure of arrays, and
 //   time PAIRS.bin MATERIAL REPS   times batch::evaluate (Threads::All, the SIMD kernels) on all N,
 //                                  REPS times after a warm-up call, and prints the best wall-clock
-//                                  and the best process CPU seconds, for float and then double:
-//                                  "wall cpu wall cpu target" (python/bench/bench_eval.py)
+//                                  and the best process CPU seconds, for float and then double,
+//                                  then the same for batch::evaluate_interleaved on the pairs as
+//                                  (N, 3) rows: "wall cpu wall cpu wall cpu wall cpu target"
+//                                  (python/bench/bench_eval.py)
 //   dump PAIRS.bin MATERIAL OUT    writes batch::evaluate's f (N x 3, row by row) and batch::pdf
 //                                  (N) in float, then in double, raw (python/tests/test_eval.py)
 #include <algorithm>
@@ -56,6 +58,26 @@ template <typename T> std::vector<double> time_evaluate(const MaterialDesc& desc
   return {wall, cpu};
 }
 
+// The same for evaluate_interleaved: rows in, RGB rows out (the layout of a C-ordered NumPy array).
+template <typename T> std::vector<double> time_evaluate_interleaved(const MaterialDesc& desc, const std::vector<double>& rows, int reps) {
+  const MaterialT<T> m = build_material<T>(desc);
+  const size_t n = rows.size() / 6;
+  std::vector<T> wi(3 * n), wo(3 * n), f(3 * n);
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) wi[3 * i + c] = T(rows[6 * i + c]), wo[3 * i + c] = T(rows[6 * i + 3 + c]);
+  const auto call = [&] { batch::evaluate_interleaved(m, {wi.data(), 3}, {wo.data(), 3}, n, f.data()); };
+  call();
+  double wall = 1e300, cpu = 1e300;
+  for (int k = 0; k < reps; ++k) {
+    const double cpu_start = process_cpu_seconds();
+    const auto start = std::chrono::steady_clock::now();
+    call();
+    wall = std::min(wall, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    cpu = std::min(cpu, process_cpu_seconds() - cpu_start);
+  }
+  return {wall, cpu};
+}
+
 template <typename T> void dump(const MaterialDesc& desc, const std::vector<double>& rows, std::ofstream& out) {
   const MaterialT<T> m = build_material<T>(desc);
   const Pairs<T> p(rows);
@@ -90,7 +112,10 @@ int main(int argc, char** argv) {
       const int reps = std::max(1, std::stoi(argv[4]));
       const auto f = time_evaluate<float>(desc, rows, reps);
       const auto d = time_evaluate<double>(desc, rows, reps);
-      std::printf("%.9g %.9g %.9g %.9g %s\n", f[0], f[1], d[0], d[1], batch::simd_target());
+      const auto fi = time_evaluate_interleaved<float>(desc, rows, reps);
+      const auto di = time_evaluate_interleaved<double>(desc, rows, reps);
+      std::printf("%.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %s\n", f[0], f[1], d[0], d[1], fi[0], fi[1], di[0], di[1],
+                  batch::simd_target());
     } else {
       std::ofstream out(argv[4], std::ios::binary | std::ios::trunc);
       dump<float>(desc, rows, out);

@@ -4,7 +4,9 @@
 For each material: N random pairs above the horizon (float64, (N, 3) C-contiguous, the layout a
 NumPy user holds); Material.eval on them as float32 and as float64, and
 aniso_batch_eval_cpp (python/bench/batch_eval_cpp.cpp) timing batch::evaluate (Threads::All, SIMD)
-on the same pairs already in the batch API's structure of arrays. Times are process CPU time (every
+on the same pairs already in the batch API's structure of arrays (the target's "C++"), and
+batch::evaluate_interleaved on them as (N, 3) rows ("C++ rows": what the bindings call for C-ordered
+arrays, so Python / C++ rows is the bindings' own overhead). Times are process CPU time (every
 thread's: what the work costs, even while other programs share the cores) and wall-clock time.
 In each round the C++ program runs (best of REPS calls) and then Python (best of REPS calls: C-ordered (N, 3) input and a new C-ordered
 output per call, as a NumPy user would hold them; and "columns": Fortran-ordered input and out=,
@@ -73,8 +75,9 @@ def main():
         print(f"# {args.n} pairs; per round the best of {args.reps} calls, medians over {args.rounds} rounds; "
               f"SIMD target {aniso.simd_target()}, {len(os.sched_getaffinity(0))} of {os.cpu_count()} CPUs, "
               f"load average {os.getloadavg()[0]:.1f} at the start")
-        print("| material | dtype | C++ ms CPU (wall) | Python ms CPU (wall) | columns ms CPU (wall) | Python / C++ CPU (wall) | columns / C++ CPU (wall) |")
-        print("|---|---|---:|---:|---:|---:|---:|")
+        print("| material | dtype | C++ ms CPU (wall) | C++ rows ms CPU | Python ms CPU (wall) | columns ms CPU (wall) "
+              "| Python / C++ CPU (wall) | columns / C++ CPU (wall) | Python / C++ rows CPU |")
+        print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
         for name in args.materials:
             spec = SPECS.get(name, name)
             m = aniso.Material(spec)
@@ -82,20 +85,22 @@ def main():
             for _ in range(args.rounds):
                 out = subprocess.run([args.cpp, "time", str(path), spec, str(args.reps)], capture_output=True, text=True,
                                      check=True)
-                f_wall, f_cpu, d_wall, d_cpu = map(float, out.stdout.split()[:4])
-                for dtype, (a, b), (c_wall, c_cpu) in [("float32", (wi32, wo32), (f_wall, f_cpu)), ("float64", (wi, wo), (d_wall, d_cpu))]:
+                f_wall, f_cpu, d_wall, d_cpu, fi_wall, fi_cpu, di_wall, di_cpu = map(float, out.stdout.split()[:8])
+                for dtype, (a, b), (c_wall, c_cpu), i_cpu in [("float32", (wi32, wo32), (f_wall, f_cpu), fi_cpu),
+                                                              ("float64", (wi, wo), (d_wall, d_cpu), di_cpu)]:
                     # Column-major in and out: the batch API reads and writes the arrays in place.
                     fa, fb, buf = np.asfortranarray(a), np.asfortranarray(b), np.empty((args.n, 3), a.dtype, order="F")
                     p_wall, p_cpu = best_time(lambda: m.eval(a, b), args.reps)
                     q_wall, q_cpu = best_time(lambda: m.eval(fa, fb, out=buf), args.reps)
-                    rows[dtype].append((c_cpu, c_wall, p_cpu, p_wall, q_cpu, q_wall))
+                    rows[dtype].append((c_cpu, c_wall, p_cpu, p_wall, q_cpu, q_wall, i_cpu))
             for dtype, r in rows.items():
                 r = np.array(r)
                 med = np.median(r, axis=0)
                 ratio = lambda i, j: np.median(r[:, i] / r[:, j])
-                print(f"| `{name}` | {dtype} | {1e3 * med[0]:.2f} ({1e3 * med[1]:.2f}) | {1e3 * med[2]:.2f} ({1e3 * med[3]:.2f}) "
+                print(f"| `{name}` | {dtype} | {1e3 * med[0]:.2f} ({1e3 * med[1]:.2f}) | {1e3 * med[6]:.2f} "
+                      f"| {1e3 * med[2]:.2f} ({1e3 * med[3]:.2f}) "
                       f"| {1e3 * med[4]:.2f} ({1e3 * med[5]:.2f}) | {ratio(2, 0):.2f} ({ratio(3, 1):.2f}) "
-                      f"| {ratio(4, 0):.2f} ({ratio(5, 1):.2f}) |")
+                      f"| {ratio(4, 0):.2f} ({ratio(5, 1):.2f}) | {ratio(2, 6):.2f} |")
                 sys.stdout.flush()
         print(f"# load average {os.getloadavg()[0]:.1f} at the end")
 

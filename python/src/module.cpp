@@ -2,9 +2,9 @@
 //
 // Thin bindings over the library: materials are read by io/materials.h (load_material,
 // parse_material, build_material), so that Python accepts and rejects exactly what the CLI does,
-// with the same messages; evaluation goes through the batch API (aniso/batch/batch.h) on chunks of
-// the caller's arrays (python/src/arrays.h), the GIL released; scenes are read and rendered by
-// src/render, GLSL written by src/gl. The Python package (python/aniso/__init__.py) adds the
+// with the same messages; evaluation goes through the batch API (aniso/batch/batch.h) on the
+// caller's arrays (python/src/arrays.h), the GIL released; scenes are read and rendered by
+// src/render, fits run by src/fit (as `aniso fit`), GLSL written by src/gl. The Python package (python/aniso/__init__.py) adds the
 // per-model constructors and direction helpers on top.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -34,6 +34,8 @@
 #include "arrays.h"
 #include "transpose.h"
 #include "data/metals.h"
+#include "fit/fit.h"
+#include "measured/samples.h"
 #include "gl/glsl_export.h"
 #include "io/json_read.h"
 #include "io/materials.h"
@@ -248,6 +250,18 @@ template <typename T> bool columns_in_place(const RowsView& v, size_t begin, siz
   return true;
 }
 
+// The columns of v as the batch API's structure of arrays, read in place: v holds T, each column
+// contiguous and aligned (Fortran order, or the transpose of a C-ordered (3, N) array). False
+// otherwise (nothing set).
+template <typename T> bool column_arrays(const RowsView& v, batch::Directions<T>& out) {
+  if (v.single || v.f32 != std::is_same_v<T, float> || v.row_stride != py::ssize_t(sizeof(T)) ||
+      reinterpret_cast<uintptr_t>(v.data) % sizeof(T) != 0)
+    return false;
+  out = {reinterpret_cast<const T*>(v.data), reinterpret_cast<const T*>(v.data + v.col_stride),
+         reinterpret_cast<const T*>(v.data + 2 * v.col_stride)};
+  return true;
+}
+
 template <typename T> py::array_t<T> rows_out(size_t n, bool single, int columns) {
   if (single) return py::array_t<T>(std::vector<py::ssize_t>{columns});
   return py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), columns});
@@ -262,7 +276,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The caller's `out` array, checked: the dtype the computation runs in, the result's shape,
 // C-contiguous and writeable. None: a new array.
-template <typename T> py::array_t<T> out_array(const py::object& out, size_t n, bool single, int columns) {
+template <typename T> py::array_t<T> out_array(const py::object& out, size_t n, bool single, int columns, const char* name = "out") {
   if (out.is_none()) {
     if (columns == 0) return py::array_t<T>(std::vector<py::ssize_t>{single ? 1 : py::ssize_t(n)});
     return rows_out<T>(n, single, columns);
@@ -270,7 +284,7 @@ template <typename T> py::array_t<T> out_array(const py::object& out, size_t n, 
   const char* dtype = std::is_same_v<T, float> ? "float32" : "float64";
   const std::string shape = columns == 0 ? (single ? "()" : fmt::format("({},)", n))
                                          : (single ? fmt::format("({},)", columns) : fmt::format("({}, {})", n, columns));
-  const std::string want = fmt::format("out: expected a writeable C- or Fortran-contiguous {} array of shape {} (the inputs' dtype and rows)", dtype, shape);
+  const std::string want = fmt::format("{}: expected a writeable C- or Fortran-contiguous {} array of shape {} (the inputs' dtype and rows)", name, dtype, shape);
   if (!py::isinstance<py::array>(out)) throw py::value_error(fmt::format("{}, got {}", want, std::string(py::str(py::type::of(out).attr("__name__")))));
   const py::array a = out.cast<py::array>();
   std::vector<py::ssize_t> expected;
@@ -289,12 +303,44 @@ template <typename T> py::array_t<T> out_array(const py::object& out, size_t n, 
   return py::reinterpret_borrow<py::array_t<T>>(a);  // as it is (array_t's converting constructor would make it C-ordered)
 }
 
+// v as the batch API's interleaved rows (batch::Interleaved): C-ordered rows of T, aligned to T, read
+// in place; or a (3,) input, converted into `row` and broadcast (stride 0). False for other layouts
+// (Fortran order, slices, another dtype), which take the chunked path below.
+template <typename T> bool interleaved_rows(const RowsView& v, T (&row)[3], batch::Interleaved<T>& out) {
+  if (v.single) {
+    for (int c = 0; c < 3; ++c) row[c] = v.at<T>(0, c);
+    out = {row, 0};
+    return true;
+  }
+  if (v.f32 != std::is_same_v<T, float> || v.col_stride != py::ssize_t(sizeof(T)) || v.row_stride != py::ssize_t(3 * sizeof(T)) ||
+      reinterpret_cast<uintptr_t>(v.data) % sizeof(T) != 0)
+    return false;
+  out = {reinterpret_cast<const T*>(v.data), 3};
+  return true;
+}
+
 template <typename T>
 py::array_t<T> eval_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n, bool single, const py::object& out_in) {
   py::array_t<T> out = out_array<T>(out_in, n, single, 3);
   T* f = out.mutable_data();
   // A Fortran-ordered `out` (columns contiguous) is written in place, without the interleave.
   const bool out_columns = !single && n > 1 && (out.flags() & py::array::f_style);
+  // C-ordered rows in and out (the default layout) go to the batch API as they are: its kernels
+  // load and store interleaved rows and write NaN rows themselves, one pass over the memory.
+  T row_i[3], row_o[3];
+  batch::Interleaved<T> ri, ro;
+  if (!out_columns && interleaved_rows(wi, row_i, ri) && interleaved_rows(wo, row_o, ro)) {
+    py::gil_scoped_release release;
+    batch::evaluate_interleaved(m, ri, ro, n, f, batch::Threads::All, batch::Kernels::Simd, batch::NonFinite::NaN);
+    return out;
+  }
+  // Column-major in and out likewise, through the structure-of-arrays entry point.
+  batch::Directions<T> ci, co;
+  if (out_columns && column_arrays(wi, ci) && column_arrays(wo, co)) {
+    py::gil_scoped_release release;
+    batch::evaluate(m, ci, co, n, {f, f + n, f + 2 * n}, batch::Threads::All, batch::Kernels::Simd, batch::NonFinite::NaN);
+    return out;
+  }
   {
     py::gil_scoped_release release;
     for_chunks(n, [&](size_t begin, size_t end) {
@@ -322,6 +368,19 @@ template <typename T>
 py::array_t<T> pdf_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n, bool single, const py::object& out_in) {
   py::array_t<T> out = out_array<T>(out_in, n, single, 0);
   T* p = out.mutable_data();
+  T row_i[3], row_o[3];
+  batch::Interleaved<T> ri, ro;
+  batch::Directions<T> ci, co;
+  if (interleaved_rows(wi, row_i, ri) && interleaved_rows(wo, row_o, ro)) {  // as in eval_typed
+    py::gil_scoped_release release;
+    batch::pdf_interleaved(m, ri, ro, n, p, batch::Threads::All, batch::Kernels::Simd, batch::NonFinite::NaN);
+    return out;
+  }
+  if (column_arrays(wi, ci) && column_arrays(wo, co)) {
+    py::gil_scoped_release release;
+    batch::pdf(m, ci, co, n, p, batch::Threads::All, batch::Kernels::Simd, batch::NonFinite::NaN);
+    return out;
+  }
   {
     py::gil_scoped_release release;
     for_chunks(n, [&](size_t begin, size_t end) {
@@ -359,42 +418,83 @@ py::object material_pdf(const PyMaterial& m, const py::object& wi_in, const py::
   return scalar_or_rows(pdf_typed<double>(m.md, wi, wo, n, single, out), single);
 }
 
+// The samplers take uniforms in [0, 1); 1 itself (a float64 uniform rounded to float32 can become 1)
+// is taken as the largest number below 1. True when u needs no change.
+template <typename T> bool uniforms_ok(const T* uc, const T* u0, const T* u1, size_t len) {
+  bool ok = true;
+  for (size_t i = 0; i < len; ++i) ok &= (uc[i] >= T(0)) & (uc[i] < T(1)) & (u0[i] >= T(0)) & (u0[i] < T(1)) & (u1[i] >= T(0)) & (u1[i] < T(1));
+  return ok;
+}
+
 template <typename T>
-py::tuple sample_typed(const MaterialT<T>& m, const RowsView& wo, const RowsView& u, size_t n, bool single) {
-  py::array_t<T> wi_out = rows_out<T>(n, single, 3), weight_out = rows_out<T>(n, single, 3);
-  py::array_t<T> pdf_out(std::vector<py::ssize_t>{single ? 1 : py::ssize_t(n)});
+py::tuple sample_typed(const MaterialT<T>& m, const RowsView& wo, const RowsView& u, size_t n, bool single, const py::object& out) {
+  py::array_t<T> wi_out, weight_out, pdf_out;
+  if (out.is_none()) {
+    wi_out = rows_out<T>(n, single, 3), weight_out = rows_out<T>(n, single, 3);
+    pdf_out = py::array_t<T>(std::vector<py::ssize_t>{single ? 1 : py::ssize_t(n)});
+  } else {
+    if (!(py::isinstance<py::tuple>(out) || py::isinstance<py::list>(out)) || py::len(out) != 3)
+      throw py::value_error(fmt::format("out: expected a tuple of three arrays (wi, weight, pdf), got {}",
+                                        std::string(py::str(py::type::of(out).attr("__name__")))));
+    const py::sequence o = out.cast<py::sequence>();
+    wi_out = out_array<T>(o[0], n, single, 3, "out[0] (wi)");
+    weight_out = out_array<T>(o[1], n, single, 3, "out[1] (weight)");
+    pdf_out = out_array<T>(o[2], n, single, 0, "out[2] (pdf)");
+  }
   T *wi = wi_out.mutable_data(), *w = weight_out.mutable_data(), *p = pdf_out.mutable_data();
+  // Fortran-ordered outputs (columns contiguous) are written in place, as eval's.
+  const bool wi_columns = !single && n > 1 && (wi_out.flags() & py::array::f_style);
+  const bool weight_columns = !single && n > 1 && (weight_out.flags() & py::array::f_style);
   std::atomic<size_t> first_out_of_range{SIZE_MAX};
   {
     py::gil_scoped_release release;
     for_chunks(n, [&](size_t begin, size_t end) {
       const size_t len = end - begin;
-      T* s = scratch<T>(13);
+      T* s = scratch<T>(12);
       uint8_t bad[kChunk] = {}, valid[kChunk];
-      T *ox = s, *oy = s + kChunk, *oz = s + 2 * kChunk, *uc = s + 3 * kChunk, *u0 = s + 4 * kChunk, *u1 = s + 5 * kChunk;
-      gather(wo, begin, len, ox, oy, oz, bad);
-      gather(u, begin, len, uc, u0, u1, bad);
-      // The samplers take uniforms in [0, 1); 1 itself (a float64 uniform rounded to float32 can
-      // become 1) is taken as the largest number below 1.
-      const T below_one = std::nextafter(T(1), T(0));
-      for (size_t i = 0; i < len; ++i) {
-        for (T* c : {uc + i, u0 + i, u1 + i}) {
-          if (*c >= T(0) && *c < T(1)) continue;
-          if (*c == T(1)) *c = below_one;
-          else if (!std::isnan(*c)) {
-            size_t cur = first_out_of_range.load();
-            while (begin + i < cur && !first_out_of_range.compare_exchange_weak(cur, begin + i)) {
+      const T* o[3] = {s, s + kChunk, s + 2 * kChunk};
+      T *uc = s + 3 * kChunk, *u0 = s + 4 * kChunk, *u1 = s + 5 * kChunk;
+      // Column-major wo and u are read in place (u when it needs no change), as eval reads wi, wo.
+      const T* uu[3];
+      bool u_in_place = columns_in_place(u, begin, len, uu, bad);
+      if (u_in_place && !uniforms_ok(uu[0], uu[1], uu[2], len)) {
+        std::fill(bad, bad + len, uint8_t(0));  // gather marks the rows again
+        u_in_place = false;
+      }
+      if (!u_in_place) {
+        gather(u, begin, len, uc, u0, u1, bad);
+        const T below_one = std::nextafter(T(1), T(0));
+        for (size_t i = 0; i < len; ++i) {
+          for (T* c : {uc + i, u0 + i, u1 + i}) {
+            if (*c >= T(0) && *c < T(1)) continue;
+            if (*c == T(1)) *c = below_one;
+            else if (!std::isnan(*c)) {
+              size_t cur = first_out_of_range.load();
+              while (begin + i < cur && !first_out_of_range.compare_exchange_weak(cur, begin + i)) {
+              }
+              *c = T(0);
             }
-            *c = T(0);
           }
         }
+        uu[0] = uc, uu[1] = u0, uu[2] = u1;
       }
-      batch::Samples<T> out{s + 6 * kChunk, s + 7 * kChunk, s + 8 * kChunk, s + 9 * kChunk, s + 10 * kChunk,
-                            s + 11 * kChunk, s + 12 * kChunk, valid};
-      batch::sample(m, {ox, oy, oz}, uc, u0, u1, len, out, batch::Threads::One);
-      interleave(wi + 3 * begin, len, out.wi_x, out.wi_y, out.wi_z, bad);
-      interleave(w + 3 * begin, len, out.weight_r, out.weight_g, out.weight_b, bad);
-      std::copy(out.pdf, out.pdf + len, p + begin);
+      if (!columns_in_place(wo, begin, len, o, bad)) gather(wo, begin, len, s, s + kChunk, s + 2 * kChunk, bad);
+      T* col[6] = {s + 6 * kChunk, s + 7 * kChunk, s + 8 * kChunk, s + 9 * kChunk, s + 10 * kChunk, s + 11 * kChunk};
+      if (wi_columns)
+        for (int c = 0; c < 3; ++c) col[c] = wi + c * n + begin;
+      if (weight_columns)
+        for (int c = 0; c < 3; ++c) col[3 + c] = w + c * n + begin;
+      batch::Samples<T> r{col[0], col[1], col[2], col[3], col[4], col[5], p + begin, valid};
+      batch::sample(m, {o[0], o[1], o[2]}, uu[0], uu[1], uu[2], len, r, batch::Threads::One);
+      // NaN rows for NaN / Inf input (docs/python.md).
+      if (wi_columns)
+        for (int c = 0; c < 3; ++c) mark_bad(col[c], len, bad);
+      else
+        interleave(wi + 3 * begin, len, col[0], col[1], col[2], bad);
+      if (weight_columns)
+        for (int c = 0; c < 3; ++c) mark_bad(col[3 + c], len, bad);
+      else
+        interleave(w + 3 * begin, len, col[3], col[4], col[5], bad);
       mark_bad(p + begin, len, bad);
     });
   }
@@ -404,15 +504,16 @@ py::tuple sample_typed(const MaterialT<T>& m, const RowsView& wo, const RowsView
       if (const double x = u.at<double>(row, c); !(x >= 0.0 && x <= 1.0)) value = x;
     throw py::value_error(fmt::format("u: expected uniforms in [0, 1), got {} in row {}", value, u.single ? 0 : row));
   }
+  if (!out.is_none()) return py::make_tuple(wi_out, weight_out, out.cast<py::sequence>()[2]);
   return py::make_tuple(wi_out, weight_out, scalar_or_rows(pdf_out, single));
 }
 
-py::tuple material_sample(const PyMaterial& m, const py::object& wo_in, const py::object& u_in) {
+py::tuple material_sample(const PyMaterial& m, const py::object& wo_in, const py::object& u_in, const py::object& out) {
   const RowsView wo = rows_view(wo_in, "wo"), u = rows_view(u_in, "u");
   const size_t n = common_rows({{"wo", &wo}, {"u", &u}});
   const bool single = wo.single && u.single;
-  if (all_f32({&wo, &u})) return sample_typed<float>(m.mf, wo, u, n, single);
-  return sample_typed<double>(m.md, wo, u, n, single);
+  if (all_f32({&wo, &u})) return sample_typed<float>(m.mf, wo, u, n, single, out);
+  return sample_typed<double>(m.md, wo, u, n, single, out);
 }
 
 // The largest albedo sample count, as `aniso albedo --samples` allows.
@@ -713,6 +814,224 @@ py::array_t<float> render_py(const py::object& scene_in, const py::object& mater
   return py::array_t<float>({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)}, owned->data(), free_when_done);
 }
 
+// --- fit ---------------------------------------------------------------------------------------
+
+// Samples from the caller's arrays: wi, wo (N, 3) unit directions above the horizon (one of them
+// may be (3,), used for every row), value (N, 3) the BRDF in 1/sr, weight (N,) or None. Checked as
+// the CSV reader checks its rows (measured/samples.cpp), each message naming the argument and row.
+SampleSet samples_from_arrays(const py::object& wi_in, const py::object& wo_in, const py::object& value_in,
+                              const py::object& weight_in) {
+  if (wi_in.is_none() || wo_in.is_none() || value_in.is_none())
+    throw py::value_error("fit(): expected data (a path to a .binary, .brdf or .csv file) or all of the arrays wi=, wo= "
+                          "and value= (and optionally weight=)");
+  const RowsView wi = rows_view(wi_in, "wi"), wo = rows_view(wo_in, "wo"), value = rows_view(value_in, "value");
+  const size_t n = common_rows({{"wi", &wi}, {"wo", &wo}, {"value", &value}});
+  std::vector<double> weight;
+  if (!weight_in.is_none()) {
+    const py::module_ np = py::module_::import("numpy");
+    py::array_t<double, py::array::c_style | py::array::forcecast> w;
+    try {
+      w = np.attr("asarray")(weight_in, "float64");
+    } catch (py::error_already_set& e) {
+      throw py::value_error(fmt::format("weight: expected an array of shape (N,) of numbers > 0 ({})", e.what()));
+    }
+    if (w.ndim() != 1 || size_t(w.shape(0)) != n)
+      throw py::value_error(fmt::format("weight: expected an array of shape ({},) (the rows of wi, wo and value), got shape {}", n,
+                                        shape_text(w)));
+    weight.assign(w.data(), w.data() + n);
+  }
+  SampleSet set;
+  set.source = "arrays";
+  set.format = "arrays";
+  set.samples.resize(n);
+  // A unit direction: length 1 within 1e-5 (a float32 unit vector is within 1e-7; the fit takes z as
+  // cos(theta) and does not normalise), strictly above the horizon (z > 0) as the CSV's theta < 90 deg.
+  const auto direction = [](const RowsView& v, const char* name, size_t i) {
+    const Vec3d w(v.at<double>(i, 0), v.at<double>(i, 1), v.at<double>(i, 2));
+    if (!(std::abs(glm::length(w) - 1.0) <= 1e-5 && w.z > 0.0))
+      throw py::value_error(fmt::format("{}: row {}: expected a unit direction above the horizon (length 1 within 1e-5, z > 0), "
+                                        "got ({}, {}, {})", name, v.single ? 0 : i, w.x, w.y, w.z));
+    return w;
+  };
+  for (size_t i = 0; i < n; ++i) {
+    MeasuredSample& s = set.samples[i];
+    s.wi = direction(wi, "wi", i);
+    s.wo = direction(wo, "wo", i);
+    for (int c = 0; c < 3; ++c) s.value[c] = value.at<double>(i, c);
+    if (!(std::isfinite(s.value.x) && std::isfinite(s.value.y) && std::isfinite(s.value.z)) ||
+        !(s.value.x >= 0.0 && s.value.y >= 0.0 && s.value.z >= 0.0))
+      throw py::value_error(fmt::format("value: row {}: expected finite BRDF values >= 0 (1/sr), got ({}, {}, {})",
+                                        value.single ? 0 : i, s.value.x, s.value.y, s.value.z));
+    s.value += 0.0;  // -0 as 0, as the CSV reader
+    if (!weight.empty()) {
+      s.weight = weight[i];
+      if (!(std::isfinite(s.weight) && s.weight > 0.0))
+        throw py::value_error(fmt::format("weight: row {}: expected a finite number > 0, got {}", i, s.weight));
+    }
+  }
+  return set;
+}
+
+// A measured data file as arrays (aniso.read_measured): what `aniso fit DATA` fits.
+py::dict read_measured_py(const py::object& path_in) {
+  if (!(py::isinstance<py::str>(path_in) || py::hasattr(path_in, "__fspath__")))
+    throw py::value_error(fmt::format("path: expected a path to a .binary (MERL), .brdf (Cornell) or .csv file, got {}",
+                                      std::string(py::str(py::type::of(path_in).attr("__name__")))));
+  const std::string path = py::str(py::module_::import("os").attr("fspath")(path_in));
+  SampleSet set;
+  {
+    py::gil_scoped_release release;
+    set = read_measured(path);
+  }
+  const size_t n = set.samples.size();
+  py::array_t<double> wi = rows_out<double>(n, false, 3), wo = rows_out<double>(n, false, 3), value = rows_out<double>(n, false, 3);
+  py::array_t<double> weight(std::vector<py::ssize_t>{py::ssize_t(n)});
+  double *pi = wi.mutable_data(), *po = wo.mutable_data(), *pv = value.mutable_data(), *pw = weight.mutable_data();
+  for (size_t i = 0; i < n; ++i) {
+    const MeasuredSample& s = set.samples[i];
+    for (int c = 0; c < 3; ++c) pi[3 * i + c] = s.wi[c], po[3 * i + c] = s.wo[c], pv[3 * i + c] = s.value[c];
+    pw[i] = s.weight;
+  }
+  py::dict d;
+  d["wi"] = wi, d["wo"] = wo, d["value"] = value, d["weight"] = weight;
+  d["source"] = set.source, d["format"] = set.format, d["warnings"] = set.warnings;
+  return d;
+}
+
+// What aniso.fit returns: the fitted material, its error figures and the fit's record (the "fit"
+// object of the CLI's fitted.json).
+struct PyFitResult {
+  PyMaterial material;
+  json material_json;  // as fit_samples returned it (fitted.json without "fit")
+  json provenance;     // fit_provenance: fitted.json's "fit"
+  FitResult result;
+};
+
+std::atomic<bool> g_fit_interrupted{false};
+extern "C" void on_fit_sigint(int) { g_fit_interrupted.store(true); }
+
+// Python's numbers as the CLI's option text: the same parser, so the same checks and messages.
+std::string option_text(const py::object& v, const char* name) {
+  if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v) || py::isinstance<py::str>(v)))
+    throw py::value_error(fmt::format("{}: expected a number, got {}", name, std::string(py::str(py::type::of(v).attr("__name__")))));
+  return py::str(v);
+}
+
+PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::object& wo, const py::object& value,
+                   const py::object& weight, const std::string& model, const py::object& lobes, bool anisotropic,
+                   bool shared_exponents, const std::string& normalization, const py::object& metal, const std::string& metal_lobe,
+                   const std::string& metric, const std::string& loss, const py::object& loss_scale, const py::object& starts,
+                   const py::object& seed, const py::object& threads, const py::object& max_iterations, const py::object& progress) {
+  FitOptionText t;
+  t.model = model;
+  t.lobes = option_text(lobes, "lobes");
+  t.anisotropic = anisotropic;
+  t.shared_exponents = shared_exponents;
+  t.normalization = normalization;
+  t.metal = metal.is_none() ? "" : std::string(py::str(metal));
+  t.metal_lobe = metal_lobe;
+  t.metric = metric;
+  t.loss = loss;
+  t.loss_scale = option_text(loss_scale, "loss_scale");
+  t.starts = option_text(starts, "starts");
+  t.seed = option_text(seed, "seed");
+  t.threads = option_text(threads, "threads");
+  t.max_iterations = option_text(max_iterations, "max_iterations");
+  FitOptions o = parse_fit_options(t);
+
+  SampleSet data;
+  if (!data_in.is_none()) {
+    if (!wi.is_none() || !wo.is_none() || !value.is_none() || !weight.is_none())
+      throw py::value_error("fit(): give either data (a file) or the arrays wi=, wo=, value=, not both");
+    if (!(py::isinstance<py::str>(data_in) || py::hasattr(data_in, "__fspath__")))
+      throw py::value_error(fmt::format("data: expected a path to a .binary (MERL), .brdf (Cornell) or .csv file, got {}",
+                                        std::string(py::str(py::type::of(data_in).attr("__name__")))));
+    const std::string path = py::str(py::module_::import("os").attr("fspath")(data_in));
+    py::gil_scoped_release release;
+    data = read_measured(path);
+  } else {
+    data = samples_from_arrays(wi, wo, value, weight);
+  }
+  for (const std::string& w : data.warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
+
+  // Progress: None shows a line on stderr as `aniso fit` does (when stderr is a terminal, once the fit
+  // has run a second), True always, False never; a callable gets a dict per solver iteration.
+  const bool call = !progress.is_none() && PyCallable_Check(progress.ptr()) && !py::isinstance<py::bool_>(progress);
+  if (!progress.is_none() && !call && !py::isinstance<py::bool_>(progress))
+    throw py::value_error(fmt::format("progress: expected None, True, False or a callable, got {}",
+                                      std::string(py::str(py::type::of(progress).attr("__name__")))));
+  const bool print = !call && (progress.is_none() ? isatty(STDERR_FILENO) != 0 : progress.cast<bool>());
+  const double print_after = progress.is_none() ? 1.0 : 0.0;
+  std::optional<py::error_already_set> callback_error;
+  double last_print = -1.0;
+  bool printed = false;
+  // Ctrl-C (SIGINT, in the main thread) stops the fit at the solver's next iteration and raises
+  // KeyboardInterrupt, as render does; a progress callback that raises stops it too.
+  std::atomic<bool> stop{false};
+  const py::module_ threading = py::module_::import("threading");
+  const bool main_thread = threading.attr("current_thread")().is(threading.attr("main_thread")());
+  struct SigintScope {
+    bool active;
+    struct sigaction old {};
+    explicit SigintScope(bool on) : active(on) {
+      if (!active) return;
+      g_fit_interrupted.store(false);
+      struct sigaction action {};
+      action.sa_handler = on_fit_sigint;
+      sigemptyset(&action.sa_mask);
+      sigaction(SIGINT, &action, &old);
+    }
+    ~SigintScope() {
+      if (active) sigaction(SIGINT, &old, nullptr);
+    }
+  };
+  o.cancel = &stop;
+  o.progress = [&](const FitProgress& p) {
+    if (main_thread && g_fit_interrupted.load()) stop.store(true);
+    if (call) {
+      py::gil_scoped_acquire gil;
+      try {
+        py::dict d;
+        d["stage"] = p.stage;
+        d["iteration"] = p.iteration;
+        d["cost"] = p.cost;
+        d["elapsed_s"] = p.elapsed_s;
+        d["remaining_s"] = p.remaining_s;
+        progress(d);
+      } catch (py::error_already_set& e) {
+        if (!callback_error) callback_error.emplace(std::move(e));
+        stop.store(true);
+      }
+    } else if (print && p.elapsed_s >= print_after && p.elapsed_s - last_print >= 0.1) {
+      last_print = p.elapsed_s;
+      std::fprintf(stderr, "\raniso.fit: %-90s", fmt::format("{} iteration {} cost {:.4g}  {:.1f} s, about {:.0f} s left", p.stage,
+                                                             p.iteration, p.cost, p.elapsed_s, p.remaining_s).c_str());
+      printed = true;
+    }
+  };
+  std::optional<FitResult> r;
+  bool cancelled = false;
+  {
+    const SigintScope sigint(main_thread);
+    py::gil_scoped_release release;
+    try {
+      r = fit_samples(data, o);
+    } catch (const FitCancelled&) {
+      cancelled = true;
+    }
+  }
+  if (printed) std::fprintf(stderr, "\r\033[K");
+  if (callback_error) throw std::move(*callback_error);
+  if (cancelled) {
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+  json provenance = fit_provenance(*r, data, o);
+  PyMaterial mat(parse_material(r->material, "fitted material"), "fitted material");
+  return PyFitResult{std::move(mat), r->material, std::move(provenance), std::move(*r)};
+}
+
 }  // namespace
 }  // namespace aniso::python
 
@@ -756,15 +1075,17 @@ PYBIND11_MODULE(_aniso, m) {
            "(z = normal, x = tangent), arrays of shape (N, 3) or (3,) (a (3,) argument is used for every\n"
            "row of the other). Returns (N, 3), or (3,) when both are (3,). float32 when both are float32,\n"
            "else float64. Rows with a NaN or infinite input are NaN. out: an array to write the result\n"
-           "into (C-contiguous, that dtype and shape), returned; saves allocating one per call.")
+           "into (C- or Fortran-contiguous, that dtype and shape), returned; saves allocating one per call.")
       .def("pdf", &material_pdf, py::arg("wi"), py::arg("wo"), py::kw_only(), py::arg("out") = py::none(),
            "The solid-angle density of sample() producing wi for this wo: (N,) (a scalar for (3,) inputs).\n"
            "out: as for eval(), of shape (N,) (0-d for (3,) inputs).")
-      .def("sample", &material_sample, py::arg("wo"), py::arg("u"),
+      .def("sample", &material_sample, py::arg("wo"), py::arg("u"), py::kw_only(), py::arg("out") = py::none(),
            "Importance-samples wi for the viewing direction wo.\n\n"
            "wo: (N, 3) or (3,); u: uniforms in [0, 1), (N, 3) or (3,): u[:, 0] picks the lobe, u[:, 1:] the\n"
            "direction. Returns (wi, weight, pdf): (N, 3), (N, 3), (N,), weight = f cos(theta_i) / pdf.\n"
-           "Where there is no sample (wo below the horizon, wi below it) all three are 0.")
+           "Where there is no sample (wo below the horizon, wi below it) all three are 0. out: a tuple of\n"
+           "three arrays (wi, weight, pdf) to write into (C- or Fortran-contiguous, the result's dtype and\n"
+           "shapes; pdf 0-d for (3,) inputs), returned.")
       .def("albedo", &material_albedo, py::arg("theta"), py::arg("phi") = 0.0, py::arg("samples") = int64_t(1) << 20,
            py::arg("seed") = uint64_t(1), py::arg("return_error") = false,
            "Directional albedo: integral of f cos(theta_i) over the hemisphere, for the viewing direction\n"
@@ -857,6 +1178,73 @@ PYBIND11_MODULE(_aniso, m) {
         return gl::export_brdf(mat.desc, mat.what);
       },
       py::arg("material"), "The material as a Disney BRDF Explorer .brdf file, as `aniso export-brdf`.");
+  py::class_<PyFitResult>(m, "FitResult",
+                          "What aniso.fit returns: the fitted Material and its error figures (iterable as\n"
+                          "material, errors), the fitted parameters and the record `aniso fit` stores in fitted.json.")
+      .def_property_readonly("material", [](const PyFitResult& r) { return r.material; }, "the fitted Material")
+      .def_property_readonly("errors", [](const PyFitResult& r) { return to_py(r.provenance["error"]); },
+                             "{l2cos, l2cos_rgb, log, log_rgb, relative_l2cos} over every sample (docs/fitting.md, \"Metrics\"),\n"
+                             "as `aniso fit` prints them: \"all\" is the RMS of the three channels")
+      .def_property_readonly("parameters", [](const PyFitResult& r) {
+             py::dict d;
+             for (size_t i = 0; i < r.result.parameters.size(); ++i) d[py::str(r.result.parameter_names[i])] = r.result.parameters[i];
+             return d;
+           },
+           "the solver's parameter vector by name (\"kd.r\", \"alpha\", ...)")
+      .def_property_readonly("best_start", [](const PyFitResult& r) { return r.result.best_start; },
+                             "the start the result came from: \"moments\", \"ngan2005 NAME\", \"random K\"")
+      .def_property_readonly("iterations", [](const PyFitResult& r) { return r.result.iterations; })
+      .def_property_readonly("seconds", [](const PyFitResult& r) { return r.result.seconds; })
+      .def_property_readonly("samples", [](const PyFitResult& r) { return r.result.samples_total; })
+      .def_property_readonly("samples_in_solver", [](const PyFitResult& r) { return r.result.samples_used; })
+      .def_property_readonly("termination", [](const PyFitResult& r) { return r.result.termination; })
+      .def_property_readonly("fit", [](const PyFitResult& r) { return to_py(r.provenance); },
+                             "the \"fit\" object of `aniso fit`'s fitted.json (data, options, errors, solver)")
+      .def("to_dict", [](const PyFitResult& r) {
+             json j = r.material_json;
+             j["fit"] = r.provenance;
+             return to_py(j);
+           },
+           "fitted.json as `aniso fit -o` writes it: the material's keys plus the \"fit\" object.")
+      .def("to_json", [](const PyFitResult& r, int indent) {
+             json j = r.material_json;
+             j["fit"] = r.provenance;
+             return j.dump(indent) + "\n";
+           },
+           py::arg("indent") = 2, "to_dict() as JSON text, the file `aniso fit -o` writes (every tool reads it).")
+      .def("__iter__", [](const PyFitResult& r) {
+        return py::iter(py::make_tuple(py::cast(r.material), to_py(r.provenance["error"])));
+      })
+      .def("__repr__", [](const PyFitResult& r) {
+        return fmt::format("aniso.FitResult(model={}, l2cos={:.5g}, log={:.5g}, relative_l2cos={:.4g}, best_start={})",
+                           r.material_json.value("model", ""), r.result.errors.l2cos_all, r.result.errors.log_all,
+                           r.result.errors.relative_l2cos, json(r.result.best_start).dump());
+      });
+
+  m.def("fit", &fit_py, py::arg("data") = py::none(), py::kw_only(), py::arg("wi") = py::none(), py::arg("wo") = py::none(),
+        py::arg("value") = py::none(), py::arg("weight") = py::none(), py::arg("model") = "lafortune", py::arg("lobes") = 1,
+        py::arg("anisotropic") = false, py::arg("shared_exponents") = false, py::arg("normalization") = "ward",
+        py::arg("metal") = py::none(), py::arg("metal_lobe") = "ggx", py::arg("metric") = "l2cos", py::arg("loss") = "none",
+        py::arg("loss_scale") = 0.0, py::arg("starts") = 6, py::arg("seed") = 1, py::arg("threads") = 0,
+        py::arg("max_iterations") = 200, py::arg("progress") = py::none(),
+        "Fits a model to measured data, as `aniso fit` (docs/fitting.md): the same solver, options, starts\n"
+        "and error figures; the same data, options and seed give the same material.\n\n"
+        "data: a path to a MERL .binary, Cornell .brdf or CSV file of samples (what `aniso fit DATA` reads);\n"
+        "or instead wi, wo: (N, 3) unit directions above the horizon (one of them may be (3,)), value: (N, 3)\n"
+        "f(wi, wo) in 1/sr (no cosine), weight: (N,) or None. The keywords are `aniso fit`'s options:\n"
+        "model (lafortune | ward | ashikhmin-shirley | ggx | metal), lobes (Lafortune, 1 to 8), anisotropic,\n"
+        "shared_exponents, normalization (Ward: ward | duer | balanced), metal (a named metal; None fits eta\n"
+        "and k), metal_lobe (ggx | ward | ashikhmin-shirley), metric (l2cos | log), loss (none | huber |\n"
+        "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations.\n"
+        "progress: None (a line on stderr when it is a terminal, as the CLI), True, False, or a callable\n"
+        "given {stage, iteration, cost, elapsed_s, remaining_s} each iteration. The GIL is released while\n"
+        "fitting; Ctrl-C stops the fit (KeyboardInterrupt). Returns a FitResult: `m, errors = aniso.fit(...)`.\n"
+        "Bad data or options raise ValueError with the CLI's message.");
+  m.def("read_measured", &read_measured_py, py::arg("path"),
+        "Reads measured reflectance as `aniso fit DATA` does (a MERL .binary, Cornell .brdf or CSV file of\n"
+        "samples; Cornell spectra reduced to linear sRGB): {wi, wo: (N, 3) unit directions, value: (N, 3)\n"
+        "f in 1/sr, weight: (N,), source, format, warnings}. aniso.fit(wi=..., wo=..., value=..., weight=...)\n"
+        "on them fits what aniso.fit(path) fits.");
   m.def("simd_target", [] { return std::string(batch::simd_target()); },
         "The SIMD target the batch path runs on this machine (\"AVX3\", \"AVX2\", ...).");
 }

@@ -259,6 +259,68 @@ def test_out_arrays_and_column_major_layouts():
         m.pdf(wi, wo, out=np.empty(10))
 
 
+def test_sample_out_arrays_and_layouts():
+    # Every layout eval takes, and out=, give the default call's samples bit for bit.
+    n = 9000
+    wi_ref, wo = random_pairs(n, seed=21)
+    u = np.random.default_rng(22).random((n, 3))
+    wo[5, 1] = np.nan
+    u[11, 2] = np.nan
+    u[12, 0] = 1.0  # taken as the largest number below 1, in every layout
+    for m in [aniso.Material("brushed-gold"), aniso.Material("clay"), aniso.ggx(alpha_x=0.1, alpha_y=0.3)]:
+        for dtype in (np.float64, np.float32):
+            a, b = wo.astype(dtype), u.astype(dtype)
+            ref = m.sample(a, b)
+            assert all(r.dtype == dtype for r in ref) and ref[0].flags.c_contiguous
+            assert np.isnan(ref[0][[5, 11]]).all() and np.isnan(ref[2][[5, 11]]).all()
+            big = np.zeros((n, 7), dtype)
+            big[:, 3:6] = b
+            layouts = [(np.asfortranarray(a), np.asfortranarray(b)), (a, np.asfortranarray(b)),
+                       (np.ascontiguousarray(a.T).T, big[:, 3:6]), (a[::-1].copy()[::-1], b[::-1].copy()[::-1])]
+            for x, y in layouts:
+                got = m.sample(x, y)
+                for g, r in zip(got, ref):
+                    np.testing.assert_array_equal(g, r)
+            # u needing no change is read in place: the same samples without row 12's 1.0.
+            b2 = b.copy()
+            b2[12, 0] = 0.5
+            want = m.sample(a, b2)
+            for g, r in zip(m.sample(np.asfortranarray(a), np.asfortranarray(b2)), want):
+                np.testing.assert_array_equal(g, r)
+            for order in "CF":
+                out = (np.empty((n, 3), dtype, order=order), np.empty((n, 3), dtype, order=order), np.empty(n, dtype))
+                got = m.sample(np.asfortranarray(a), b, out=out)
+                assert all(g is o for g, o in zip(got, out))
+                for g, r in zip(got, ref):
+                    np.testing.assert_array_equal(g, r)
+    m = aniso.Material("gold")
+    one = (np.empty(3), np.empty(3), np.empty(()))
+    got = m.sample([0, 0.6, 0.8], [0.1, 0.2, 0.3], out=one)
+    assert all(g is o for g, o in zip(got, one))
+    ref = m.sample([0, 0.6, 0.8], [0.1, 0.2, 0.3])
+    np.testing.assert_array_equal(one[0], ref[0])
+    assert one[2] == ref[2]
+    with pytest.raises(ValueError, match=r"out: expected a tuple of three arrays \(wi, weight, pdf\), got ndarray"):
+        m.sample(wo, u, out=np.empty((n, 3)))
+    with pytest.raises(ValueError, match=r"out\[1\] \(weight\): expected a writeable C- or Fortran-contiguous float64 array of shape \(9000, 3\)"):
+        m.sample(wo, u, out=(np.empty((n, 3)), np.empty((n, 3), np.float32), np.empty(n)))
+    with pytest.raises(ValueError, match=r"out\[2\] \(pdf\): .* shape \(9000,\)"):
+        m.sample(wo, u, out=(np.empty((n, 3)), np.empty((n, 3)), np.empty(n + 1)))
+
+
+def test_unaligned_and_odd_arrays_take_the_general_path():
+    # A float64 array whose data is not 8-byte aligned, and a size-1 row: the same values.
+    m = aniso.Material("brushed-gold")
+    wi, wo = random_pairs(1001, seed=31)
+    buf = np.zeros(wi.nbytes + 4, np.uint8)
+    odd = np.frombuffer(buf[4:4 + wi.nbytes], dtype=np.float64).reshape(wi.shape)
+    odd[...] = wi
+    assert odd.ctypes.data % 8 != 0
+    np.testing.assert_array_equal(m.eval(odd, wo), m.eval(wi, wo))
+    np.testing.assert_array_equal(m.pdf(odd, wo), m.pdf(wi, wo))
+    np.testing.assert_array_equal(m.eval(wi[:1], wo[:1]), m.eval(wi, wo)[:1])
+
+
 def test_concurrent_calls_from_threads_give_the_same_results():
     # Each oneTBB task copies its chunk into scratch arrays of its own thread: calls from several
     # Python threads at once (the GIL released) must not share them.

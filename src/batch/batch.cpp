@@ -19,6 +19,13 @@ void EvalFloat(const MaterialT<float>& m, const EvalArgs<float>& a, size_t begin
 void EvalDouble(const MaterialT<double>& m, const EvalArgs<double>& a, size_t begin, size_t end, bool want_pdf) {
   RunMaterial(m, a, begin, end, want_pdf);
 }
+void EvalInterleavedFloat(const MaterialT<float>& m, const InterleavedArgs<float>& a, size_t begin, size_t end, bool want_pdf) {
+  RunMaterialInterleaved(m, a, begin, end, want_pdf);
+}
+void EvalInterleavedDouble(const MaterialT<double>& m, const InterleavedArgs<double>& a, size_t begin, size_t end,
+                           bool want_pdf) {
+  RunMaterialInterleaved(m, a, begin, end, want_pdf);
+}
 bool SampleFloat(const MaterialT<float>& m, const SampleArgs<float>& a, size_t begin, size_t end) {
   return SampleMaterial(m, a, begin, end);
 }
@@ -38,8 +45,10 @@ HWY_AFTER_NAMESPACE();
 #include <xmmintrin.h>
 #endif
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 
 #include <hwy/targets.h>
 #include <tbb/blocked_range.h>
@@ -51,6 +60,8 @@ namespace aniso::batch {
 
 HWY_EXPORT(EvalFloat);
 HWY_EXPORT(EvalDouble);
+HWY_EXPORT(EvalInterleavedFloat);
+HWY_EXPORT(EvalInterleavedDouble);
 HWY_EXPORT(SampleFloat);
 HWY_EXPORT(SampleDouble);
 HWY_EXPORT(LanesFloat);
@@ -138,21 +149,39 @@ template <typename T> void dispatch(const MaterialT<T>& m, const EvalArgs<T>& a,
   }
 }
 
+template <typename T>
+void dispatch_interleaved(const MaterialT<T>& m, const InterleavedArgs<T>& a, size_t b, size_t e, bool want_pdf) {
+  if constexpr (sizeof(T) == sizeof(float)) {
+    HWY_DYNAMIC_DISPATCH(EvalInterleavedFloat)(m, a, b, e, want_pdf);
+  } else {
+    HWY_DYNAMIC_DISPATCH(EvalInterleavedDouble)(m, a, b, e, want_pdf);
+  }
+}
+
+// Element i of interleaved rows, for the scalar kernels.
+template <typename T> Vec3T<T> row(const Interleaved<T>& w, size_t i) {
+  const T* p = w.xyz + w.stride * i;
+  return Vec3T<T>(p[0], p[1], p[2]);
+}
+template <typename T> bool finite(const Vec3T<T>& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
 }  // namespace
 
 template <typename T>
 void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f, Threads threads,
-              Kernels kernels) {
-  const EvalArgs<T> a{wi, wo, f, nullptr};
+              Kernels kernels, NonFinite non_finite) {
+  const EvalArgs<T> a{wi, wo, f, nullptr, non_finite};
   // A measured BRDF (table lookups, gathers from 35 MB) has no SIMD twin: the scalar kernel per
   // element, on the same blocks and threads.
   if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;
+  const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
       m.visit([&](const auto& model) {
         for (size_t i = b; i < e; ++i) {
-          const RGBT<T> v = model.f(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i]), Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
-          f.r[i] = v.x, f.g[i] = v.y, f.b[i] = v.z;
+          const Vec3T<T> u(wi.x[i], wi.y[i], wi.z[i]), v(wo.x[i], wo.y[i], wo.z[i]);
+          const RGBT<T> c = nan_rows && !(finite(u) && finite(v)) ? RGBT<T>(std::numeric_limits<T>::quiet_NaN()) : model.f(u, v);
+          f.r[i] = c.x, f.g[i] = c.y, f.b[i] = c.z;
         }
       });
       return;
@@ -163,19 +192,66 @@ void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t 
 }
 
 template <typename T>
-void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads, Kernels kernels) {
-  const EvalArgs<T> a{wi, wo, {}, out};
+void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads, Kernels kernels,
+         NonFinite non_finite) {
+  const EvalArgs<T> a{wi, wo, {}, out, non_finite};
   if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
+  const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
       m.visit([&](const auto& model) {
-        for (size_t i = b; i < e; ++i)
-          out[i] = model.pdf(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i]), Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
+        for (size_t i = b; i < e; ++i) {
+          const Vec3T<T> u(wi.x[i], wi.y[i], wi.z[i]), v(wo.x[i], wo.y[i], wo.z[i]);
+          out[i] = nan_rows && !(finite(u) && finite(v)) ? std::numeric_limits<T>::quiet_NaN() : model.pdf(u, v);
+        }
       });
       return;
     }
     const FlushSubnormals ftz;
     dispatch(m, a, b, e, true);
+  });
+}
+
+template <typename T>
+void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* f_rgb, Threads threads,
+                          Kernels kernels, NonFinite non_finite) {
+  const InterleavedArgs<T> a{wi, wo, f_rgb, nullptr, non_finite};
+  if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
+  const bool nan_rows = non_finite == NonFinite::NaN;
+  for_blocks(n, threads, [&](size_t b, size_t e) {
+    if (kernels == Kernels::Scalar) {
+      m.visit([&](const auto& model) {
+        for (size_t i = b; i < e; ++i) {
+          const Vec3T<T> u = row(wi, i), v = row(wo, i);
+          const RGBT<T> c = nan_rows && !(finite(u) && finite(v)) ? RGBT<T>(std::numeric_limits<T>::quiet_NaN()) : model.f(u, v);
+          f_rgb[3 * i] = c.x, f_rgb[3 * i + 1] = c.y, f_rgb[3 * i + 2] = c.z;
+        }
+      });
+      return;
+    }
+    const FlushSubnormals ftz;
+    dispatch_interleaved(m, a, b, e, false);
+  });
+}
+
+template <typename T>
+void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* out, Threads threads,
+                     Kernels kernels, NonFinite non_finite) {
+  const InterleavedArgs<T> a{wi, wo, nullptr, out, non_finite};
+  if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
+  const bool nan_rows = non_finite == NonFinite::NaN;
+  for_blocks(n, threads, [&](size_t b, size_t e) {
+    if (kernels == Kernels::Scalar) {
+      m.visit([&](const auto& model) {
+        for (size_t i = b; i < e; ++i) {
+          const Vec3T<T> u = row(wi, i), v = row(wo, i);
+          out[i] = nan_rows && !(finite(u) && finite(v)) ? std::numeric_limits<T>::quiet_NaN() : model.pdf(u, v);
+        }
+      });
+      return;
+    }
+    const FlushSubnormals ftz;
+    dispatch_interleaved(m, a, b, e, true);
   });
 }
 
@@ -222,12 +298,21 @@ size_t simd_lanes_double() {
 }
 
 template void evaluate<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, Colors<float>, Threads,
-                              Kernels);
+                              Kernels, NonFinite);
 template void evaluate<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, Colors<double>,
-                               Threads, Kernels);
-template void pdf<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, float*, Threads, Kernels);
+                               Threads, Kernels, NonFinite);
+template void pdf<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, float*, Threads, Kernels,
+                         NonFinite);
 template void pdf<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, double*, Threads,
-                          Kernels);
+                          Kernels, NonFinite);
+template void evaluate_interleaved<float>(const MaterialT<float>&, Interleaved<float>, Interleaved<float>, size_t, float*,
+                                          Threads, Kernels, NonFinite);
+template void evaluate_interleaved<double>(const MaterialT<double>&, Interleaved<double>, Interleaved<double>, size_t,
+                                           double*, Threads, Kernels, NonFinite);
+template void pdf_interleaved<float>(const MaterialT<float>&, Interleaved<float>, Interleaved<float>, size_t, float*, Threads,
+                                     Kernels, NonFinite);
+template void pdf_interleaved<double>(const MaterialT<double>&, Interleaved<double>, Interleaved<double>, size_t, double*,
+                                      Threads, Kernels, NonFinite);
 template void sample<float>(const MaterialT<float>&, Directions<float>, const float*, const float*, const float*, size_t,
                             Samples<float>, Threads);
 template void sample<double>(const MaterialT<double>&, Directions<double>, const double*, const double*, const double*,

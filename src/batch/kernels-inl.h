@@ -19,12 +19,20 @@
 #ifndef ANISO_BATCH_KERNELS_ARGS_H_
 #define ANISO_BATCH_KERNELS_ARGS_H_
 #include <algorithm>
+#include <limits>
 #include "aniso/batch/batch.h"
 namespace aniso::batch {
 template <typename T> struct EvalArgs {
   Directions<T> wi, wo;
   Colors<T> f;
   T* pdf;
+  NonFinite non_finite = NonFinite::AsComputed;
+};
+template <typename T> struct InterleavedArgs {
+  Interleaved<T> wi, wo;
+  T* f_rgb;  // evaluate: interleaved RGB rows
+  T* pdf;    // pdf
+  NonFinite non_finite;
 };
 template <typename T> struct SampleArgs {
   Directions<T> wo;
@@ -788,22 +796,47 @@ template <typename T> struct MetalK {
 
 // --- The loops ---------------------------------------------------------------------------------
 
+// The lanes where one of the six input values is NaN or infinite (IsFinite is false for both).
+template <class D> HWY_INLINE M<D> NonFiniteLanes(const V3<D>& wi, const V3<D>& wo) {
+  const M<D> fi = hn::And(hn::And(hn::IsFinite(wi.x), hn::IsFinite(wi.y)), hn::IsFinite(wi.z));
+  const M<D> fo = hn::And(hn::And(hn::IsFinite(wo.x), hn::IsFinite(wo.y)), hn::IsFinite(wo.z));
+  return hn::Not(hn::And(fi, fo));
+}
+
 // One vector at a time over [begin, end); the last partial vector goes through a padded copy
 // (padding: wi = wo = n, a valid input, so no lane of the padding computes anything odd).
-template <class D, class Kernel, typename T>
+// kNanRows (NonFinite::NaN) is a template parameter: without it the loop is exactly the plain one,
+// and a kernel that reads only some coordinates (Lambert: the two z) loads only those.
+template <bool kNanRows, class D, class Kernel, typename T>
 HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const size_t N = hn::Lanes(d);
+  constexpr bool nan_rows = kNanRows;
+  const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
   const auto one = [&](const T* wix, const T* wiy, const T* wiz, const T* wox, const T* woy, const T* woz, T* r, T* g,
                        T* b, T* p) {
     const V3<D> wi{hn::LoadU(d, wix), hn::LoadU(d, wiy), hn::LoadU(d, wiz)};
     const V3<D> wo{hn::LoadU(d, wox), hn::LoadU(d, woy), hn::LoadU(d, woz)};
-    if (want_pdf) {
-      hn::StoreU(k.Pdf(d, wi, wo), d, p);
+    // NonFinite::NaN: NaN in every output of a lane with a NaN or infinite input (batch.h).
+    if constexpr (nan_rows) {
+      const M<D> bad = NonFiniteLanes(wi, wo);
+      if (want_pdf) {
+        hn::StoreU(hn::IfThenElse(bad, nan, k.Pdf(d, wi, wo)), d, p);
+      } else {
+        const RGBV<D> f = k.F(d, wi, wo);
+        hn::StoreU(hn::IfThenElse(bad, nan, f.c[0]), d, r);
+        hn::StoreU(hn::IfThenElse(bad, nan, f.c[1]), d, g);
+        hn::StoreU(hn::IfThenElse(bad, nan, f.c[2]), d, b);
+      }
     } else {
-      const RGBV<D> f = k.F(d, wi, wo);
-      hn::StoreU(f.c[0], d, r);
-      hn::StoreU(f.c[1], d, g);
-      hn::StoreU(f.c[2], d, b);
+      (void)nan;
+      if (want_pdf) {
+        hn::StoreU(k.Pdf(d, wi, wo), d, p);
+      } else {
+        const RGBV<D> f = k.F(d, wi, wo);
+        hn::StoreU(f.c[0], d, r);
+        hn::StoreU(f.c[1], d, g);
+        hn::StoreU(f.c[2], d, b);
+      }
     }
   };
   size_t i = begin;
@@ -835,15 +868,90 @@ HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begi
 
 template <typename T> void RunMaterial(const MaterialT<T>& m, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const hn::ScalableTag<T> d;
+  const auto run = [&](const auto& kernel) {
+    if (a.non_finite == NonFinite::NaN) RunRange<true>(d, kernel, a, begin, end, want_pdf);
+    else RunRange<false>(d, kernel, a, begin, end, want_pdf);
+  };
   switch (m.kind) {
-    case ModelKind::Phong: return RunRange(d, LambertPlusLobeK<T, PhongLobeK<T>>(m.phong), a, begin, end, want_pdf);
-    case ModelKind::Ward: return RunRange(d, LambertPlusLobeK<T, WardLobeK<T>>(m.ward), a, begin, end, want_pdf);
-    case ModelKind::AshikhminShirley:
-      return RunRange(d, AshikhminShirleyK<T>(m.ashikhmin_shirley), a, begin, end, want_pdf);
-    case ModelKind::Lafortune: return RunRange(d, LafortuneK<T>(m.lafortune), a, begin, end, want_pdf);
-    case ModelKind::GGX: return RunRange(d, GGXK<T>(m.ggx), a, begin, end, want_pdf);
-    case ModelKind::Metal: return RunRange(d, MetalK<T>(m.metal), a, begin, end, want_pdf);
-    default: return RunRange(d, LambertK<T>(m.lambert), a, begin, end, want_pdf);
+    case ModelKind::Phong: return run(LambertPlusLobeK<T, PhongLobeK<T>>(m.phong));
+    case ModelKind::Ward: return run(LambertPlusLobeK<T, WardLobeK<T>>(m.ward));
+    case ModelKind::AshikhminShirley: return run(AshikhminShirleyK<T>(m.ashikhmin_shirley));
+    case ModelKind::Lafortune: return run(LafortuneK<T>(m.lafortune));
+    case ModelKind::GGX: return run(GGXK<T>(m.ggx));
+    case ModelKind::Metal: return run(MetalK<T>(m.metal));
+    default: return run(LambertK<T>(m.lambert));
+  }
+}
+
+// The same loop on interleaved rows (batch.h, evaluate_interleaved / pdf_interleaved): each vector's
+// rows are loaded and de-interleaved in registers (LoadInterleaved3: three loads and shuffles), the
+// kernel runs on the vectors exactly as in RunRange, and f is re-interleaved in registers
+// (StoreInterleaved3). A broadcast input (stride 0) is one vector per coordinate for the whole
+// range. With NonFinite::NaN (kNanRows, as in RunRange) a lane whose six input values are not all
+// finite gets NaN in every output.
+template <bool kNanRows, class D, class Kernel, typename T>
+HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<T>& a, size_t begin, size_t end,
+                                    bool want_pdf) {
+  const size_t N = hn::Lanes(d);
+  const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
+  (void)nan;  // used with kNanRows only
+  const auto broadcast = [&](const Interleaved<T>& w) {
+    return w.stride == 0 ? V3<D>{hn::Set(d, w.xyz[0]), hn::Set(d, w.xyz[1]), hn::Set(d, w.xyz[2])} : V3<D>{};
+  };
+  const V3<D> wi_all = broadcast(a.wi), wo_all = broadcast(a.wo);
+  const bool wi_rows = a.wi.stride != 0, wo_rows = a.wo.stride != 0;
+  // wi and wo: the rows at pi / po (3 N values each), or the broadcast vectors; f: 3 N values at
+  // pf, or N at pp.
+  const auto one = [&](const T* pi, const T* po, T* pf, T* pp) {
+    V3<D> wi = wi_all, wo = wo_all;
+    if (wi_rows) hn::LoadInterleaved3(d, pi, wi.x, wi.y, wi.z);
+    if (wo_rows) hn::LoadInterleaved3(d, po, wo.x, wo.y, wo.z);
+    if (want_pdf) {
+      V<D> p = k.Pdf(d, wi, wo);
+      if constexpr (kNanRows) p = hn::IfThenElse(NonFiniteLanes(wi, wo), nan, p);
+      hn::StoreU(p, d, pp);
+    } else {
+      RGBV<D> f = k.F(d, wi, wo);
+      if constexpr (kNanRows) {
+        const M<D> bad = NonFiniteLanes(wi, wo);
+        for (int c = 0; c < 3; ++c) f.c[c] = hn::IfThenElse(bad, nan, f.c[c]);
+      }
+      hn::StoreInterleaved3(f.c[0], f.c[1], f.c[2], d, pf);
+    }
+  };
+  const auto at = [](const Interleaved<T>& w, size_t i) { return w.xyz + w.stride * i; };
+  size_t i = begin;
+  for (; i + N <= end; i += N) one(at(a.wi, i), at(a.wo, i), want_pdf ? nullptr : a.f_rgb + 3 * i, want_pdf ? a.pdf + i : nullptr);
+  if (i < end) {
+    // The last, partial vector through padded copies (padding rows wi = wo = n, as RunRange).
+    constexpr size_t kMax = hn::MaxLanes(D());
+    HWY_ALIGN T bi[3 * kMax], bo[3 * kMax], bf[3 * kMax], bp[kMax];
+    for (size_t j = 0; j < kMax; ++j)
+      for (int c = 0; c < 3; ++c) bi[3 * j + c] = bo[3 * j + c] = c == 2 ? T(1) : T(0);
+    const size_t rest = end - i;
+    if (wi_rows) std::copy_n(at(a.wi, i), 3 * rest, bi);
+    if (wo_rows) std::copy_n(at(a.wo, i), 3 * rest, bo);
+    one(bi, bo, bf, bp);
+    if (want_pdf) std::copy_n(bp, rest, a.pdf + i);
+    else std::copy_n(bf, 3 * rest, a.f_rgb + 3 * i);
+  }
+}
+
+template <typename T>
+void RunMaterialInterleaved(const MaterialT<T>& m, const InterleavedArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
+  const hn::ScalableTag<T> d;
+  const auto run = [&](const auto& kernel) {
+    if (a.non_finite == NonFinite::NaN) RunRangeInterleaved<true>(d, kernel, a, begin, end, want_pdf);
+    else RunRangeInterleaved<false>(d, kernel, a, begin, end, want_pdf);
+  };
+  switch (m.kind) {
+    case ModelKind::Phong: return run(LambertPlusLobeK<T, PhongLobeK<T>>(m.phong));
+    case ModelKind::Ward: return run(LambertPlusLobeK<T, WardLobeK<T>>(m.ward));
+    case ModelKind::AshikhminShirley: return run(AshikhminShirleyK<T>(m.ashikhmin_shirley));
+    case ModelKind::Lafortune: return run(LafortuneK<T>(m.lafortune));
+    case ModelKind::GGX: return run(GGXK<T>(m.ggx));
+    case ModelKind::Metal: return run(MetalK<T>(m.metal));
+    default: return run(LambertK<T>(m.lambert));
   }
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <ceres/ceres.h>
@@ -17,6 +18,7 @@
 #include "fit/models.h"
 #include "io/materials.h"
 #include "io/presets.h"
+#include "io/text_input.h"
 
 namespace aniso {
 namespace {
@@ -191,6 +193,7 @@ class ProgressCallback final : public ceres::IterationCallback {
                    int iterations_left_after)
       : o_(o), stage_(std::move(stage)), t0_(t0), guess_(per_iteration_guess), after_(iterations_left_after) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (o_.cancel && o_.cancel->load()) return ceres::SOLVER_ABORT;
     if (o_.progress) {
       FitProgress p;
       p.stage = stage_;
@@ -394,6 +397,7 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     so.callbacks.push_back(&cb);
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
+    if (o.cancel && o.cancel->load()) throw FitCancelled();
     Solved r;
     r.x = x;
     r.cost = summary.final_cost;
@@ -503,6 +507,30 @@ FitErrors fit_errors(const MaterialD& m, const SampleSet& data) {
   e.log_all = std::sqrt((lg.x + lg.y + lg.z) / (3.0 * wsum));
   e.relative_l2cos = data_norm > 0.0 ? std::sqrt((l2.x + l2.y + l2.z) / data_norm) : 0.0;
   return e;
+}
+
+FitOptions parse_fit_options(const FitOptionText& a) {
+  FitOptions o;
+  o.model = a.model;
+  o.lobes = int(parse_integer(a.lobes, 1, kLafortuneMaxLobes, "--lobes"));
+  o.anisotropic = a.anisotropic;
+  o.shared_exponents = a.shared_exponents;
+  o.normalization = a.normalization;
+  o.metal = a.metal;
+  o.metal_lobe = a.metal_lobe;
+  if (a.metric == "l2cos") o.metric = FitMetric::L2Cos;
+  else if (a.metric == "log") o.metric = FitMetric::Log;
+  else throw InputError(fmt::format("--metric: expected l2cos or log, got \"{}\"", a.metric));
+  o.loss = a.loss;
+  const std::optional<double> scale = parse_decimal(a.loss_scale);
+  if (!scale || !(*scale >= 0.0))
+    throw InputError(fmt::format("--loss-scale: expected a finite decimal number >= 0, got \"{}\"", a.loss_scale));
+  o.loss_scale = *scale;
+  o.starts = int(parse_integer(a.starts, 1, 1000, "--starts"));
+  o.seed = parse_unsigned(a.seed, UINT64_MAX, "--seed");
+  o.threads = int(parse_integer(a.threads, 0, 256, "--threads"));
+  o.max_iterations = int(parse_integer(a.max_iterations, 1, 100000, "--max-iterations"));
+  return o;
 }
 
 FitResult fit_samples(const SampleSet& data, const FitOptions& o) {

@@ -10,8 +10,10 @@
 // refined briefly, the best is refined to convergence; the same input gives the same output.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -57,7 +59,26 @@ struct FitOptions {
   // all samples.
   size_t max_solver_samples = size_t(1) << 15;
   std::function<void(const FitProgress&)> progress;
+  // When set, the fit stops at the solver's next iteration once *cancel is true and throws
+  // FitCancelled (the Python binding's Ctrl-C).
+  const std::atomic<bool>* cancel = nullptr;
 };
+
+// Thrown by fit_samples when FitOptions::cancel was set during the fit.
+struct FitCancelled : std::runtime_error {
+  FitCancelled() : std::runtime_error("the fit was cancelled") {}
+};
+
+// The options as `aniso fit` takes them on its command line, as text (the Python binding aniso.fit
+// passes its keywords through here too), read with the CLI's checks and messages ("--lobes: ...").
+struct FitOptionText {
+  std::string model = "lafortune", lobes = "1", normalization = "ward", metal, metal_lobe = "ggx", metric = "l2cos";
+  std::string loss = "none", loss_scale = "0", starts = "6", seed = "1", threads = "0", max_iterations = "200";
+  bool anisotropic = false, shared_exponents = false;
+};
+// Throws InputError naming the option for a value out of range (the model's own options, such as an
+// unknown --model or --normalization, are checked by fit_samples).
+FitOptions parse_fit_options(const FitOptionText& text);
 
 // Per channel and over all channels (root mean square of the three).
 struct FitErrors {

@@ -1,7 +1,8 @@
 // gl/gl_context.h: a small headless OpenGL host: an EGL context without a window (Mesa's
 // surfaceless platform: llvmpipe on machines without a GPU; the EGL device platform for a
 // vendor's driver), compute programs, and storage buffers. The parity tests, the GLSL benchmark
-// and, next, the explorer and `aniso render --backend gl` run GLSL through it.
+// and `aniso render --backend gl` (gl/scene_raster.h, which itself needs only a current GL 3.3
+// core context: a window's works too) run GLSL through it.
 //
 // One context per process, current on the thread that created it (GL's rule). Errors are
 // exceptions: GlUnavailable when no context can be made (tests skip with its message), GlError

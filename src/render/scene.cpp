@@ -433,7 +433,7 @@ Object read_object(Node n, const std::string& base_dir) {
     o.mesh = mesh;
   }
   o.material = resolve_material(n.get("material"), fmt::format("{}: {}", n.source(), n.key_path("material")), base_dir,
-                                &o.material_name);
+                                &o.material_name, &o.material_desc);
   if (n.has("tangent")) {
     o.tangent = read_tangent(Node(n.get("tangent"), n.source(), n.key_path("tangent")), o, base_dir);
     if (o.tangent.uv_tangents) compute_uv_tangents(*std::const_pointer_cast<Mesh>(o.mesh));
@@ -445,17 +445,23 @@ Object read_object(Node n, const std::string& base_dir) {
 
 }  // namespace
 
-Material resolve_material(const json& m, const std::string& where, const std::string& base_dir, std::string* display_name) {
+Material resolve_material(const json& m, const std::string& where, const std::string& base_dir, std::string* display_name,
+                          std::shared_ptr<const MaterialDesc>* desc) {
+  const auto build = [&](MaterialDesc d) {
+    auto shared = std::make_shared<const MaterialDesc>(std::move(d));
+    if (desc) *desc = shared;
+    return build_material<float>(*shared);
+  };
   try {
     if (m.is_string()) {
       const std::string name = m.get<std::string>();
       if (display_name) *display_name = name;
-      if (find_preset(name)) return build_material<float>(load_material(name));
-      return build_material<float>(load_material(resolve_path(name, base_dir)));
+      if (find_preset(name)) return build(load_material(name));
+      return build(load_material(resolve_path(name, base_dir)));
     }
     if (m.is_object()) {
       if (display_name) *display_name = m.value("model", std::string("material"));
-      return build_material<float>(parse_material(m, "material", base_dir));
+      return build(parse_material(m, "material", base_dir));
     }
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", where, e.what()));

@@ -14,6 +14,7 @@
 
 #include "aniso/brdf/material.h"
 #include "aniso/tangent/fields.h"
+#include "io/materials.h"
 #include "render/environment.h"
 #include "render/sampler.h"
 
@@ -91,6 +92,9 @@ struct Object {
   Vec2 size{1.0f, 1.0f};          // Rectangle: lengths along u_axis and normal x u_axis
   std::shared_ptr<const Mesh> mesh;
   Material material;
+  // What `material` was built from (the model's parameters): the GL backend generates its shader
+  // from it (gl/glsl_material.h).
+  std::shared_ptr<const MaterialDesc> material_desc;
   std::string material_name;  // for messages and labels
   TangentSource tangent;
 };
@@ -112,9 +116,9 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& source, const st
 Scene load_scene(const std::string& path);
 
 // Material references as everywhere else (a preset name, a JSON file, or an inline object), with
-// errors prefixed by `where`.
+// errors prefixed by `where`. `desc`, when given, receives what the material was built from.
 Material resolve_material(const nlohmann::json& m, const std::string& where, const std::string& base_dir,
-                          std::string* display_name);
+                          std::string* display_name, std::shared_ptr<const MaterialDesc>* desc = nullptr);
 
 // Procedural meshes for the built-in scenes (also usable as {"shape": "mesh", "generate": ...}).
 // A torus about +y, its natural tangent dp/du along the major circle.

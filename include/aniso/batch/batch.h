@@ -33,6 +33,12 @@ enum class Threads : int { One = 0, All = 1 };
 // (for callers whose output must not depend on the input's size, such as `aniso eval`).
 enum class Kernels : int { Simd = 0, Scalar = 1 };
 
+// What evaluate and pdf return for an element with a NaN or infinite input value: what the kernels
+// compute from it (AsComputed, the default), or NaN in every output of that element (NaN: the
+// Python bindings' contract, docs/python.md), decided inside the kernel's loop, without a second
+// pass over the data.
+enum class NonFinite : int { AsComputed = 0, NaN = 1 };
+
 // n unit directions in the local shading frame, one array per coordinate.
 template <typename T> struct Directions {
   const T* x = nullptr;
@@ -62,17 +68,41 @@ template <typename T> struct Samples {
 // f[i] = m.f(wi[i], wo[i]) for i < n.
 template <typename T>
 void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f,
-              Threads threads = Threads::All, Kernels kernels = Kernels::Simd);
+              Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
+              NonFinite non_finite = NonFinite::AsComputed);
 
 // pdf[i] = m.pdf(wi[i], wo[i]).
 template <typename T>
 void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* pdf, Threads threads = Threads::All,
-         Kernels kernels = Kernels::Simd);
+         Kernels kernels = Kernels::Simd, NonFinite non_finite = NonFinite::AsComputed);
 
 // out[i] = m.sample(wo[i], uc[i], (u0[i], u1[i])).
 template <typename T>
 void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
             Threads threads = Threads::All);
+
+// Interleaved rows: n directions as (x, y, z) triples, the layout of a C-ordered (N, 3) array and
+// of std::vector<Vec3T<T>>. stride 3: element i at xyz[3 i], xyz[3 i + 1], xyz[3 i + 2]; stride 0:
+// the one direction xyz[0..2] for every element (a broadcast). No other stride.
+template <typename T> struct Interleaved {
+  const T* xyz = nullptr;
+  size_t stride = 3;
+};
+
+// evaluate() on interleaved rows, f written interleaved: f_rgb[3 i + c] = m.f(wi[i], wo[i])[c]. The
+// SIMD kernels load and store the rows themselves (Highway's LoadInterleaved3 / StoreInterleaved3),
+// so this is the same arithmetic as evaluate() on the same elements, bit for bit (tests/test_batch.cpp),
+// with no transposition pass before or after.
+template <typename T>
+void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* f_rgb,
+                          Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
+                          NonFinite non_finite = NonFinite::AsComputed);
+
+// pdf() on interleaved rows: pdf[i] = m.pdf(wi[i], wo[i]), pdf contiguous.
+template <typename T>
+void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* pdf,
+                     Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
+                     NonFinite non_finite = NonFinite::AsComputed);
 
 // The Highway target the dispatcher picked on this machine ("AVX3", "AVX2", ...). The environment
 // variable ANISO_SIMD (avx2, sse4, baseline) caps it, for measurements and tests; read at the
