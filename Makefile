@@ -3,7 +3,7 @@ PRESET ?= release
 JOBS   ?= $(shell nproc)
 BIN    := build/$(PRESET)/bin
 
-.PHONY: all deps configure build test bench bench-python clean format render sanitize-build test-sanitize fuzz-build fuzz
+.PHONY: all deps configure build test bench bench-python clean format render sanitize-build test-sanitize fuzz-build fuzz fuzz-ci
 
 all: build
 
@@ -43,9 +43,15 @@ fuzz-build: deps
 	@cmake --preset sanitize -DCMAKE_CXX_COMPILER=$(SANITIZE_CXX) >/dev/null
 	@cmake --build --preset sanitize -j $(JOBS) --target fuzz_targets
 
-# Every fuzz target for FUZZ_SECONDS each (libFuzzer), or a replay of the corpus without clang.
+# Every fuzz target for FUZZ_SECONDS each (libFuzzer, random seeds), or a replay of the corpus
+# without clang.
 fuzz: fuzz-build
 	@bash scripts/fuzz.sh build/sanitize $(FUZZ_SECONDS)
+
+# CI's fuzz run: each target for the inputs and from the seed fuzz/ci.txt gives it (about a minute
+# in all), the same inputs on every run of the same sources.
+fuzz-ci: fuzz-build
+	@bash scripts/fuzz.sh --ci build/sanitize
 
 # The kernels (Google Benchmark), then the renderer (a command: gallery, ray ceiling, noise; ~1 min).
 bench: build

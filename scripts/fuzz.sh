@@ -1,18 +1,50 @@
 #!/usr/bin/env bash
-# Runs every fuzz target of a build for a bounded time (docs/testing.md, "Fuzz targets").
-#   scripts/fuzz.sh BUILD_DIR SECONDS_PER_TARGET [TARGET...]
-# With libFuzzer (a clang sanitize build): each target searches for SECONDS, starting from the
-# seed corpus fuzz/corpus/<name>/ and what earlier runs found (BUILD_DIR/fuzz-corpus/<name>/, kept
-# between runs, never written into the repository). Without libFuzzer (g++): each target replays
-# its corpus once. Exits non-zero on the first crash, hang (an input taking over 30 s), sanitizer
-# report, leak, out-of-memory or failed output check; the input is kept in BUILD_DIR/fuzz-findings/
-# and the command that reproduces it is printed.
+# Runs every fuzz target of a build (docs/testing.md, "Fuzz targets").
+#   scripts/fuzz.sh BUILD_DIR SECONDS_PER_TARGET [TARGET...]   search for SECONDS each, random seeds
+#   scripts/fuzz.sh --ci BUILD_DIR [TARGET...]                  CI's run: fixed seeds and lengths
+# With libFuzzer (a clang sanitize build): each target searches from the seed corpus
+# fuzz/corpus/<name>/. A developer's run (SECONDS) starts from a random seed and from what earlier
+# runs found (BUILD_DIR/fuzz-corpus/<name>/, kept between runs, never written into the
+# repository). CI's run (--ci) is reproducible: each target runs the number of inputs and from the
+# libFuzzer seed that fuzz/ci.txt gives it, from the seed corpus alone (BUILD_DIR/fuzz-ci-corpus/
+# is emptied first), so the same sources give the same inputs on every machine, and a finding
+# reproduces with the same command. Without libFuzzer (g++): each target replays its corpus once.
+# Exits non-zero on the first crash, hang (an input taking over 30 s), sanitizer report, leak,
+# out-of-memory or failed output check; the input is kept in BUILD_DIR/fuzz-findings/ and the
+# command that reproduces it is printed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=${1:?usage: scripts/fuzz.sh BUILD_DIR SECONDS_PER_TARGET [TARGET...]}
-seconds=${2:?usage: scripts/fuzz.sh BUILD_DIR SECONDS_PER_TARGET [TARGET...]}
-shift 2
+usage="usage: scripts/fuzz.sh BUILD_DIR SECONDS_PER_TARGET [TARGET...] | scripts/fuzz.sh --ci BUILD_DIR [TARGET...]"
+ci=0
+if [[ "${1:-}" == "--ci" ]]; then
+  ci=1
+  shift
+fi
+build=${1:?$usage}
+shift
+if [[ $ci == 0 ]]; then
+  seconds=${1:?$usage}
+  shift
+fi
 if [[ $# -gt 0 ]]; then targets=("$@"); else mapfile -t targets < "$build/fuzz_targets.txt"; fi
+
+# CI's table: "<target> <seed> <runs>" a line (fuzz/ci.txt).
+declare -A ci_seed ci_runs
+if [[ $ci == 1 ]]; then
+  while read -r name seed runs; do
+    [[ -z "$name" || "$name" == \#* ]] && continue
+    ci_seed[$name]=$seed
+    ci_runs[$name]=$runs
+  done < fuzz/ci.txt
+fi
+# A ceiling on one target's time in CI's run (seconds): ci.txt sizes each to about 7 s on the
+# 2-core CI machine; a machine this much slower stops early (said in the log, not a failure).
+ci_time_cap=60
+# One seed does not make two runs identical: libFuzzer re-reads its corpus folder every second
+# (-reload, off in CI's run), and the paths through the readers vary a little between processes
+# (two runs of fuzz_eval_line, 80000 inputs from one seed, added 962 and 1029 units). What the
+# fixed seeds and counts give is the same search, of the same length, on every run: no run explores
+# where the others never go, and a finding's input is kept to replay.
 
 libfuzzer=0
 if grep -q '^ANISO_LIBFUZZER:INTERNAL=1' "$build/CMakeCache.txt" 2>/dev/null; then libfuzzer=1; fi
@@ -32,20 +64,36 @@ for t in "${targets[@]}"; do
   [[ -x "$bin" ]] || { echo "fuzz: $bin is missing (build the fuzz_targets target)"; exit 1; }
   [[ -d "$seeds" ]] || { echo "fuzz: $seeds is missing (every target needs a seed corpus)"; exit 1; }
   if [[ $libfuzzer == 1 ]]; then
-    found="$build/fuzz-corpus/$t"
+    if [[ $ci == 1 ]]; then
+      [[ -n "${ci_seed[$t]:-}" ]] || { echo "fuzz: $t has no line in fuzz/ci.txt (target, seed, runs)"; exit 1; }
+      found="$build/fuzz-ci-corpus/$t"
+      rm -rf "$found"
+      run_flags=(-seed="${ci_seed[$t]}" -runs="${ci_runs[$t]}" -reload=0 -max_total_time="$ci_time_cap")
+      echo "fuzz: $t, ${ci_runs[$t]} inputs from seed ${ci_seed[$t]}"
+    else
+      found="$build/fuzz-corpus/$t"
+      run_flags=(-max_total_time="$seconds")
+      echo "fuzz: $t for ${seconds} s"
+    fi
     mkdir -p "$found"
-    echo "fuzz: $t for ${seconds} s"
     # -timeout: an input that runs over 30 s is a hang. -rss_limit_mb / -malloc_limit_mb: a reader
     # that allocates over 2 GiB for one input is a finding (image headers must be checked against
     # the data size before allocating). -max_len: inputs up to 64 KiB (the seeds are below 4 KiB).
-    if ! "$bin" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=65536 \
+    if ! "$bin" "${run_flags[@]}" -timeout=30 -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=65536 \
         -print_final_stats=1 -artifact_prefix="$findings/$t-" "$found" "$seeds" > "$findings/$t.log" 2>&1; then
       tail -n 60 "$findings/$t.log"
       echo "fuzz: $t FAILED; the input is in $findings/ (reproduce: $bin $findings/$t-<file>)"
+      if [[ $ci == 1 ]]; then
+        echo "fuzz: the same run again: scripts/fuzz.sh --ci $build $t"
+      fi
       exit 1
     fi
     grep -E '^stat::number_of_executed_units|^stat::new_units_added' "$findings/$t.log" | tr '\n' ' ' | sed "s/^/fuzz: $t: /"
     echo
+    executed=$(sed -n 's/^stat::number_of_executed_units: *//p' "$findings/$t.log")
+    if [[ $ci == 1 && "${executed:-0}" -lt "${ci_runs[$t]}" ]]; then
+      echo "fuzz: $t stopped at the ${ci_time_cap} s ceiling after ${executed:-0} of its ${ci_runs[$t]} inputs (a slow machine)"
+    fi
   else
     if ! "$bin" "$seeds" > "$findings/$t.log" 2>&1; then
       tail -n 60 "$findings/$t.log"

@@ -250,26 +250,19 @@ int cmd_models(bool markdown, const std::string& only, bool only_given) {
   }
   // Nested tables (Lafortune lobes, metal lobes, the directional-diffuse lobe) follow their key,
   // indented, as in the markdown tables.
-  const auto print_table = [&out](const ModelSpec& spec, int indent, const auto& self) -> void {
-    for (const ParamSpec* p : spec.params()) {
-      out += fmt::format("{:{}}  {:<20} {:<45} default {:<12} {}\n", "", indent, p->name, describe_range(*p), default_text(*p), p->doc);
-      std::vector<const ModelSpec*> subs;
-      if (p->sub) subs.push_back(p->sub);
-      if (p->kind == ParamKind::TaggedObject)
-        for (auto c : p->choices) subs.push_back(&metal_lobe_spec(c));
-      for (const ModelSpec* sub : subs) {
-        out += fmt::format("{:{}}    keys of {} ({}):\n", "", indent,
-                           p->kind == ParamKind::TaggedObject ? fmt::format("\"{}\": {{\"model\": \"{}\"}}", p->name, sub->name)
-                                                              : fmt::format("\"{}\"", p->name),
-                           sub->title);
-        self(*sub, indent + 4, self);
-      }
-    }
+  const auto key = [&out](const ParamSpec& p, int depth) {
+    out += fmt::format("{:{}}  {:<20} {:<45} default {:<12} {}\n", "", 4 * depth, p.name, describe_range(p), default_text(p), p.doc);
+  };
+  const auto nested = [&out](const ParamSpec& p, const ModelSpec& sub, int depth) {
+    out += fmt::format("{:{}}    keys of {} ({}):\n", "", 4 * depth,
+                       p.kind == ParamKind::TaggedObject ? fmt::format("\"{}\": {{\"model\": \"{}\"}}", p.name, sub.name)
+                                                         : fmt::format("\"{}\"", p.name),
+                       sub.title);
   };
   for (const ModelSpec* m : model_specs()) {
     if (only_given && m->name != only) continue;
     out += fmt::format("{} ({}) -- {}\n", m->name, m->title, m->citation);
-    print_table(*m, 0, print_table);
+    walk_params(*m, key, nested);
   }
   write_stdout(out);
   return 0;

@@ -630,26 +630,19 @@ py::dict models_py() {
 // The tables as text, as `aniso models` prints them: the Material docstring.
 std::string tables_text() {
   std::string out;
-  const auto table = [&out](const ModelSpec& spec, int indent, const auto& self) -> void {
-    for (const ParamSpec* p : spec.params()) {
-      out += fmt::format("{:{}}    {} : {}, default {}\n{:{}}        {}\n", "", indent, p->name, describe_range(*p),
-                         default_text(*p), "", indent, p->doc);
-      std::vector<const ModelSpec*> subs;
-      if (p->sub) subs.push_back(p->sub);
-      if (p->kind == ParamKind::TaggedObject)
-        for (auto c : p->choices) subs.push_back(&metal_lobe_spec(c));
-      for (const ModelSpec* sub : subs) {
-        out += fmt::format("{:{}}        keys of {} ({}):\n", "", indent,
-                           p->kind == ParamKind::TaggedObject ? fmt::format("{}={{\"model\": \"{}\", ...}}", p->name, sub->name)
-                                                              : std::string(p->name),
-                           sub->title);
-        self(*sub, indent + 8, self);
-      }
-    }
+  const auto key = [&out](const ParamSpec& p, int depth) {
+    out += fmt::format("{:{}}    {} : {}, default {}\n{:{}}        {}\n", "", 8 * depth, p.name, describe_range(p),
+                       default_text(p), "", 8 * depth, p.doc);
+  };
+  const auto nested = [&out](const ParamSpec& p, const ModelSpec& sub, int depth) {
+    out += fmt::format("{:{}}        keys of {} ({}):\n", "", 8 * depth,
+                       p.kind == ParamKind::TaggedObject ? fmt::format("{}={{\"model\": \"{}\", ...}}", p.name, sub.name)
+                                                         : std::string(p.name),
+                       sub.title);
   };
   for (const ModelSpec* m : model_specs()) {
     out += fmt::format("\nmodel=\"{}\": {} ({})\n", m->name, m->title, m->citation);
-    table(*m, 0, table);
+    walk_params(*m, key, nested);
   }
   return out;
 }

@@ -17,8 +17,9 @@ template <typename S, typename T>
   for (size_t i = 0; i < len; ++i) {
     const S a = p[3 * i], b = p[3 * i + 1], c = p[3 * i + 2];
     x[i] = T(a), y[i] = T(b), z[i] = T(c);
-    // |v| <= max is false for NaN and for +-Inf; & (not &&) keeps the loop free of branches.
-    bad[i] |= uint8_t(!((std::fabs(a) <= kMax) & (std::fabs(b) <= kMax) & (std::fabs(c) <= kMax)));
+    // |v| <= max is false for NaN and for +-Inf; & (not &&) keeps the loop free of branches (on
+    // ints: what bool & bool promotes to anyway, written out for clang's -Wbitwise-instead-of-logical).
+    bad[i] |= uint8_t(!(int(std::fabs(a) <= kMax) & int(std::fabs(b) <= kMax) & int(std::fabs(c) <= kMax)));
   }
 }
 
@@ -36,7 +37,7 @@ template <typename T>
                                                        size_t len, uint8_t* __restrict bad) {
   constexpr T kMax = std::numeric_limits<T>::max();
   for (size_t i = 0; i < len; ++i)
-    bad[i] |= uint8_t(!((std::fabs(x[i]) <= kMax) & (std::fabs(y[i]) <= kMax) & (std::fabs(z[i]) <= kMax)));
+    bad[i] |= uint8_t(!(int(std::fabs(x[i]) <= kMax) & int(std::fabs(y[i]) <= kMax) & int(std::fabs(z[i]) <= kMax)));
 }
 
 template <typename T> [[gnu::always_inline]] inline void mark_bad_impl(T* __restrict p, size_t len, const uint8_t* __restrict bad) {

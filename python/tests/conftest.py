@@ -16,9 +16,21 @@ CLI = os.environ.get("ANISO_CLI", str(SOURCE_DIR / "build/release/bin/aniso"))
 BATCH_EVAL_CPP = os.environ.get("ANISO_BATCH_EVAL_CPP", str(SOURCE_DIR / "build/release/bin/aniso_batch_eval_cpp"))
 
 
+def native_env():
+    """The environment for the aniso executables (the CLI, aniso_batch_eval_cpp). In the sanitizer
+    build ctest preloads the ASan runtime into this interpreter (python/CMakeLists.txt); the
+    executables link their own, and ASan refuses a second runtime in one process, so they start
+    without the preload. Elsewhere: this environment unchanged."""
+    env = dict(os.environ)
+    preload = env.get("ANISO_SANITIZER_PRELOAD")
+    if preload and env.get("LD_PRELOAD") == preload:
+        del env["LD_PRELOAD"]
+    return env
+
+
 def run_cli(*args, stdin=""):
     """Runs the CLI; returns (exit status, stdout, stderr)."""
-    p = subprocess.run([CLI, *args], input=stdin, capture_output=True, text=True, timeout=120)
+    p = subprocess.run([CLI, *args], input=stdin, capture_output=True, text=True, timeout=120, env=native_env())
     return p.returncode, p.stdout, p.stderr
 
 

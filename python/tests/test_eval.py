@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import aniso
-from conftest import BATCH_EVAL_CPP, random_pairs, run_cli
+from conftest import BATCH_EVAL_CPP, native_env, random_pairs, run_cli
 
 MATERIALS = ["matte-steel", "brushed-gold", "ngan/ward/nickel", "clay",
              '{"model": "ward", "kd": 0.1, "ks": [0.5, 0.4, 0.3], "alpha_x": 0.05, "alpha_y": 0.3, "form": "angle"}',
@@ -44,7 +44,7 @@ def test_eval_and_pdf_equal_the_cpp_batch_path_bit_for_bit(material, tmp):
     pairs = tmp / "pairs.bin"
     np.concatenate([wi, wo], axis=1).tofile(pairs)
     out = tmp / "out.bin"
-    subprocess.run([BATCH_EVAL_CPP, "dump", str(pairs), material, str(out)], check=True, timeout=60)
+    subprocess.run([BATCH_EVAL_CPP, "dump", str(pairs), material, str(out)], check=True, timeout=60, env=native_env())
     raw = out.read_bytes()
     f32 = np.frombuffer(raw, np.float32, count=4 * n)
     f64 = np.frombuffer(raw, np.float64, offset=16 * n)

@@ -71,6 +71,23 @@ template <class D> HWY_INLINE V<D> K(D d, hn::TFromD<D> c) { return hn::Set(d, c
 // --- core/math.h twins -----------------------------------------------------------------------
 
 template <class D> HWY_INLINE V<D> Sqr(V<D> x) { return hn::Mul(x, x); }
+// Highway's Exp, Sin and Cos convert a multiple of their argument to int32 (range reduction); on
+// the 1-lane SCALAR target that is a C++ float-to-int cast, undefined for NaN (found by UBSan in
+// make test-sanitize, batch_tests_baseline: Ward's exponent in a masked-off lane). NaN lanes go in
+// as 0 and come out as the NaN they were: exp, sin and cos of NaN are NaN, so no result changes.
+template <class D, class Op> HWY_INLINE V<D> NaNPassing(D d, V<D> x, Op op) {
+  const M<D> nan = hn::IsNaN(x);
+  return hn::IfThenElse(nan, x, op(d, hn::IfThenZeroElse(nan, x)));
+}
+template <class D> HWY_INLINE V<D> ExpNaN(D d, V<D> x) {
+  return NaNPassing(d, x, [](D dd, V<D> v) { return hn::Exp(dd, v); });
+}
+template <class D> HWY_INLINE V<D> SinNaN(D d, V<D> x) {
+  return NaNPassing(d, x, [](D dd, V<D> v) { return hn::Sin(dd, v); });
+}
+template <class D> HWY_INLINE V<D> CosNaN(D d, V<D> x) {
+  return NaNPassing(d, x, [](D dd, V<D> v) { return hn::Cos(dd, v); });
+}
 // glm::dot: (a.x b.x + a.y b.y) + a.z b.z.
 template <class D> HWY_INLINE V<D> Dot(const V3<D>& a, const V3<D>& b) {
   return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
@@ -104,7 +121,7 @@ template <class D> HWY_INLINE V<D> Average(D d, V<D> r, V<D> g, V<D> b) {
 // relative to its result near x = 1 as well, so for the exponents of the fitted materials
 // (Ashikhmin-Shirley n up to 10^4, Lafortune n up to 200) the float result stays within 2e-6 of
 // powf wherever the value is above 1e-12 of the lobe's peak (test_batch.cpp measures it).
-template <class D> HWY_INLINE V<D> PowPositive(D d, V<D> x, V<D> y) { return hn::Exp(d, hn::Mul(y, hn::Log(d, x))); }
+template <class D> HWY_INLINE V<D> PowPositive(D d, V<D> x, V<D> y) { return ExpNaN(d, hn::Mul(y, hn::Log(d, x))); }
 
 // --- core/sampling.h twins -------------------------------------------------------------------
 
@@ -130,8 +147,8 @@ template <class D> HWY_INLINE void ConcentricDisk(D d, V<D> u0, V<D> u1, V<D>& d
   const V<D> quarter_pi = K(d, kPi<T> / T(4));
   const V<D> theta = hn::IfThenElse(x_major, hn::Mul(quarter_pi, hn::Div(oy, ox)),
                                     hn::Sub(K(d, kPiOver2<T>), hn::Mul(quarter_pi, hn::Div(ox, oy))));
-  dx = hn::IfThenZeroElse(centre, hn::Mul(r, hn::Cos(d, theta)));
-  dy = hn::IfThenZeroElse(centre, hn::Mul(r, hn::Sin(d, theta)));
+  dx = hn::IfThenZeroElse(centre, hn::Mul(r, CosNaN(d, theta)));
+  dy = hn::IfThenZeroElse(centre, hn::Mul(r, SinNaN(d, theta)));
 }
 // sample_cosine_hemisphere.
 template <class D> HWY_INLINE V3<D> CosineHemisphere(D d, V<D> u0, V<D> u1) {
@@ -156,7 +173,7 @@ template <class D> HWY_INLINE V3<D> CosinePowerSample(D d, const V3<D>& a, V<D> 
   const V<D> m = hn::Mul(hn::Mul(a.x, a.y), k);
   const V3<D> t{hn::Add(one, hn::Mul(hn::Mul(hn::Mul(sign, a.x), a.x), k)), hn::Mul(sign, m), hn::Neg(hn::Mul(sign, a.x))};
   const V3<D> b{m, hn::Add(sign, hn::Mul(hn::Mul(a.y, a.y), k)), hn::Neg(a.y)};
-  const V<D> ct = hn::Mul(sin_t, hn::Cos(d, phi)), st = hn::Mul(sin_t, hn::Sin(d, phi));
+  const V<D> ct = hn::Mul(sin_t, CosNaN(d, phi)), st = hn::Mul(sin_t, SinNaN(d, phi));
   return {hn::Add(hn::Add(hn::Mul(ct, t.x), hn::Mul(st, b.x)), hn::Mul(cos_t, a.x)),
           hn::Add(hn::Add(hn::Mul(ct, t.y), hn::Mul(st, b.y)), hn::Mul(cos_t, a.y)),
           hn::Add(hn::Add(hn::Mul(ct, t.z), hn::Mul(st, b.z)), hn::Mul(cos_t, a.z))};
@@ -212,7 +229,7 @@ template <class D> struct RGBV {
 // Ward_Exp: exp(x) with the underflow decided at the same bound as the scalar code.
 template <class D> HWY_INLINE V<D> WardExp(D d, V<D> x) {
   using T = hn::TFromD<D>;
-  return hn::IfThenZeroElse(hn::Lt(x, K(d, T(sizeof(T) == sizeof(float) ? -104.0 : -746.0))), hn::Exp(d, x));
+  return hn::IfThenZeroElse(hn::Lt(x, K(d, T(sizeof(T) == sizeof(float) ? -104.0 : -746.0))), ExpNaN(d, x));
 }
 // E_Ward_Vector.
 template <class D> HWY_INLINE V<D> EWardVector(D d, V<D> hx, V<D> hy, V<D> hz, V<D> ax, V<D> ay) {
@@ -240,7 +257,7 @@ template <typename T> struct WardLobeK {
         const M<D> has_dir = hn::Gt(proj_len, hn::Zero(d));
         const V<D> cos_phi = hn::IfThenElse(has_dir, hn::Div(hn_.x, proj_len), K(d, 1));
         const V<D> sin_phi = hn::IfThenElseZero(has_dir, hn::Div(hn_.y, proj_len));
-        const V<D> tan_t = hn::Div(hn::Sin(d, theta), hn::Cos(d, theta));
+        const V<D> tan_t = hn::Div(SinNaN(d, theta), CosNaN(d, theta));
         e = WardExp(d, hn::Mul(hn::Neg(Sqr<D>(tan_t)),
                                hn::Add(Sqr<D>(hn::Div(cos_phi, vax)), Sqr<D>(hn::Div(sin_phi, vay)))));
         break;
@@ -277,7 +294,7 @@ template <typename T> struct WardLobeK {
   // t / sqrt(1 + t^2) and 1 / sqrt(1 + t^2).
   template <class D> HWY_INLINE V3<D> Sample(D d, const V3<D>& wo, V<D> u0, V<D> u1) const {
     const V<D> two_pi_u = hn::Mul(K(d, T(2) * kPi<T>), u1);
-    const V<D> px = hn::Mul(K(d, ax), hn::Cos(d, two_pi_u)), py = hn::Mul(K(d, ay), hn::Sin(d, two_pi_u));
+    const V<D> px = hn::Mul(K(d, ax), CosNaN(d, two_pi_u)), py = hn::Mul(K(d, ay), SinNaN(d, two_pi_u));
     const V<D> len = hn::Sqrt(hn::Add(hn::Mul(px, px), hn::Mul(py, py)));
     const V<D> c = hn::Div(px, len), s = hn::Div(py, len);
     const V<D> t2 = hn::Div(hn::Neg(hn::Log(d, hn::Sub(K(d, 1), u0))),
@@ -396,12 +413,12 @@ template <typename T> struct ASLobeK {
     // The argument of tan(pi / 2 x) in each quarter: q, 2 - q, q - 2, 4 - q.
     const V<D> x = hn::IfThenElse(q1, q, hn::IfThenElse(q2, hn::Sub(two, q), hn::IfThenElse(q3, hn::Sub(q, two), hn::Sub(K(d, 4), q))));
     const V<D> arg = hn::Mul(K(d, kPiOver2<T>), x);
-    const V<D> base = hn::Atan(d, hn::Mul(ratio, hn::Div(hn::Sin(d, arg), hn::Cos(d, arg))));
+    const V<D> base = hn::Atan(d, hn::Mul(ratio, hn::Div(SinNaN(d, arg), CosNaN(d, arg))));
     const V<D> phi = hn::IfThenElse(
         q1, base,
         hn::IfThenElse(q2, hn::Sub(K(d, kPi<T>), base),
                        hn::IfThenElse(q3, hn::Add(K(d, kPi<T>), base), hn::Sub(K(d, T(2) * kPi<T>), base))));
-    const V<D> c = hn::Cos(d, phi), s = hn::Sin(d, phi);
+    const V<D> c = CosNaN(d, phi), s = SinNaN(d, phi);
     const V<D> e = hn::Add(hn::Mul(hn::Mul(K(d, nu), c), c), hn::Mul(hn::Mul(K(d, nv), s), s));
     const V<D> cos_t = PowPositive(d, hn::Sub(one, u1), hn::Div(one, hn::Add(e, one)));
     const V<D> sin_t = SafeSqrt(d, hn::Sub(one, hn::Mul(cos_t, cos_t)));
@@ -502,8 +519,8 @@ template <typename T> struct GGXLobeK {
                    hn::Sub(hn::Mul(vh.x, t1.y), hn::Mul(t1.x, vh.y))};
     const V<D> r = hn::Sqrt(u0);
     const V<D> phi = hn::Mul(K(d, T(2) * kPi<T>), u1);
-    const V<D> p1 = hn::Mul(r, hn::Cos(d, phi));
-    V<D> p2 = hn::Mul(r, hn::Sin(d, phi));
+    const V<D> p1 = hn::Mul(r, CosNaN(d, phi));
+    V<D> p2 = hn::Mul(r, SinNaN(d, phi));
     const V<D> s = hn::Mul(K(d, T(0.5)), hn::Add(one, vh.z));
     p2 = hn::Add(hn::Mul(hn::Sub(one, s), SafeSqrt(d, hn::Sub(one, hn::Mul(p1, p1)))), hn::Mul(s, p2));
     const V<D> q = SafeSqrt(d, hn::Sub(hn::Sub(one, hn::Mul(p1, p1)), hn::Mul(p2, p2)));
@@ -566,7 +583,7 @@ template <typename T> struct LafortuneLobeK {
     if (!(scale[c] > T(0))) return hn::Zero(d);
     const M<D> pos = hn::Gt(base, hn::Zero(d));
     const V<D> safe = hn::IfThenElse(pos, base, K(d, 1));
-    return hn::IfThenElseZero(pos, hn::Exp(d, hn::Add(hn::Mul(K(d, n[c]), hn::Log(d, safe)), K(d, log_scale[c]))));
+    return hn::IfThenElseZero(pos, ExpNaN(d, hn::Add(hn::Mul(K(d, n[c]), hn::Log(d, safe)), K(d, log_scale[c]))));
   }
   // LafortuneLobeT::eval, channel c, p = wi * wo.
   template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& p, int c) const {

@@ -293,9 +293,7 @@ void append_table(std::string& out, const ModelSpec& spec, std::string_view head
   std::vector<const ModelSpec*> nested;
   for (const ParamSpec* p : spec.params()) {
     out += fmt::format("| `{}` | {} | {} | {} |\n", p->name, cell(describe_range(*p)), cell(default_text(*p)), cell(p->doc));
-    if (p->sub) nested.push_back(p->sub);
-    if (p->kind == ParamKind::TaggedObject)
-      for (auto c : p->choices) nested.push_back(&metal_lobe_spec(c));
+    for (const ModelSpec* sub : nested_specs(*p)) nested.push_back(sub);
   }
   for (const ModelSpec* sub : nested) {
     out += "\n";
@@ -304,6 +302,25 @@ void append_table(std::string& out, const ModelSpec& spec, std::string_view head
 }
 
 }  // namespace
+
+std::vector<const ModelSpec*> nested_specs(const ParamSpec& p) {
+  std::vector<const ModelSpec*> out;
+  if (p.sub) out.push_back(p.sub);
+  if (p.kind == ParamKind::TaggedObject)
+    for (auto c : p.choices) out.push_back(&metal_lobe_spec(c));
+  return out;
+}
+
+void walk_params(const ModelSpec& spec, const std::function<void(const ParamSpec& p, int depth)>& key,
+                 const std::function<void(const ParamSpec& p, const ModelSpec& sub, int depth)>& nested, int depth) {
+  for (const ParamSpec* p : spec.params()) {
+    key(*p, depth);
+    for (const ModelSpec* sub : nested_specs(*p)) {
+      nested(*p, *sub, depth);
+      walk_params(*sub, key, nested, depth + 1);
+    }
+  }
+}
 
 std::string markdown_table(const ModelSpec& spec) {
   std::string out;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <span>
@@ -99,6 +100,16 @@ const ModelSpec* find_model_spec(std::string_view name);
 const ModelSpec& lafortune_lobe_spec();
 const ModelSpec& metal_lobe_spec(std::string_view model);  // ward | ashikhmin-shirley | ggx
 const ModelSpec& directional_diffuse_spec();
+
+// The tables nested under a key: its `sub` (Object, List), or one metal lobe table per model it
+// accepts (TaggedObject); none for a plain key.
+std::vector<const ModelSpec*> nested_specs(const ParamSpec& p);
+
+// Walks a table depth first, as `aniso models` and the Python module's help print it: key(p, depth)
+// for each key in order, then for each table nested under it nested(p, sub, depth) and that
+// table's keys at depth + 1.
+void walk_params(const ModelSpec& spec, const std::function<void(const ParamSpec& p, int depth)>& key,
+                 const std::function<void(const ParamSpec& p, const ModelSpec& sub, int depth)>& nested, int depth = 0);
 
 std::string describe_range(const ParamSpec& p);
 // "0.15", "\"vector\"", "required", "(shorthand)" or "none" (optional, no default).

@@ -46,7 +46,9 @@
 #pragma GCC diagnostic ignored "-Wconversion"
 #pragma GCC diagnostic ignored "-Wcast-qual"
 #pragma GCC diagnostic ignored "-Wold-style-cast"
+#ifndef __clang__  // a GCC-only warning (clang would warn about the unknown group)
 #pragma GCC diagnostic ignored "-Wuseless-cast"
+#endif
 #define STB_IMAGE_STATIC
 // Only the decoders of the documented formats: stb_image otherwise detects a dozen formats by
 // content, and a 118-byte file named .png decoded as a run-length TGA of 6168 x 6168 pixels
