@@ -12,43 +12,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/gl_shader.h"
+
 namespace aniso::viewgl {
 
 namespace {
 
-unsigned compile(GLenum type, const char* source) {
-  const GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &source, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    glDeleteShader(s);
-    throw std::runtime_error(fmt::format("explorer shader does not compile: {}", log));
-  }
-  return s;
-}
-
-unsigned link(const char* vs, const char* fs) {
-  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
-  const GLuint p = glCreateProgram();
-  glAttachShader(p, v);
-  glAttachShader(p, f);
-  glLinkProgram(p);
-  glDeleteShader(v);
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    glDeleteProgram(p);
-    throw std::runtime_error(fmt::format("explorer shader does not link: {}", log));
-  }
-  return p;
-}
+unsigned link(const char* vs, const char* fs) { return gl::vertex_fragment_program(vs, fs, "explorer shader"); }
 
 // A full-screen triangle from gl_VertexID (no vertex buffer).
 constexpr const char* kFullScreenVS = R"(#version 330 core

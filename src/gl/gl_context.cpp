@@ -1,6 +1,7 @@
 // gl/gl_context.cpp: EGL without a window, through libepoxy (which resolves GL entry points with
 // eglGetProcAddress, so it works with EGL contexts and no GLX).
 #include "gl/gl_context.h"
+#include "gl/gl_shader.h"
 
 #include <cstdlib>
 #include <cstring>
@@ -122,35 +123,65 @@ std::string GlContext::version() const { return reinterpret_cast<const char*>(gl
 std::string GlContext::platform() const { return impl_->platform; }
 void GlContext::finish() const { glFinish(); }
 
-ComputeProgram::ComputeProgram(const std::string& source) {
-  GlContext::get();
-  const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+namespace {
+
+std::string info_log(GLuint id, bool program) {
+  GLint len = 0;
+  if (program) glGetProgramiv(id, GL_INFO_LOG_LENGTH, &len);
+  else glGetShaderiv(id, GL_INFO_LOG_LENGTH, &len);
+  std::string log(size_t(len > 0 ? len : 1), '\0');
+  if (program) glGetProgramInfoLog(id, len, nullptr, log.data());
+  else glGetShaderInfoLog(id, len, nullptr, log.data());
+  return log.c_str();
+}
+
+}  // namespace
+
+unsigned compile_shader(unsigned stage, const std::string& source, const std::string& what) {
+  const GLuint shader = glCreateShader(stage);
   const char* text = source.c_str();
   glShaderSource(shader, 1, &text, nullptr);
   glCompileShader(shader);
   GLint ok = 0;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    GLint len = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
-    std::string log(size_t(len > 0 ? len : 1), '\0');
-    glGetShaderInfoLog(shader, len, nullptr, log.data());
+    const std::string log = info_log(shader, false);
     glDeleteShader(shader);
-    throw GlError(fmt::format("compute shader does not compile:\n{}", log.c_str()));
+    throw GlError(fmt::format("{} does not compile:\n{}", what, log));
   }
-  id_ = glCreateProgram();
-  glAttachShader(id_, shader);
-  glLinkProgram(id_);
-  glDeleteShader(shader);
-  glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+  return shader;
+}
+
+unsigned link_program(std::initializer_list<unsigned> shaders, const std::string& what) {
+  const GLuint program = glCreateProgram();
+  for (const unsigned s : shaders) glAttachShader(program, s);
+  glLinkProgram(program);
+  for (const unsigned s : shaders) glDeleteShader(s);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint len = 0;
-    glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &len);
-    std::string log(size_t(len > 0 ? len : 1), '\0');
-    glGetProgramInfoLog(id_, len, nullptr, log.data());
-    glDeleteProgram(id_);
-    throw GlError(fmt::format("compute program does not link:\n{}", log.c_str()));
+    const std::string log = info_log(program, true);
+    glDeleteProgram(program);
+    throw GlError(fmt::format("{} does not link:\n{}", what, log));
   }
+  return program;
+}
+
+unsigned vertex_fragment_program(const std::string& vertex, const std::string& fragment, const std::string& what) {
+  const unsigned vs = compile_shader(GL_VERTEX_SHADER, vertex, what + ": vertex shader");
+  unsigned fs = 0;
+  try {
+    fs = compile_shader(GL_FRAGMENT_SHADER, fragment, what + ": fragment shader");
+  } catch (...) {
+    glDeleteShader(vs);
+    throw;
+  }
+  return link_program({vs, fs}, what + ": program");
+}
+
+ComputeProgram::ComputeProgram(const std::string& source) {
+  GlContext::get();
+  id_ = link_program({compile_shader(GL_COMPUTE_SHADER, source, "compute shader")}, "compute program");
 }
 
 ComputeProgram::~ComputeProgram() {

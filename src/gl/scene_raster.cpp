@@ -12,6 +12,7 @@
 
 #include "aniso/core/sampling.h"
 #include "gl/gl_context.h"
+#include "gl/gl_shader.h"
 #include "gl/glsl_library.h"
 #include "gl/glsl_material.h"
 
@@ -448,57 +449,11 @@ void main() {
 }
 )";
 
-std::string shader_log(GLuint id, bool program) {
-  GLint len = 0;
-  if (program) glGetProgramiv(id, GL_INFO_LOG_LENGTH, &len);
-  else glGetShaderiv(id, GL_INFO_LOG_LENGTH, &len);
-  std::string log(size_t(len > 0 ? len : 1), '\0');
-  if (program) glGetProgramInfoLog(id, len, nullptr, log.data());
-  else glGetShaderInfoLog(id, len, nullptr, log.data());
-  return log.c_str();
-}
-
-GLuint compile(GLenum stage, const std::string& source, const char* what) {
-  const GLuint s = glCreateShader(stage);
-  const char* text = source.c_str();
-  glShaderSource(s, 1, &text, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    const std::string log = shader_log(s, false);
-    glDeleteShader(s);
-    throw GlError(fmt::format("{} does not compile:\n{}", what, log));
-  }
-  return s;
-}
-
 // A linked vertex + fragment program with its uniform locations looked up once each.
 class Program {
  public:
-  Program(const std::string& vertex, const std::string& fragment, const std::string& what) {
-    const GLuint vs = compile(GL_VERTEX_SHADER, vertex, (what + ": vertex shader").c_str());
-    GLuint fs = 0;
-    try {
-      fs = compile(GL_FRAGMENT_SHADER, fragment, (what + ": fragment shader").c_str());
-    } catch (...) {
-      glDeleteShader(vs);
-      throw;
-    }
-    id_ = glCreateProgram();
-    glAttachShader(id_, vs);
-    glAttachShader(id_, fs);
-    glLinkProgram(id_);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(id_, GL_LINK_STATUS, &ok);
-    if (!ok) {
-      const std::string log = shader_log(id_, true);
-      glDeleteProgram(id_);
-      throw GlError(fmt::format("{}: program does not link:\n{}", what, log));
-    }
-  }
+  Program(const std::string& vertex, const std::string& fragment, const std::string& what)
+      : id_(vertex_fragment_program(vertex, fragment, what)) {}
   ~Program() {
     if (id_) glDeleteProgram(id_);
   }
