@@ -91,6 +91,7 @@ struct RecoveryCase {
   double rel_clean, rel_noisy;  // relative tolerance of every parameter without and with 2% noise
   double abs_floor;             // absolute tolerance for parameters near 0 (kd, rho_d)
 };
+void PrintTo(const RecoveryCase& c, std::ostream* os) { *os << c.name; }
 
 FitOptions opts(std::string model, bool aniso = false) {
   FitOptions o;
@@ -282,6 +283,7 @@ struct CornellCase {
   const char* name;
   double max_relative_l2cos;  // of the three-lobe fit
 };
+void PrintTo(const CornellCase& c, std::ostream* os) { *os << c.name; }
 class FitCornell : public ::testing::TestWithParam<CornellCase> {};
 
 TEST_P(FitCornell, ThreeLafortuneLobes) {

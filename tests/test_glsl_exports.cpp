@@ -56,6 +56,7 @@ std::string quote(const std::string& s) { return "'" + s + "'"; }
 struct CliMaterial {
   std::string name, arg;
 };
+void PrintTo(const CliMaterial& c, std::ostream* os) { *os << c.name; }
 
 // The test materials go inline (`-m '{...}'`): no files, so nothing is left in the temporary
 // directory by the many processes ctest starts (each one registers these parameters).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct NamedMaterial {
   std::string name;
   nlohmann::json json;
 };
+// GoogleTest prints a parameter in the test's ctest name and in failure messages: the name, not
+// the object's bytes.
+inline void PrintTo(const NamedMaterial& m, std::ostream* os) { *os << m.name; }
 
 // Every model, every Ward form x normalisation, isotropic and anisotropic, metals with each lobe.
 inline std::vector<NamedMaterial> all_model_materials() {
