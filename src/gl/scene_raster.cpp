@@ -675,6 +675,22 @@ struct SceneRasterizer::Impl {
     TangentFieldT<float> field;
     Vec3 bound_center{0.0f};
     float bound_radius = 0.0f;
+
+    // The object's tangent map as an RG32F texture (its doubled-angle encoding, nearest: the
+    // shader filters as the CPU does), replacing any earlier one; none without a map.
+    void upload_tangent_map(const render::TangentMap* tm) {
+      if (map) glDeleteTextures(1, &map);
+      map = 0;
+      map_size = glm::ivec2(0);
+      if (!tm) return;
+      glGenTextures(1, &map);
+      glBindTexture(GL_TEXTURE_2D, map);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, tm->width, tm->height, 0, GL_RG, GL_FLOAT, tm->doubled.data());
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      map_size = glm::ivec2(tm->width, tm->height);
+    }
   };
 
   render::Scene scene;
@@ -1031,16 +1047,7 @@ SceneRasterizer::SceneRasterizer(const render::Scene& scene, RasterSettings sett
     attrib(2, 2, offsetof(Vertex, uv));
     attrib(3, 3, offsetof(Vertex, dpdu));
     attrib(4, 3, offsetof(Vertex, ng));
-    if (o.tangent.map) {
-      const render::TangentMap& tm = *o.tangent.map;
-      glGenTextures(1, &g.map);
-      glBindTexture(GL_TEXTURE_2D, g.map);
-      glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, tm.width, tm.height, 0, GL_RG, GL_FLOAT, tm.doubled.data());
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-      g.map_size = glm::ivec2(tm.width, tm.height);
-    }
+    g.upload_tangent_map(o.tangent.map.get());
     if (o.shape != ShapeKind::Mesh) {
       const float kind = o.shape == ShapeKind::Sphere ? 0.0f : o.shape == ShapeKind::Disc ? 1.0f : 2.0f;
       m.analytic_occluders.push_back(glm::vec4(kind, o.radius, o.size.x, o.size.y));
@@ -1119,19 +1126,7 @@ void SceneRasterizer::set_tangent(size_t object, const render::TangentSource& ta
   if (tangent.map && o.shape == ShapeKind::Mesh && o.mesh->uvs.empty())
     throw InputError(fmt::format("{}: objects[{}]: a tangent map needs a mesh with UVs; this mesh has none", m.scene.source, object));
   Impl::ObjectGpu& g = m.objects[object];
-  if (g.map) glDeleteTextures(1, &g.map);
-  g.map = 0;
-  g.map_size = glm::ivec2(0);
-  if (tangent.map) {
-    const render::TangentMap& tm = *tangent.map;
-    glGenTextures(1, &g.map);
-    glBindTexture(GL_TEXTURE_2D, g.map);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, tm.width, tm.height, 0, GL_RG, GL_FLOAT, tm.doubled.data());
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    g.map_size = glm::ivec2(tm.width, tm.height);
-  }
+  g.upload_tangent_map(tangent.map.get());
   g.field = tangent.field;
   o.tangent = tangent;
 }
