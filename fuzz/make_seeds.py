@@ -128,6 +128,43 @@ for name, sel, data in [("rgb.png", 0, rgb_png), ("grey.png", 0, grey_png), ("rg
                         ("truncated.png", 0, rgb_png[:40])]:
     put("image", name, bytes([sel]) + data)
 
+
+# Radiance RLE scanlines (rows of 8 to 32767 pixels): 2, 2, the row length (big endian), then each
+# of R, G, B, E as runs (count > 128: the next byte count - 128 times) and literals (count <= 128).
+def rle_component(values):
+    out, i = bytearray(), 0
+    while i < len(values):
+        j = i
+        while j < len(values) and j - i < 127 and values[j] == values[i]:
+            j += 1
+        if j - i >= 3:
+            out += bytes([128 + j - i, values[i]])
+            i = j
+            continue
+        j = i + 1
+        while j < len(values) and j - i < 128 and not (j + 2 < len(values) and values[j] == values[j + 1] == values[j + 2]):
+            j += 1
+        out += bytes([j - i]) + bytes(values[i:j])
+        i = j
+    return bytes(out)
+
+
+def rle_hdr(w, h):
+    data = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w)
+    for y in range(h):
+        px = [((x * 7 + y) % 256, 128 if x < w // 2 else (x * 3) % 256, 200, 128 + (x + y) % 4) for x in range(w)]
+        data += b"\x02\x02" + struct.pack(">H", w) + b"".join(rle_component([p[k] for p in px]) for k in range(4))
+    return data
+
+
+rle = rle_hdr(64, 4)
+flat = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 40 +X 4\n" + bytes([128, 64, 32, 129]) * 160
+for name, data in [("rle-64x4.hdr", rle), ("rle-512x2.hdr", rle_hdr(512, 2)), ("rle-truncated.hdr", rle[:len(rle) - 40]),
+                   ("rle-truncated-49-bytes.hdr", b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n\x02\x02\x00\x08"),
+                   ("rle-run-past-end.hdr", rle[:rle.index(b"\x02\x02\x00\x40") + 4] + b"\xff\x01" + rle[-20:]),
+                   ("flat-truncated.hdr", flat[:len(flat) // 10])]:
+    put("image", name, b"\x01" + data)
+
 # --- tangent maps: selector bit 0 = PFM (else PNG), bit 1 = "xy" encoding (else "angle") --------
 angle_png = png(2, 2, [bytes([0, 0, 0, 128, 128, 128]), bytes([64, 64, 64, 255, 255, 255])])
 xy_png = png(2, 1, [bytes([255, 128, 0, 128, 255, 0])])

@@ -274,6 +274,77 @@ TEST(ImageIo, HdrIsReadLinear) {
   EXPECT_EQ(img.at(1, 0), RGB(2.0f));
 }
 
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// stb_image's Radiance decoder reads zeros past the end of the data: a truncated run-length
+// scanline looped for ever and a truncated flat file gave black pixels. Every cut must be an
+// error that names the file (a hang here is a ctest timeout).
+TEST(ImageIo, TruncatedOrCorruptRadianceHdrIsRefused) {
+  TempDir dir;
+  write_bytes(dir.path("49.hdr"), std::string("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n\x02\x02\x00\x08", 49));
+  expect_read_error(dir.path("49.hdr"), "truncated Radiance HDR: scanline 0 of 2 ends past the end of the file (49 bytes");
+
+  // examples/assets/studio.hdr: 512 x 256, run-length encoded. Whole, it reads; cut anywhere
+  // inside its pixels, it is refused.
+  const std::string studio = file_bytes(std::string(ANISO_SOURCE_DIR) + "/examples/assets/studio.hdr");
+  ASSERT_GT(studio.size(), 20000u);
+  write_bytes(dir.path("studio.hdr"), studio);
+  const Image whole = read_image(dir.path("studio.hdr"), "test");
+  EXPECT_EQ(whole.width, 512);
+  EXPECT_EQ(whole.height, 256);
+  for (size_t cut : {size_t(200), size_t(1000), studio.size() / 2, studio.size() - 1}) {
+    write_bytes(dir.path("cut.hdr"), studio.substr(0, cut));
+    expect_read_error(dir.path("cut.hdr"), "truncated Radiance HDR: scanline ");
+  }
+  write_bytes(dir.path("header.hdr"), studio.substr(0, 60));
+  expect_read_error(dir.path("header.hdr"), "corrupt or unsupported image");
+
+  // The first scanline's marker, then a row length that is not the image's width; then a run that
+  // reaches past the end of its row.
+  const size_t data_start = studio.find("+X 512\n") + 7;
+  std::string bad = studio;
+  bad[data_start + 3] = 1;  // 512 -> 513
+  write_bytes(dir.path("len.hdr"), bad);
+  expect_read_error(dir.path("len.hdr"), "scanline 0 of 256 (byte 95) claims 513 pixels, the image is 512 wide");
+  std::string run = studio.substr(0, data_start + 4);
+  for (int i = 0; i < 5; ++i) run += "\xff\x80";  // 5 runs of 127 > 512
+  write_bytes(dir.path("run.hdr"), run + studio.substr(data_start + 4));
+  expect_read_error(dir.path("run.hdr"), "scanline 0 of 256 (byte 107) has a run past its end");
+
+  // Flat rows (fewer than 8 pixels) cut to 10 %: refused, not black.
+  std::string flat = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 40 +X 4\n";
+  const size_t header = flat.size();
+  for (int i = 0; i < 160; ++i) flat += "\x80\x40\x20\x81";
+  write_bytes(dir.path("flat.hdr"), flat);
+  EXPECT_EQ(read_image(dir.path("flat.hdr"), "test").at(3, 39), RGB(1.0f, 0.5f, 0.25f));
+  write_bytes(dir.path("flat10.hdr"), flat.substr(0, header + 64));
+  expect_read_error(dir.path("flat10.hdr"), "truncated Radiance HDR: scanline 4 of 40 ends past the end of the file");
+}
+
+// The size limit is checked from the header, before decoding: a PNG header claiming 16384 x 16384
+// pixels (a valid such file compresses to 32 KB) is refused at once.
+TEST(ImageIo, ImagesBeyondTheSizeLimitAreRefusedFromTheHeader) {
+  TempDir dir;
+  auto png_header = [](uint32_t w, uint32_t h) {
+    std::string s("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR", 16);
+    for (uint32_t v : {w, h})
+      for (int b = 3; b >= 0; --b) s.push_back(char((v >> (8 * b)) & 0xff));
+    s += std::string("\x08\x02\0\0\0", 5) + std::string(4, '\0');  // 8-bit RGB; CRC unchecked by stb_image
+    return s + std::string("\0\0\0\0IEND\xae\x42\x60\x82", 12);
+  };
+  write_bytes(dir.path("big.png"), png_header(16384, 16384));
+  expect_read_error(dir.path("big.png"),
+                    "image too large (16384 x 16384 = 268435456 pixels; at most 67108864 pixels, e.g. 8192 x 8192 or 16384 x 4096)");
+  write_bytes(dir.path("wide.png"), png_header(16384, 4097));
+  expect_read_error(dir.path("wide.png"), "image too large (16384 x 4097");
+  // At the limit the header passes and decoding starts (and fails on the missing pixel data).
+  write_bytes(dir.path("limit.png"), png_header(16384, 4096));
+  expect_read_error(dir.path("limit.png"), "more than a file of");
+}
+
 TEST(ImageIo, BadInputIsAnInputErrorNamingWhereAndPath) {
   TempDir dir;
   expect_read_error(dir.path("missing.hdr"), "cannot open (No such file or directory)");

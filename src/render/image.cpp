@@ -98,14 +98,19 @@ std::string lower_extension(const std::string& path) {
 
 std::string errno_text(int err) { return std::strerror(err); }
 
-// Large enough for a 16k x 16k environment map; a corrupt header claiming more is refused before
-// anything is allocated.
-constexpr int64_t kMaxPixels = int64_t(1) << 28;
+// The largest image read: 2^26 pixels (8192 x 8192, 16384 x 4096). An environment map holds about
+// 32 bytes a pixel (the float RGB image, its luminance and the sampling tables of
+// render/environment.cpp), 2 GiB at this size, and the decoder's own copy comes on top while it
+// is read. Checked from the header, before anything is decoded or allocated (a 32 KB PNG can
+// claim 16384 x 16384 pixels).
+constexpr int64_t kMaxPixels = int64_t(1) << 26;
 
 void check_size(int64_t w, int64_t h, const std::string& where, const std::string& path) {
   if (w <= 0 || h <= 0) input_error(where, path, fmt::format("zero-size image ({} x {})", w, h));
   if (w > kMaxPixels || h > kMaxPixels || w * h > kMaxPixels)
-    input_error(where, path, fmt::format("image too large ({} x {}; at most {} pixels)", w, h, kMaxPixels));
+    input_error(where, path,
+                fmt::format("image too large ({} x {} = {} pixels; at most {} pixels, e.g. 8192 x 8192 or 16384 x 4096)",
+                            w, h, w * h, kMaxPixels));
 }
 
 // Reads a whole regular file. Every failure is an InputError that says which one it was.
@@ -164,6 +169,76 @@ const std::array<float, 256>& srgb_decode_table() {
 // ---------------------------------------------------------------------------------------------
 // Readers
 
+// stb_image's Radiance decoder (stbi__hdr_load) does not check for the end of the data: past it,
+// every byte reads as 0, so a truncated run-length scanline reads "a literal run of 0 bytes" for
+// ever (a 49-byte file hung every reader), and a truncated flat file decodes as black pixels.
+// This walk follows the same layout with bounds checks, so that stb_image is only given files
+// whose pixels all lie inside the data; the decoding itself stays stb_image's.
+//
+// Layout (Radiance's src/common/color.c, freadcolrs(), as stbi__hdr_load reads it): header
+// lines up to an empty line, the resolution line "-Y <h> +X <w>", then <h> scanlines. Rows of
+// fewer than 8 or more than 32767 pixels are flat (4 bytes a pixel). Other rows are run-length
+// encoded: 2, 2, then the row length (15 bits, big endian), then each of the 4 components (R, G,
+// B, E) as runs: a count byte c > 128 repeats the next byte c - 128 times, c <= 128 copies the
+// next c bytes. A first scanline without the 2, 2 marker makes stb_image read the whole image flat;
+// a later one makes it restart at pixel 0, which no writer produces: that is refused.
+void check_radiance_pixels(const std::vector<unsigned char>& data, int64_t w, int64_t h, const std::string& where,
+                           const std::string& path) {
+  const size_t n = data.size();
+  // The pixels start after the first empty line and the resolution line that follows it.
+  size_t pos = 0;
+  bool empty_line_seen = false;
+  for (;;) {
+    const size_t start = pos;
+    while (pos < n && data[pos] != '\n') ++pos;
+    if (pos == n) input_error(where, path, "truncated Radiance HDR header (no pixel data)");
+    ++pos;
+    if (empty_line_seen) break;  // that was the resolution line
+    empty_line_seen = pos - start == 1;
+  }
+  const size_t header_end = pos;
+  auto truncated = [&](int64_t row) {
+    input_error(where, path,
+                fmt::format("truncated Radiance HDR: scanline {} of {} ends past the end of the file ({} bytes; the "
+                            "pixels start at byte {})",
+                            row, h, n, header_end));
+  };
+  auto flat = [&](size_t from) {
+    const uint64_t need = uint64_t(w) * uint64_t(h) * 4;
+    if (n - from < need) truncated(int64_t((n - from) / (uint64_t(w) * 4)));
+  };
+  if (w < 8 || w > 32767) return flat(pos);
+  for (int64_t y = 0; y < h; ++y) {
+    if (n - pos < 4) truncated(y);
+    if (data[pos] != 2 || data[pos + 1] != 2 || (data[pos + 2] & 0x80) != 0) {
+      if (y == 0) return flat(pos);
+      input_error(where, path,
+                  fmt::format("corrupt Radiance HDR: scanline {} of {} (byte {}) is flat after run-length encoded ones",
+                              y, h, pos));
+    }
+    const int64_t len = int64_t(data[pos + 2]) << 8 | data[pos + 3];
+    if (len != w)
+      input_error(where, path,
+                  fmt::format("corrupt Radiance HDR: scanline {} of {} (byte {}) claims {} pixels, the image is {} wide",
+                              y, h, pos, len, w));
+    pos += 4;
+    for (int k = 0; k < 4; ++k)
+      for (int64_t x = 0; x < w;) {
+        if (pos >= n) truncated(y);
+        const unsigned c = data[pos++];
+        const int64_t count = c > 128 ? c - 128 : c;
+        const size_t bytes = c > 128 ? 1 : c;
+        if (count > w - x)
+          input_error(where, path,
+                      fmt::format("corrupt Radiance HDR: scanline {} of {} (byte {}) has a run past its end", y, h,
+                                  pos - 1));
+        if (n - pos < bytes) truncated(y);
+        pos += bytes;
+        x += count;
+      }
+  }
+}
+
 Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, const std::string& where,
                const std::string& path, bool linear_8bit) {
   const auto* bytes = data.data();
@@ -207,6 +282,7 @@ Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, c
   Image img;
   auto fail = [&] { input_error(where, path, fmt::format("corrupt or truncated image ({})", stbi_failure_reason())); };
   if (ext == ".hdr") {
+    check_radiance_pixels(data, w, h, where, path);
     std::unique_ptr<float, void (*)(void*)> px(stbi_loadf_from_memory(bytes, len, &w, &h, &comp, 3), &stbi_image_free);
     if (!px) fail();
     img = Image(w, h);
