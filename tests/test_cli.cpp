@@ -173,6 +173,17 @@ TEST_F(CliEval, AgreesWithTheLibrary) {
   }
 }
 
+// Nearly opposite grazing directions: h.wi is rounding alone, and Ashikhmin-Shirley printed -1.34e17.
+TEST_F(CliEval, AshikhminShirleyNearlyOppositeGrazingPairIsNotNegative) {
+  const Result r = run({"eval", "-m", "{\"model\":\"ashikhmin-shirley\"}"},
+                       "0.9519527964440391 -0.30624479316777603 2.6982672065979276e-10 "
+                       "-0.9519527964455237 0.3062447931631613 2.7586451918744186e-11\n");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto v = numbers_of(r.out);
+  ASSERT_EQ(v.size(), 4u) << r.out;
+  for (double x : v) EXPECT_TRUE(std::isfinite(x) && x >= 0.0) << r.out;
+}
+
 TEST_F(CliEval, WrongNumberOfFieldsNamesTheLineAndPrintsNothing) {
   // Line 1 is valid: it must not be printed either (all lines are checked before any output).
   const Result r = run({"eval", "--material", "clay"}, "0 0 1 0 0 1\n0 0 1 0 0\n");

@@ -394,10 +394,10 @@ template <typename T> struct ASLobeK {
     const V<D> e = hn::Div(hn::Add(hn::Mul(hn::Mul(K(d, nu), hot), hot), hn::Mul(hn::Mul(K(d, nv), hob), hob)), s2);
     return hn::IfThenElse(hn::Gt(s2, hn::Zero(d)), e, K(d, nu));
   }
-  // AS_Specular for a unit h (h.z > 0 above the horizon).
+  // AS_Specular for a unit h (h.z > 0 above the horizon), 0 unless h.wi > 0.
   template <class D> HWY_INLINE V<D> Specular(D d, const V3<D>& h, V<D> hol, V<D> nol, V<D> nov) const {
     const V<D> p = PowPositive(d, h.z, Exponent(d, h.x, h.y));
-    return hn::Div(hn::Mul(K(d, spec_norm), p), hn::Mul(hol, hn::Max(nol, nov)));
+    return hn::IfThenElseZero(hn::Gt(hol, hn::Zero(d)), hn::Div(hn::Mul(K(d, spec_norm), p), hn::Mul(hol, hn::Max(nol, nov))));
   }
   template <class D> HWY_INLINE V<D> Eval(D d, const V3<D>& wi, const V3<D>& wo) const {
     const V3<D> h = Normalize(d, Add3(wi, wo));

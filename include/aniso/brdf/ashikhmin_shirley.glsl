@@ -15,8 +15,10 @@ float AS_Exponent(float HoT, float HoB, float nu, float nv) {
   return s2 > 0.0 ? (nu * HoT * HoT + nv * HoB * HoB) / s2 : nu;
 }
 
-// The specular term without Fresnel (Eq. 4 with F = 1).
+// The specular term without Fresnel (Eq. 4 with F = 1); 0 unless h.wi > 0, as the pdf is unless
+// h.wo > 0 (h.wi is rounding alone for nearly opposite grazing directions: ashikhmin_shirley.h).
 float AS_Specular(float HoT, float HoB, float HoN, float HoL, float NoL, float NoV, float nu, float nv) {
+  if (!(HoL > 0.0)) return 0.0;
   float e = AS_Exponent(HoT, HoB, nu, nv);
   return sqrt((nu + 1.0) * (nv + 1.0)) / (8.0 * kPi) * pow(HoN, e) / (HoL * (NoL > NoV ? NoL : NoV));
 }

@@ -26,10 +26,15 @@ template <typename T> ANISO_INLINE T AS_Exponent(T HoT, T HoB, T nu, T nv) {
   return s2 > T(0) ? (nu * HoT * HoT + nv * HoB * HoB) / s2 : nu;
 }
 
-// The specular term without Fresnel (Eq. 4 with F = 1).
+// The specular term without Fresnel (Eq. 4 with F = 1). h.wi = |wi + wo| / 2 > 0 for any two
+// directions above the horizon, but computed as dot(h, wi) it is rounding alone when wi and wo are
+// nearly opposite and grazing (wi + wo cancels to a few ulp): there it came out negative, and so
+// did f (-1.3e17 for a double pair at cos 3e-10). As the pdfs do with h.wo (p_h / (4 h.wo) is 0
+// unless h.wo > 0), the term is 0 unless h.wi > 0.
 template <typename T> ANISO_INLINE T AS_Specular(T HoT, T HoB, T HoN, T HoL, T NoL, T NoV, T nu, T nv) {
   using std::pow;
   using std::sqrt;
+  if (!(HoL > T(0))) return T(0);
   const T e = AS_Exponent(HoT, HoB, nu, nv);
   return sqrt((nu + T(1)) * (nv + T(1))) / (T(8) * kPi<T>) * pow(HoN, e) / (HoL * (NoL > NoV ? NoL : NoV));
 }
