@@ -1,20 +1,17 @@
 // apps/aniso/cmd_export.cpp: `aniso export-glsl` and `aniso export-brdf` (docs/glsl.md).
 // The material is read and built exactly as `aniso eval` reads it, so both reject the same
-// materials with the same InputError; the file is written to a temporary name and renamed, so a
+// materials with the same InputError; the file is written atomically (io/atomic_file.h), so a
 // failure leaves no partial file.
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <memory>
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include "commands.h"
 #include "gl/glsl_export.h"
+#include "io/atomic_file.h"
 #include "io/materials.h"
 
 namespace aniso {
@@ -26,41 +23,20 @@ void write_all(std::FILE* f, const std::string& text, const std::string& what) {
     throw std::runtime_error(fmt::format("{}: write error: {}", what, std::strerror(errno)));
 }
 
-// stdout for "" and "-". An existing file that is not a regular file (a device such as /dev/null,
-// a FIFO, a terminal) is written in place: renaming a temporary over it would replace the device
-// node itself. Anything else goes to a temporary name beside the target and is renamed into
-// place, so a failure leaves no partial file.
+// stdout for "" and "-"; a file otherwise, through the one atomic writer (io/atomic_file.h: a
+// temporary file renamed into place, modes and symbolic links kept, nothing left behind on
+// failure or on SIGTERM; a FIFO or a device written in place).
 void write_atomically(const std::string& path, const std::string& text) {
   if (path.empty() || path == "-") {
     write_all(stdout, text, "stdout");
     return;
   }
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (fs::is_directory(st)) throw InputError(fmt::format("-o {}: is a directory", path));
-  if (fs::exists(st) && !fs::is_regular_file(st)) {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
-    if (!f) throw InputError(fmt::format("-o {}: cannot open for writing: {}", path, std::strerror(errno)));
-    write_all(f.get(), text, fmt::format("-o {}", path));
-    if (std::fclose(f.release()) != 0) throw std::runtime_error(fmt::format("-o {}: write error: {}", path, std::strerror(errno)));
-    return;
-  }
-  const std::string tmp = fmt::format("{}.tmp{}", path, getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(fmt::format("-o {}: cannot open for writing", path));
-    out.write(text.data(), std::streamsize(text.size()));
-    out.close();
-    if (!out) {
-      fs::remove(tmp, ec);
-      throw std::runtime_error(fmt::format("-o {}: write failed", path));
-    }
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(fmt::format("-o {}: cannot rename the temporary file into place", path));
+  try {
+    io::write_file_atomically(path, text);
+  } catch (const io::FileWriteError& e) {
+    if (e.reason() == "is a directory") throw InputError(fmt::format("-o {}: is a directory", path));
+    if (!e.created()) throw InputError(fmt::format("-o {}: cannot open for writing: {}", path, e.reason()));
+    throw std::runtime_error(fmt::format("-o {}: write error: {}", path, e.reason()));
   }
 }
 

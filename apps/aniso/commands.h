@@ -12,8 +12,8 @@
 
 namespace aniso {
 
-// Writes text to `path` through a temporary file renamed into place (no half-written file on
-// failure); "" or "-" is stdout. InputError for a directory or an unwritable path.
+// Writes text to `path` with io::write_file_atomically (io/atomic_file.h); "" or "-" is stdout.
+// InputError for a directory or a path that cannot be created, exit 1 for a failed write.
 void write_atomically(const std::string& path, const std::string& text);
 
 // Runs a command inside CLI11's callback with main()'s error conventions: InputError exits 2 with

@@ -12,8 +12,8 @@
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
-#include <unistd.h>
 
+#include "io/atomic_file.h"
 #include "io/params.h"
 
 namespace aniso {
@@ -168,25 +168,10 @@ void write_merl(const std::string& path, const MerlBrdf& brdf) {
                                    describe_value(n), brdf.table[n], kMaxStored));
   }
   const int32_t dims[3] = {MerlLayout::kThetaH, MerlLayout::kThetaD, MerlLayout::kPhiD};
-  const std::string tmp = fmt::format("{}.tmp-{}", path, ::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot create: {}", tmp, std::strerror(errno)));
-    out.write(reinterpret_cast<const char*>(dims), sizeof dims);
-    out.write(reinterpret_cast<const char*>(raw.data()), std::streamsize(raw.size() * sizeof(double)));
-    out.close();
-    if (!out) {
-      const int err = errno;
-      std::remove(tmp.c_str());
-      throw std::runtime_error(fmt::format("{}: write error: {}", tmp, std::strerror(err)));
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(fmt::format("{}: cannot rename the written file into place: {}", path, ec.message()));
-  }
+  io::AtomicFile out(path);
+  out.write(dims, sizeof dims);
+  out.write(raw.data(), raw.size() * sizeof(double));
+  out.commit();
 }
 
 MerlBrdf tabulate_merl(const MaterialD& m) {

@@ -47,7 +47,7 @@ struct MerlBrdf {
 // Throws InputError naming the file and the byte offset of the problem.
 MerlBrdf read_merl(const std::string& path);
 
-// Writes the file through a temporary beside it and a rename (never a half-written file); throws
+// Writes the file with io::AtomicFile (io/atomic_file.h: never a half-written file); throws
 // std::runtime_error on a write error, InputError on a table of the wrong size or a non-finite value.
 // Stored numbers are table / scale, chosen (within 2 ulps) so that read_merl gives the table back
 // bit for bit whenever the value is a product number * scale, as every table read_merl or

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <bit>
 #include <cerrno>
 #include <cmath>
@@ -16,8 +15,6 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
-
-#include <unistd.h>  // getpid, fsync
 
 #include <fmt/format.h>
 
@@ -29,6 +26,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 
+#include "io/atomic_file.h"
 #include "io/params.h"
 
 // Third-party single-header libraries: their own code is not held to the project's warning flags.
@@ -430,56 +428,10 @@ Image read_exr(const std::vector<unsigned char>& data, const std::string& where,
 }
 
 // ---------------------------------------------------------------------------------------------
-// Writers: every format is encoded to memory first, then written with write_atomically().
+// Writers: every format is encoded to memory first, then written with io::write_file_atomically().
 
-// Writes `bytes` to a temporary file beside `path` (same file system, so the rename is atomic),
-// flushes it to disk, and renames it over `path`. On any failure the temporary file is removed.
-// An existing target that is not a regular file or a directory (a FIFO, a device) is written in
-// place instead: a rename would replace the device node or FIFO itself.
-void write_atomically(const std::string& path, const std::vector<unsigned char>& bytes) {
-  {
-    std::error_code ec;
-    const fs::file_status st = fs::status(path, ec);
-    if (!ec && fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st)) {
-      std::FILE* f = std::fopen(path.c_str(), "wb");
-      if (!f) write_error(path, errno_text(errno));
-      const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && std::fflush(f) == 0;
-      const int err = errno;
-      const bool closed = std::fclose(f) == 0;
-      if (!written || !closed) write_error(path, errno_text(written ? errno : err));
-      return;
-    }
-  }
-  static std::atomic<unsigned> counter{0};
-  const std::string tmp = fmt::format("{}.tmp-{}-{}", path, ::getpid(), counter.fetch_add(1));
-  struct RemoveOnFailure {
-    const std::string& tmp;
-    bool done = false;
-    ~RemoveOnFailure() {
-      if (!done) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-      }
-    }
-  };
-
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) write_error(path, fmt::format("cannot create {} ({})", tmp, errno_text(errno)));
-  RemoveOnFailure guard{tmp};
-  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() && std::fflush(f) == 0;
-  int err = errno;
-  // fsync before the rename: otherwise a crash can leave an empty file under the final name.
-  // EINVAL: the file system does not support syncing, nothing to wait for.
-  const bool synced = written && (::fsync(::fileno(f)) == 0 || errno == EINVAL);
-  if (written && !synced) err = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (synced && !closed) err = errno;
-  if (!written || !synced || !closed) write_error(path, errno_text(err));
-
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) write_error(path, ec.message());
-  guard.done = true;
+void write_bytes(const std::string& path, const std::vector<unsigned char>& bytes) {
+  io::write_file_atomically(path, bytes.data(), bytes.size());
 }
 
 class MemoryOStream : public Imf::OStream {
@@ -675,7 +627,7 @@ void write_image(const std::string& path, const Image& img, const ToneMapOptions
         fmt::format("cannot write {}: unknown image extension \"{}\" (expected .png, .exr or .pfm)", path, ext));
   check_writable(path, img.width, img.height, img.rgb.size());
   if (ext == ".png") write_png(path, tonemap(img, tm));
-  else write_atomically(path, ext == ".exr" ? encode_exr(path, img) : encode_pfm(img));
+  else write_bytes(path, ext == ".exr" ? encode_exr(path, img) : encode_pfm(img));
 }
 
 void write_png(const std::string& path, const DisplayImage& img) {
@@ -689,7 +641,7 @@ void write_png(const std::string& path, const DisplayImage& img) {
   };
   if (!stbi_write_png_to_func(append, &bytes, img.width, img.height, 3, img.rgb.data(), img.width * 3))
     write_error(path, "PNG encoding failed");
-  write_atomically(path, bytes);
+  write_bytes(path, bytes);
 }
 
 int text_width(std::string_view text, float pixel_height) {

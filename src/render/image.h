@@ -72,8 +72,9 @@ Image read_image(const std::string& path, const std::string& where, bool linear_
 // Writes by extension: .png (tone-mapped with `tm`, 8-bit sRGB), .exr (32-bit float R, G, B, ZIP
 // compression), .pfm ("PF", little endian, rows bottom to top as the format wants). An unknown
 // extension is an InputError; an empty image or an I/O failure a std::runtime_error reading
-// "cannot write <path>: <reason>". Atomic: the bytes go to "<path>.tmp-<pid>-<n>" beside the
-// target, are flushed to disk, and the file is renamed over `path`; on failure it is removed.
+// "cannot write <path>: <reason>". Atomic, through io::write_file_atomically (io/atomic_file.h:
+// a temporary file beside the target, fsync, rename; mode and symbolic links kept; removed on
+// failure and on SIGTERM, SIGHUP, SIGINT and SIGXFSZ).
 void write_image(const std::string& path, const Image& img, const ToneMapOptions& tm = {});
 void write_png(const std::string& path, const DisplayImage& img);
 
