@@ -11,14 +11,20 @@ deps:
 	@bash scripts/install-deps.sh
 
 configure: deps
-	@cmake --preset $(PRESET) >/dev/null
+	@cmake --preset $(PRESET) -DANISO_RENDER_ONLY=OFF >/dev/null
 
 build: configure
 	@cmake --build --preset $(PRESET) -j $(JOBS)
 	@echo "built $(BIN)/aniso"
 
-# The main job: the built-in gallery -> aniso-gallery.png in the current directory.
-render: build
+# The main job: the built-in gallery -> aniso-gallery.png in the current directory. Only what the
+# picture needs: the packages of the `aniso` executable, then that target alone (no tests,
+# benchmarks, fuzz targets or Python module; `make test` adds them in the same build directory).
+# A build directory configured already keeps its configuration.
+render:
+	@bash scripts/install-deps.sh --render
+	@test -f build/$(PRESET)/CMakeCache.txt || cmake --preset $(PRESET) -DANISO_RENDER_ONLY=ON >/dev/null
+	@cmake --build --preset $(PRESET) -j $(JOBS) --target aniso
 	@$(BIN)/aniso render
 
 test: build

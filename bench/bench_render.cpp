@@ -14,6 +14,9 @@
 //                 time (all threads), so that equal time holds on a loaded machine too.
 //   5. lights     light selection, one by power vs every light, at equal CPU time: two gallery
 //                 cells (three candidates) and 6, 12 and 24 sphere lights over a brushed disc.
+//   6. adaptive   film.noise_threshold against uniform spp at equal RMSE: four gallery cells and
+//                 the brushed-metal scene, CPU time.
+//   7. fireflies  integrator.clamp and integrator.filter_glossy on the gallery torus: RMSE, bias.
 //   4. sampler    the RMSE of Owen-scrambled Sobol' vs independent samples at EQUAL SPP (the
 //                 gallery's 48) on the brushed-metal scene and on two gallery cells (a glossy
 //                 anisotropic sphere, the concentric disc).
@@ -24,7 +27,7 @@
 // of the MSE against the true image, since x is independent of the reference).
 //
 // Options: --quick (smaller everything, for a smoke test: ctest aniso_bench_render_quick),
-// --threads N, --only SECTION (1 to 5), --images DIR (write the gallery and the strategy
+// --threads N, --only SECTION (1 to 7), --images DIR (write the gallery and the strategy
 // comparison renders as PNG), --scene FILE (the scene of sections 3 and 4).
 #include <algorithm>
 #include <atomic>
@@ -336,6 +339,95 @@ void bench_light_selection(const Args& a) {
   fmt::print("\n");
 }
 
+// Adaptive sampling at equal quality, on 64 x 64 gallery cells and the brushed-metal scene at 96
+// pixels wide (a 1024-spp reference each): uniform spp at 4 to 128 (the CPU time uniform sampling
+// needs for an RMSE: interpolated in log-log between them), and film.noise_threshold at 0.1, 0.05,
+// 0.02 with the spp cap at 512: each adaptive render's CPU time against the uniform time for its
+// RMSE.
+void bench_adaptive(const Args& a) {
+  const int threads = thread_count(a);
+  fmt::print("## 6. Adaptive sampling at equal RMSE (MIS, Sobol')
+
+");
+  fmt::print("| scene | noise threshold | mean spp | RMSE | CPU time | uniform spp CPU time at that RMSE | gain |\n");
+  fmt::print("|---|---:|---:|---:|---:|---:|---:|\n");
+  const auto rows = [&](const std::string& name, Scene scene) {
+    fmt::print(stderr, "adaptive sampling: {}...\n", name);
+    const Reference ref = make_reference(scene, a.quick ? 256 : 1024, threads);
+    std::vector<double> log_t, log_e;  // the uniform renders, RMSE decreasing
+    for (int spp : a.quick ? std::vector<int>{4, 8} : std::vector<int>{4, 8, 16, 32, 64, 128}) {
+      const Rendered r = render_with(scene, Strategy::Mis, SamplerKind::Sobol, spp, 77, threads);
+      log_t.push_back(std::log(std::max(r.cpu, 1e-6)));
+      log_e.push_back(std::log(std::max(rmse(r.img, ref), 1e-30)));
+    }
+    // CPU time of uniform sampling at RMSE e: linear in log-log between the two renders around it
+    // (the end segments extended).
+    const auto uniform_time = [&](double e) {
+      const double le = std::log(std::max(e, 1e-30));
+      size_t i = 0;
+      while (i + 2 < log_e.size() && le < log_e[i + 1]) ++i;
+      const double f = (le - log_e[i]) / (log_e[i + 1] - log_e[i]);
+      return std::exp(log_t[i] + f * (log_t[i + 1] - log_t[i]));
+    };
+    for (const float t : a.quick ? std::vector<float>{0.1f} : std::vector<float>{0.1f, 0.05f, 0.02f}) {
+      Scene sc = scene;
+      sc.film.noise_threshold = t;
+      sc.film.spp = a.quick ? 64 : 512;
+      RenderOptions o;
+      o.threads = threads;
+      o.seed = 77;
+      RenderStats st;
+      const double c0 = cpu_seconds();
+      const Image img = aniso::render::render(sc, o, &st);
+      const double cpu = cpu_seconds() - c0, e = rmse(img, ref), uniform_t = uniform_time(e);
+      fmt::print("| {} | {} | {:.1f} | {:.4f} | {:.2f} s | {:.2f} s | {:.2f}x |\n", name, t, st.mean_spp, e, cpu, uniform_t, uniform_t / cpu);
+    }
+  };
+  const int px = a.quick ? 48 : 64;
+  for (const size_t cell : {size_t(1), size_t(5), size_t(8), size_t(11)}) {
+    json sj = gallery_cell_scene(cell);
+    sj["film"]["width"] = px;
+    sj["film"]["height"] = px;
+    rows("gallery: " + sj.at("name").get<std::string>(), parse_scene(sj, "gallery cell", ""));
+  }
+  rows(small_scene(a.scene, a.quick ? 64 : 96).source, small_scene(a.scene, a.quick ? 64 : 96));
+  fmt::print("\n");
+}
+
+// Fireflies: the gallery torus (brushed copper, the key light reflected through two brushed
+// bounces) at 48 spp, 64 x 64, with integrator.clamp and integrator.filter_glossy, against the
+// unbiased 1024-spp reference: RMSE, bias of the image mean, and the brightest pixel.
+void bench_fireflies(const Args& a) {
+  const int threads = thread_count(a);
+  json sj = gallery_cell_scene(11);
+  sj["film"]["width"] = sj["film"]["height"] = a.quick ? 32 : 64;
+  const Scene base = parse_scene(sj, "gallery: Torus", "");
+  fmt::print(stderr, "fireflies: reference...\n");
+  const Reference ref = make_reference(base, a.quick ? 128 : 1024, threads);
+  float ref_max = 0.0f;
+  for (float v : ref.mean.rgb) ref_max = std::max(ref_max, v);
+  fmt::print("## 7. Fireflies: clamp and glossy filter (gallery torus, {}x{}, 48 spp, MIS, Sobol')\n\n", base.film.width, base.film.height);
+  fmt::print("Reference: 1024 spp, unbiased, mean {:.4f}, brightest value {:.2f}.\n\n", ref.mean_value, ref_max);
+  fmt::print("| setting | RMSE | bias of the mean | brightest value | CPU time |\n|---|---:|---:|---:|---:|\n");
+  struct Setting {
+    const char* name;
+    float clamp, filter;
+  };
+  for (const Setting& st : {Setting{"none (default)", 0.0f, 0.0f}, Setting{"clamp 10", 10.0f, 0.0f}, Setting{"clamp 3", 3.0f, 0.0f},
+                            Setting{"filter_glossy 1", 0.0f, 1.0f}, Setting{"filter_glossy 0.3", 0.0f, 0.3f}}) {
+    Scene sc = base;
+    sc.integrator.clamp = st.clamp;
+    sc.integrator.filter_glossy = st.filter;
+    const Rendered r = render_with(sc, Strategy::Mis, SamplerKind::Sobol, a.quick ? 8 : 48, 77, threads);
+    double mean = 0.0;
+    float mx = 0.0f;
+    for (float v : r.img.rgb) mean += v, mx = std::max(mx, v);
+    mean /= double(r.img.rgb.size());
+    fmt::print("| {} | {:.4f} | {:+.2f}% | {:.2f} | {:.2f} s |\n", st.name, rmse(r.img, ref), 100.0 * (mean / ref.mean_value - 1.0), mx, r.cpu);
+  }
+  fmt::print("\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -379,6 +471,8 @@ int main(int argc, char** argv) {
       if (want(4)) bench_samplers(a, brushed, ref);
     }
     if (want(5)) bench_light_selection(a);
+    if (want(6)) bench_adaptive(a);
+    if (want(7)) bench_fireflies(a);
     fmt::print("(benchmark run took {:.0f} s)\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   } catch (const std::exception& e) {

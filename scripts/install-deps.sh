@@ -1,18 +1,21 @@
 #!/usr/bin/env bash
 # Installs the Debian packages aniso builds and tests with. Idempotent: packages already present
 # are not touched, and when everything is present nothing is run at all (no apt-get update).
+# `install-deps.sh --render`: only what the `aniso` executable needs (`make render`): no test,
+# benchmark, Python or sanitizer packages.
 set -euo pipefail
 
+render_only=0
+if [[ "${1:-}" == "--render" ]]; then render_only=1; fi
+
+# What the `aniso` target (and the libraries it links) needs.
 packages=(
   build-essential cmake pkg-config
   libglm-dev          # vector math in the kernels (mirrors GLSL)
   libfmt-dev          # formatting in host code
   libcli11-dev        # command-line parsing
   nlohmann-json3-dev  # material JSON
-  libgtest-dev        # unit and statistical tests
-  libbenchmark-dev    # benchmarks
   libssl-dev          # OpenSSL libcrypto: sha256 to recognise MERL BRDF files (src/measured)
-  libboost-dev        # boost::math::gamma_q for the chi-square p-values in tests
   # The renderer (src/render): ray casting, threads, images, meshes, the label font.
   libembree-dev       # Embree 3 BVH and ray intersection
   libceres-dev        # Ceres Solver: Levenberg-Marquardt fits of measured data (src/fit)
@@ -26,11 +29,17 @@ packages=(
   libegl-dev libgl-dev libopengl-dev  # EGL and GL headers (glvnd)
   libegl-mesa0 libgl1-mesa-dri        # Mesa's EGL (surfaceless platform) and llvmpipe
   libepoxy-dev        # GL entry points through eglGetProcAddress (works without GLX)
-  glslang-tools       # glslangValidator: the library compiles as GLSL 3.30 core and ES 3.00
   # The explorer (`aniso view`, docs/explorer.md): a GLFW window with Dear ImGui (its GLFW and
-  # OpenGL 3 backends are inside Debian's libimgui.a), tested under a virtual X server.
+  # OpenGL 3 backends are inside Debian's libimgui.a).
   libglfw3-dev libimgui-dev
-  xvfb xauth          # xvfb-run (xauth: only "recommended" by xvfb, needed by xvfb-run)
+)
+# The tests, benchmarks, Python module and sanitizer build on top (make build, make test).
+if [[ $render_only == 0 ]]; then packages+=(
+  libgtest-dev        # unit and statistical tests
+  libbenchmark-dev    # benchmarks
+  libboost-dev        # boost::math::gamma_q for the chi-square p-values in tests
+  glslang-tools       # glslangValidator: the library compiles as GLSL 3.30 core and ES 3.00
+  xvfb xauth          # xvfb-run for the explorer's tests (xauth: only "recommended" by xvfb)
   # The Python module (python/, docs/python.md): built for Debian's /usr/bin/python3 and its NumPy,
   # tested with pytest; the example plots with matplotlib.
   python3-dev pybind11-dev python3-numpy
@@ -39,9 +48,9 @@ packages=(
   # The sanitizer build and the fuzz targets (make test-sanitize, make fuzz; docs/testing.md).
   clang               # clang++ 14: the sanitize build, so the fuzz targets can link libFuzzer
   libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes for clang (only "recommended" by clang)
-)
+); fi
 # Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
-if [[ "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then
+if [[ $render_only == 0 && "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then
   packages+=(python3-scipy)
 fi
 

@@ -280,7 +280,7 @@ extern "C" void on_sigint(int) {
 // a second.
 class ProgressBar {
  public:
-  explicit ProgressBar(std::string what) : what_(std::move(what)), enabled_(isatty(STDERR_FILENO) != 0) {}
+  explicit ProgressBar(std::string what) : what_(what), base_(std::move(what)), enabled_(isatty(STDERR_FILENO) != 0) {}
   void update(double f) {
     if (!enabled_) return;
     const auto now = std::chrono::steady_clock::now();
@@ -298,9 +298,14 @@ class ProgressBar {
   void finish() {
     if (drawn_) fmt::print(stderr, "\r\033[K");
   }
+  // The renderer's passes: samples per pixel so far and, with adaptive sampling, the pixels left.
+  void pass(const aniso::render::PassReport& p) {
+    what_ = fmt::format("{} ({} spp{})", base_, p.spp,
+                        p.active_fraction < 1.0 ? fmt::format(", {:.0f}% of pixels active", 100.0 * p.active_fraction) : "");
+  }
 
  private:
-  std::string what_;
+  std::string what_, base_;
   bool enabled_;
   bool drawn_ = false;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
@@ -308,9 +313,9 @@ class ProgressBar {
 
 struct RenderArgs {
   std::string scene, output, material, strategy, sampler, tonemap = "aces", backend = "cpu";
-  int spp = 0, width = 0, height = 0, threads = 0, max_depth = 0;
+  int spp = 0, width = 0, height = 0, threads = 0, max_depth = 0, min_spp = 0;
   uint64_t seed = 1;
-  double exposure = 0.0;
+  double exposure = 0.0, noise_threshold = -1.0, time_s = 0.0;
   bool print_scene = false;
 };
 
@@ -349,6 +354,13 @@ int render_gl(const aniso::render::Scene& scene, const RenderArgs& a, const anis
   return 0;
 }
 
+// Ctrl-C before every pixel had one sample: the picture would have holes, so the output (an older
+// picture, perhaps) is left as it was.
+int interrupted_before_first_pass(const std::string& output) {
+  fmt::print(stderr, "aniso render: interrupted before the first pass was complete: nothing written ({} left as it was)\n", output);
+  return 130;
+}
+
 int cmd_render(RenderArgs a) {
   using namespace aniso::render;
   if (!a.scene.empty() && !a.material.empty())
@@ -374,7 +386,8 @@ int cmd_render(RenderArgs a) {
                        "give a scene file with point or directional lights");
     if (a.output.empty()) a.output = "aniso-gallery.png";
     if (ext_out != ".png") throw InputError(fmt::format("-o {}: the gallery is a labelled figure: PNG only", a.output));
-    if (!a.strategy.empty() || a.max_depth > 0) throw InputError("--strategy and --max-depth apply to scene files, not to the gallery");
+    if (!a.strategy.empty() || a.max_depth > 0 || a.noise_threshold >= 0.0 || a.min_spp > 0 || a.time_s > 0.0)
+      throw InputError("--strategy, --max-depth, --noise-threshold, --min-spp and --time apply to scene files, not to the gallery");
     GalleryOptions go;
     go.width = a.width > 0 ? a.width : 1024;
     go.height = a.height;
@@ -387,6 +400,7 @@ int cmd_render(RenderArgs a) {
     std::signal(SIGINT, on_sigint);
     const GalleryResult r = render_gallery(go);
     bar.finish();
+    if (r.stats.spp_done == 0) return interrupted_before_first_pass(a.output);
     write_png(a.output, r.image);
     fmt::print("{}wrote {} ({}x{}, {} cells, {} spp) in {:.1f} s: {:.2f} M paths/s, {:.2f} M rays/s\n",
                r.stats.cancelled ? "interrupted: " : "", a.output, r.image.width, r.image.height, r.cells,
@@ -420,6 +434,12 @@ int cmd_render(RenderArgs a) {
   if (a.height > 0) scene.film.height = a.height;
   if (a.spp > 0) scene.film.spp = a.spp;
   if (a.max_depth > 0) scene.integrator.max_depth = a.max_depth;
+  if (a.noise_threshold >= 0.0) scene.film.noise_threshold = float(a.noise_threshold);
+  if (a.min_spp > 0) scene.film.min_spp = a.min_spp;
+  if (a.time_s > 0.0) {
+    scene.film.time_s = float(a.time_s);
+    if (a.spp == 0) scene.film.spp = 1 << 20;  // --time alone: the budget decides
+  }
   if (!a.sampler.empty()) scene.integrator.sampler = a.sampler == "independent" ? SamplerKind::Independent : SamplerKind::Sobol;
   if (!a.strategy.empty())
     scene.integrator.strategy = a.strategy == "bsdf" ? Strategy::Bsdf : (a.strategy == "light" ? Strategy::Light : Strategy::Mis);
@@ -427,13 +447,18 @@ int cmd_render(RenderArgs a) {
   ProgressBar bar(fmt::format("aniso render: {}", source));
   ro.progress = [&](double f) { bar.update(f); };
   std::signal(SIGINT, on_sigint);
+  ro.on_pass = [&](const PassReport& p) { bar.pass(p); };
   RenderStats st;
   const Image img = aniso::render::render(scene, ro, &st);
   bar.finish();
+  if (st.spp_done == 0) return interrupted_before_first_pass(a.output);
   write_image(a.output, img, tm);
-  fmt::print("{}wrote {} ({}x{}, {} spp) in {:.1f} s: {:.2f} M paths/s, {:.2f} M rays/s\n", st.cancelled ? "interrupted: " : "",
-             a.output, img.width, img.height, st.spp_done, st.seconds, double(st.paths) / st.seconds * 1e-6,
-             double(st.rays) / st.seconds * 1e-6);
+  const std::string spp_text =
+      scene.film.noise_threshold > 0.0f ? fmt::format("{} spp, {:.1f} on average{}", st.spp_done, st.mean_spp, st.converged ? ", converged" : "")
+                                        : fmt::format("{} spp", st.spp_done);
+  fmt::print("{}wrote {} ({}x{}, {}{}) in {:.1f} s: {:.2f} M paths/s, {:.2f} M rays/s\n", st.cancelled ? "interrupted: " : "",
+             a.output, img.width, img.height, spp_text, st.out_of_time ? ", time budget reached" : "", st.seconds,
+             double(st.paths) / st.seconds * 1e-6, double(st.rays) / st.seconds * 1e-6);
   if (st.nonfinite > 0) fmt::print(stderr, "aniso render: warning: {} samples were NaN or Inf and were dropped\n", st.nonfinite);
   return st.cancelled ? 130 : 0;
 }
@@ -552,6 +577,13 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--strategy", ra.strategy, "mis (default), bsdf or light")->check(CLI::IsMember({"mis", "bsdf", "light"}));
   render_cmd->add_option("--sampler", ra.sampler, "sobol (default: Owen-scrambled Sobol') or independent (PCG32)")
       ->check(CLI::IsMember({"sobol", "independent"}));
+  render_cmd->add_option("--noise-threshold", ra.noise_threshold,
+                         "adaptive sampling: stop pixels whose estimated error is below this (docs/scenes.md; default: the scene's film.noise_threshold, 0 = off)")
+      ->check(finite_range(0.0, 1.0));
+  render_cmd->add_option("--min-spp", ra.min_spp, "adaptive sampling: samples before a pixel may stop (default: automatic)")
+      ->transform(whole_range(1, 1 << 20));
+  render_cmd->add_option("--time", ra.time_s, "time budget in seconds: passes until it ends (with --spp as a cap)")
+      ->check(finite_range(0.001, 1e6));
   render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")->transform(whole_range(1, 1024));
   render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(finite_range(-30.0, 30.0));
   render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp")->check(CLI::IsMember({"aces", "clamp"}));

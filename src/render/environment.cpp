@@ -289,6 +289,11 @@ Environment Environment::from_image(Image img, float scale, float rotation_deg) 
       if (max_component(img.at(x, y)) > 0.0f) f[i] = std::max(lum[i], floor_lum) * sin_c[size_t(y)];
     }
 
+  for (int c = 0; c < 3; ++c) {
+    float lo = INFINITY, hi = 0.0f;
+    for (size_t i = size_t(c); i < img.rgb.size(); i += 3) lo = std::min(lo, img.rgb[i]), hi = std::max(hi, img.rgb[i]);
+    if (hi > 0.0f) e.variation_ = std::max(e.variation_, (hi - lo) / hi);
+  }
   e.kind_ = Kind::Map;
   e.luminance_integral_ = float(lum_sum * (2.0 * kPiD * kPiD) / (double(w) * double(h)));
   e.map_ = std::move(img);

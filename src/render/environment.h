@@ -95,6 +95,10 @@ class Environment {
   // environment's weight in light selection (integrator.h). Maps: the texels' sum weighted by their
   // solid angle, sin(theta_centre) (2 pi / w) (pi / h).
   float luminance_integral() const { return luminance_integral_; }
+  // Constant to within kNearlyConstant in every channel ((max - min) / max over the directions):
+  // the integrator does not light-sample such an environment (integrator.h, "Environment").
+  static constexpr float kNearlyConstant = 0.02f;
+  bool nearly_constant() const { return kind_ != Kind::None && variation_ <= kNearlyConstant; }
   RGB eval(const Vec3& w) const;      // radiance arriving from direction w
   float pdf(const Vec3& w) const;     // density of sample() producing w (solid angle)
   // radiance == eval(w) and pdf == pdf(w) exactly. pdf = 0 means no sample: always for black
@@ -108,6 +112,7 @@ class Environment {
   Image map_;
   float rotation_rad_ = 0.0f;
   float luminance_integral_ = 0.0f;
+  float variation_ = 0.0f;  // max over channels of (max - min) / max over the texels (0: uniform)
   std::shared_ptr<const Distribution2D> dist_;
 };
 

@@ -137,7 +137,10 @@ GalleryResult render_gallery(const GalleryOptions& opt) {
               glm::u8vec3(20, 20, 20));
     draw_text(res.image, x + 2, y + cell_h + int(label_px * 1.45f), cell.at("detail").get<std::string>(), detail_px,
               glm::u8vec3(90, 90, 90));
-    if (st.cancelled) break;
+    if (st.cancelled) {
+      if (c + 1 < cells) res.stats.spp_done = 0;  // cells left blank: the figure is not whole
+      break;
+    }
   }
   return res;
 }

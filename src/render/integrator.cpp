@@ -119,14 +119,58 @@ float light_power(const Light& l, float R) {
   return 0.0f;
 }
 
+// The roughness a BSDF-sample pdf along the path asks for under the glossy filter: Cycles'
+// surface_shader_prepare_closures (blender/cycles 97dbe6f5, src/kernel/integrator/
+// surface_shader.h:189-200): blur_pdf = min_ray_pdf / filter_glossy, and where it is below 1 every
+// closure's roughness is raised to sqrt(1 - blur_pdf) / 2 (bsdf_blur). 0: no blur.
+float blur_roughness(float min_ray_pdf, float filter_glossy) {
+  if (!(filter_glossy > 0.0f) || !std::isfinite(min_ray_pdf)) return 0.0f;
+  const float blur_pdf = min_ray_pdf / filter_glossy;
+  return blur_pdf < 1.0f ? std::sqrt(1.0f - blur_pdf) * 0.5f : 0.0f;
+}
+
+// A Phong-like exponent no sharper than a Beckmann lobe of width alpha: n = 2 / alpha^2 - 2
+// (Walter et al. 2007, "Microfacet Models for Refraction", Sec. 5.2, the Phong-Beckmann
+// correspondence alpha_p = 2 alpha_b^-2 - 2), at least 1.
+float exponent_for_roughness(float alpha) { return std::max(1.0f, 2.0f / (alpha * alpha) - 2.0f); }
+
 }  // namespace
+
+void roughen(Material& m, float alpha) {
+  if (!(alpha > 0.0f)) return;
+  const auto widen = [&](auto& lobe) {
+    lobe.alpha_x = std::max(lobe.alpha_x, alpha);
+    lobe.alpha_y = std::max(lobe.alpha_y, alpha);
+  };
+  const float n = exponent_for_roughness(alpha);
+  const auto widen_as = [&](AshikhminShirleyLobeT<float>& lobe) {
+    lobe.n_u = std::min(lobe.n_u, n);
+    lobe.n_v = std::min(lobe.n_v, n);
+  };
+  switch (m.kind) {
+    case ModelKind::Ward: widen(m.ward.lobe); break;
+    case ModelKind::GGX: widen(m.ggx.lobe); break;
+    case ModelKind::AshikhminShirley: widen_as(m.ashikhmin_shirley.lobe); break;
+    case ModelKind::Phong: m.phong.lobe.exponent = std::min(m.phong.lobe.exponent, n); break;
+    case ModelKind::Metal:
+      widen(m.metal.ward);
+      widen(m.metal.ggx);
+      widen_as(m.metal.ashikhmin_shirley);
+      break;
+    default: break;  // Lambert is rough already; Lafortune's and measured lobes are left as they are
+  }
+}
 
 PathTracer::PathTracer(const Scene& scene, const SceneGeometry& geometry) : scene_(scene), geo_(geometry) {
   const float R = std::max(geometry.bounding_radius(), 1e-6f);  // a point-sized scene still lets light in
   std::vector<double> power;
   for (const Light& l : scene.lights) power.push_back(std::max(0.0, double(light_power(l, R))));
-  power.push_back(scene.environment.is_black() ? 0.0
-                                               : std::max(0.0, double(kPi<float> * R * R * scene.environment.luminance_integral())));
+  // A (nearly) constant environment is found by BRDF sampling alone unless the strategy is light
+  // (integrator.h, "Environment").
+  const bool env_by_bsdf_only = scene.environment.nearly_constant() && scene.integrator.strategy != Strategy::Light;
+  power.push_back(scene.environment.is_black() || env_by_bsdf_only
+                      ? 0.0
+                      : std::max(0.0, double(kPi<float> * R * R * scene.environment.luminance_integral())));
   double total = 0.0;
   for (double p : power) total += std::isfinite(p) ? p : 0.0;
   light_prob_.assign(power.size(), 0.0f);
@@ -173,12 +217,25 @@ Ray PathTracer::camera_ray(float px, float py) const {
 
 RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRay>* record) const {
   const Strategy strategy = scene_.integrator.strategy;
-  const bool use_nee = strategy != Strategy::Bsdf;
+  // No candidate (nothing emits, or only a constant environment): no next-event estimation, and
+  // no random numbers drawn for it, so that mis and bsdf give the same image.
+  const bool use_nee = strategy != Strategy::Bsdf && light_cdf_.back() > 0.0f;
   const Environment& env = scene_.environment;
   const float env_prob = light_prob_.back();
   RGB L(0.0f), beta(1.0f);
   float prev_pdf = 0.0f;  // solid-angle pdf of the BRDF sample that made `ray` (0: camera ray)
+  float min_pdf = INFINITY;  // the smallest of the path's BRDF-sample pdfs (Cycles' min_ray_pdf)
   Vec3 prev_p(0.0f);
+  const float clamp = scene_.integrator.clamp;
+  // Adds a contribution; indirect ones (integrator.h, "Fireflies") capped at R + G + B <= clamp.
+  const auto add = [&](RGB c, bool indirect) {
+    if (indirect && clamp > 0.0f) {
+      const float sum = c.x + c.y + c.z;
+      if (sum > clamp) c *= clamp / sum;
+    }
+    L += c;
+  };
+  Material blurred;
   for (int bounces = 0;; ++bounces) {
     // Emission found by this ray counts fully on the camera ray and for the bsdf strategy, with
     // the MIS weight for mis, and not at all for light (next-event estimation already has it).
@@ -193,20 +250,25 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
     if (!geo_.intersect(ray, INFINITY, &hit)) {
       if (!env.is_black()) {
         const float w = emitted_weight(prev_pdf > 0.0f ? env_prob * env.pdf(ray.d) : 0.0f);
-        if (w > 0.0f) L += beta * env.eval(ray.d) * w;
+        if (w > 0.0f) add(beta * env.eval(ray.d) * w, bounces >= 2);
       }
       break;
     }
     if (hit.light >= 0) {
       const Light& l = scene_.lights[size_t(hit.light)];
       const float w = emitted_weight(prev_pdf > 0.0f ? light_prob_[size_t(hit.light)] * sphere_light_pdf(l, prev_p) : 0.0f);
-      if (w > 0.0f) L += beta * l.power * w;
+      if (w > 0.0f) add(beta * l.power * w, bounces >= 2);
       break;
     }
     if (bounces >= scene_.integrator.max_depth) break;
 
     const Object& obj = scene_.objects[size_t(hit.object)];
-    const Material& m = obj.material;
+    const float blur = blur_roughness(min_pdf, scene_.integrator.filter_glossy);
+    if (blur > 0.0f) {
+      blurred = obj.material;
+      roughen(blurred, blur);
+    }
+    const Material& m = blur > 0.0f ? blurred : obj.material;
     const Frame& frame = hit.frame;
     const Vec3 wo = frame.to_local(-ray.d);
     if (!(wo.z > 0.0f)) break;  // seen from behind its shading normal: no reflection defined
@@ -229,7 +291,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         // the shadow test (its intersection is as inexact as any other).
         if (geo_.occluded(Ray{o, wi_world}, tmax)) return;
         const float w = (delta || strategy == Strategy::Light) ? 1.0f : power_heuristic(light_pdf, m.pdf(wi, wo));
-        L += beta * f * li * (wi.z * w / light_pdf);
+        add(beta * f * li * (wi.z * w / light_pdf), bounces >= 1);
       };
       // One sample of candidate i (a light, or the environment for i == lights.size()).
       const auto sample_candidate = [&](size_t i, const Vec2& ul) {
@@ -270,6 +332,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
     if (!(glm::dot(wi_world, hit.ng) > 0.0f)) break;
     beta *= s.weight;
     prev_pdf = s.pdf;
+    min_pdf = std::min(min_pdf, s.pdf);
     prev_p = hit.p;
     // Russian roulette from the fourth vertex on (pbrt-v4: survival probability = throughput,
     // capped at 0.95 so that no path is certain to continue).
@@ -283,71 +346,149 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
   return L;
 }
 
+int next_pass_end(int spp_so_far, int spp_max) {
+  // 1, 2, 4, 8, 16 after the passes so far, then kMaxPassSpp more per pass.
+  const int step = std::clamp(spp_so_far, 1, kMaxPassSpp);
+  return int(std::min<int64_t>(int64_t(spp_so_far) + step, spp_max));
+}
+
+int automatic_min_spp(float noise_threshold) {
+  return std::max(4, int(std::ceil(16.0f / std::pow(noise_threshold, 0.3f))));
+}
+
 Image render(const Scene& scene, const RenderOptions& opt, RenderStats* stats_out) {
   const auto t0 = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   SceneGeometry geometry(scene);
   PathTracer tracer(scene, geometry);
   const int W = scene.film.width, H = scene.film.height;
+  const size_t npix = size_t(W) * size_t(H);
   const int spp = opt.spp > 0 ? opt.spp : scene.film.spp;
+  const float threshold = scene.film.noise_threshold;
+  const int min_spp = threshold > 0.0f ? (scene.film.min_spp > 0 ? scene.film.min_spp : automatic_min_spp(threshold)) : spp;
+  const double time_budget = scene.film.time_s;
   constexpr int kTile = 16;
   const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile, tiles = tiles_x * tiles_y;
-  // Passes of samples over the whole image: a cancelled render is still a whole picture.
-  const int passes = std::min(spp, 16);
-  std::vector<double> sum(size_t(W) * size_t(H) * 3, 0.0);
-  std::vector<int> count(size_t(W) * size_t(H), 0);
+  std::vector<double> sum(npix * 3, 0.0);
+  std::vector<double> sum_i2(threshold > 0.0f ? npix : 0, 0.0);  // sum of (R + G + B)^2 per pixel
+  std::vector<int> count(npix, 0);
+  std::vector<uint8_t> active(npix, 1);
   std::atomic<uint64_t> rays{0}, paths{0}, nonfinite{0}, tiles_done{0};
   std::mutex progress_mutex;
-  const uint64_t total_work = uint64_t(tiles) * uint64_t(passes);
   RenderStats stats;
+  const auto cancelled = [&] { return opt.cancel && opt.cancel->load(std::memory_order_relaxed); };
 
   tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
-  for (int pass = 0; pass < passes; ++pass) {
-    const int s_begin = int(int64_t(spp) * pass / passes), s_end = int(int64_t(spp) * (pass + 1) / passes);
+  int s_begin = 0;
+  uint64_t active_pixels = npix;
+  double pass_seconds_per_sample = 0.0;  // measured: the last pass's time per pixel sample
+  while (s_begin < spp) {
+    const int s_end = next_pass_end(s_begin, spp);
+    if (time_budget > 0.0 && stats.passes > 0) {
+      const double predicted = pass_seconds_per_sample * double(active_pixels) * double(s_end - s_begin);
+      if (elapsed() + predicted > time_budget) {
+        stats.out_of_time = true;
+        break;
+      }
+    }
+    const double pass_t0 = elapsed();
+    const uint64_t paths_before = paths.load();
+    tiles_done = 0;
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& r) {
         for (int tile = r.begin(); tile != r.end(); ++tile) {
-          if (opt.cancel && opt.cancel->load(std::memory_order_relaxed)) return;
           const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-          uint64_t local_rays = 0, local_bad = 0;
+          uint64_t local_rays = 0, local_bad = 0, local_paths = 0;
           for (int y = y0; y < std::min(y0 + kTile, H); ++y)
             for (int x = x0; x < std::min(x0 + kTile, W); ++x) {
+              // Before every pixel: a pixel's samples of one pass take milliseconds at most.
+              if (cancelled()) break;
               const size_t pix = size_t(y) * size_t(W) + size_t(x);
+              if (!active[pix]) continue;
               RGB acc(0.0f);
+              double acc_i2 = 0.0;
               for (int s = s_begin; s < s_end; ++s) {
                 Sampler rng(opt.seed, pix, uint64_t(s), scene.integrator.sampler);
                 const Vec2 j = rng.uniform2();
                 const RGB l = tracer.li(tracer.camera_ray(float(x) + j.x, float(y) + j.y), rng, &local_rays);
-                if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) acc += l;
-                else ++local_bad;
+                if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) {
+                  acc += l;
+                  const double i = double(l.x) + double(l.y) + double(l.z);
+                  acc_i2 += i * i;
+                } else {
+                  ++local_bad;
+                }
               }
               sum[3 * pix] += acc.x, sum[3 * pix + 1] += acc.y, sum[3 * pix + 2] += acc.z;
+              if (!sum_i2.empty()) sum_i2[pix] += acc_i2;
               count[pix] += s_end - s_begin;
+              local_paths += uint64_t(s_end - s_begin);
             }
           rays += local_rays;
           nonfinite += local_bad;
-          paths += uint64_t(std::min(y0 + kTile, H) - y0) * uint64_t(std::min(x0 + kTile, W) - x0) * uint64_t(s_end - s_begin);
+          paths += local_paths;
           const uint64_t done = ++tiles_done;
           if (opt.progress && progress_mutex.try_lock()) {
-            opt.progress(double(done) / double(total_work));
+            double f = (double(s_begin) + double(s_end - s_begin) * double(done) / double(tiles)) / double(spp);
+            if (time_budget > 0.0) f = std::max(f, std::min(1.0, elapsed() / time_budget));
+            opt.progress(std::min(f, 1.0));
             progress_mutex.unlock();
           }
         }
       });
     });
-    if (opt.cancel && opt.cancel->load()) {
+    if (cancelled()) {
       stats.cancelled = true;
       break;
     }
+    ++stats.passes;
     stats.spp_done = s_end;
+    const uint64_t pass_paths = paths.load() - paths_before;
+    if (pass_paths > 0) pass_seconds_per_sample = (elapsed() - pass_t0) / double(pass_paths);
+    s_begin = s_end;
+    if (threshold > 0.0f && s_end >= min_spp && s_end < spp) {
+      // Converged: the standard error of the mean of I = R + G + B, normalised (integrator.h).
+      std::vector<uint8_t> converged(npix, 0);
+      for (size_t p = 0; p < npix; ++p) {
+        const double n = count[p];
+        if (n < 2.0) continue;  // no variance estimate yet
+        const double mean = (sum[3 * p] + sum[3 * p + 1] + sum[3 * p + 2]) / n;
+        const double var = std::max(0.0, (sum_i2[p] - n * mean * mean) / (n - 1.0));
+        const double norm = mean < 1.0 ? std::sqrt(std::max(mean, 0.0)) : mean;
+        // 1e-4: Cycles' guard against a division by zero (a black pixel with zero variance converges).
+        converged[p] = std::sqrt(var / n) / (1e-4 + norm) < threshold;
+      }
+      active_pixels = 0;
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+          bool all = true;
+          for (int dy = -1; dy <= 1 && all; ++dy)
+            for (int dx = -1; dx <= 1 && all; ++dx) {
+              const int xx = x + dx, yy = y + dy;
+              if (xx >= 0 && yy >= 0 && xx < W && yy < H) all = converged[size_t(yy) * size_t(W) + size_t(xx)] != 0;
+            }
+          active[size_t(y) * size_t(W) + size_t(x)] = !all;
+          active_pixels += all ? 0 : 1;
+        }
+    }
+    if (opt.on_pass) opt.on_pass(PassReport{stats.passes, s_end, double(active_pixels) / double(npix), elapsed()});
+    if (active_pixels == 0) {
+      stats.converged = s_end < spp;
+      break;
+    }
   }
   Image img(W, H);
-  for (size_t i = 0; i < count.size(); ++i)
+  uint64_t total_count = 0;
+  for (size_t i = 0; i < count.size(); ++i) {
+    total_count += uint64_t(count[i]);
     if (count[i] > 0)
       for (int c = 0; c < 3; ++c) img.rgb[3 * i + size_t(c)] = float(sum[3 * i + size_t(c)] / count[i]);
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  stats.seconds = elapsed();
   stats.paths = paths;
   stats.rays = rays;
   stats.nonfinite = nonfinite;
+  stats.mean_spp = double(total_count) / double(npix);
   if (stats_out) *stats_out = stats;
   return img;
 }

@@ -515,6 +515,9 @@ Scene parse_scene(const json& doc, const std::string& source, const std::string&
     s.film.width = f.integer("width", s.film.width, 1, 16384);
     s.film.height = f.integer("height", s.film.height, 1, 16384);
     s.film.spp = f.integer("spp", s.film.spp, 1, 1 << 20);
+    s.film.noise_threshold = f.number("noise_threshold", s.film.noise_threshold, 0.0f, 1.0f);
+    s.film.min_spp = f.integer("min_spp", s.film.min_spp, 0, 1 << 20);
+    s.film.time_s = f.number("time_s", s.film.time_s, 0.0f, 1e6f);
     f.finish();
   }
   if (top.has("integrator")) {
@@ -526,6 +529,8 @@ Scene parse_scene(const json& doc, const std::string& source, const std::string&
     s.integrator.sampler = sm == "independent" ? SamplerKind::Independent : SamplerKind::Sobol;
     const std::string ls = in.choice("light_selection", {"auto", "power", "all"}, false, "auto");
     s.integrator.light_selection = ls == "all" ? LightSelection::All : (ls == "power" ? LightSelection::Power : LightSelection::Auto);
+    s.integrator.clamp = in.number("clamp", s.integrator.clamp, 0.0f, 1e30f);
+    s.integrator.filter_glossy = in.number("filter_glossy", s.integrator.filter_glossy, 0.0f, 100.0f);
     in.finish();
   }
   if (top.has("environment")) s.environment = read_environment(Node(top.get("environment"), source, "environment"), base_dir);

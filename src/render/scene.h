@@ -31,6 +31,9 @@ struct Camera {
 
 struct Film {
   int width = 640, height = 360, spp = 64;
+  float noise_threshold = 0.0f;  // adaptive sampling (render/integrator.h); 0: off
+  int min_spp = 0;               // with a noise threshold: samples before a pixel may stop (0: automatic)
+  float time_s = 0.0f;           // time budget in seconds (render/integrator.h); 0: none
 };
 
 // Next-event estimation (render/integrator.h): one emitter per vertex chosen by power, every emitter
@@ -44,6 +47,8 @@ struct IntegratorSettings {
   Strategy strategy = Strategy::Mis;
   SamplerKind sampler = SamplerKind::Sobol;  // render/sampler.h
   LightSelection light_selection = LightSelection::Auto;
+  float clamp = 0.0f;          // indirect light: cap on R + G + B of each contribution (integrator.h); 0: off
+  float filter_glossy = 0.0f;  // roughen after bounces (integrator.h, Cycles' Filter Glossy); 0: off
 };
 
 enum class LightKind { Point, Directional, Sphere };
