@@ -40,8 +40,8 @@ packages=(
   clang               # clang++ 14: the sanitize build, so the fuzz targets can link libFuzzer
   libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes for clang (only "recommended" by clang)
   # The browser explorer's tests (web/, tests/web, docs/web.md): headless Chromium (software WebGL2
-  # through SwiftShader) driven by playwright-core from npm. About 100 s and 330 MB (chromium and its
-  # libraries) on a fresh Debian 12; the npm package adds 14 MB and a few seconds.
+  # through SwiftShader) driven by playwright-core from npm. About 2 minutes and 393 MB (chromium and the
+  # 22 libraries it adds to the rest of this list); the npm package adds 14 MB and a few seconds.
   chromium
 )
 # Node and npm: Debian's, unless a node is already installed (NodeSource's nodejs bundles npm and

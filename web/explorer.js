@@ -17,7 +17,7 @@
   const defaults = {
     light: { theta: 35, phi: 20, irradiance: 3, exposure: 0 },
     tangent: { angle: 0, field: "natural", swirl: 45, noise_scale: 4, noise_strength: 45 },
-    view: { log: false, xcos: false, compare: "off", object: "torus" },
+    view: { log: false, xcos: false, compare: "off", object: "torus", views: "lit,polar,albedo,lobe" },
   };
   const state = {
     A: null, B: null,  // {desc, where, preset}
@@ -28,7 +28,7 @@
     lastError: "",
     redraws: 0,
   };
-  const results = { polar: {}, albedo: {}, lobe: {}, frameMs: [] };
+  const results = { polar: {}, albedo: {}, lobe: {}, frameMs: [], stageMs: [] };
 
   function showError(msg) {
     state.lastError = msg;
@@ -469,14 +469,19 @@ void main() {
     gl.bindVertexArray(quad);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
   }
-  function drawLit() {
+  // The lit views: rendered into float targets when their inputs change, then shown through the
+  // display pass (an exposure change redoes only that).
+  function drawLit(render) {
+    const fresh = !targets || targets.w !== Math.floor(canvas.width / 2) || targets.h !== canvas.height;
     ensureTargets();
     const cmp = state.view.compare;
     const mode = cmp === "split" ? 1 : cmp === "difference" ? 2 : 0;
-    renderSphere(state.A, targets.A);
-    if (mode) renderSphere(state.B, targets.B);
-    renderMesh(state.A, targets.obj);
-    if (mode) renderMesh(state.B, targets.objB);
+    if (render || fresh) {
+      renderSphere(state.A, targets.A);
+      if (mode) renderSphere(state.B, targets.B);
+      renderMesh(state.A, targets.obj);
+      if (mode) renderMesh(state.B, targets.objB);
+    }
     display(targets.A, targets.B, mode, 0);
     display(targets.obj, targets.objB, mode, targets.w);
   }
@@ -836,7 +841,7 @@ void main() {
     row.title = `${label}: ${p.doc} (${p.range}; default ${p.default_text})`;
     const name = document.createElement("span");
     name.className = "name";
-    name.textContent = label;
+    name.textContent = label.slice(label.lastIndexOf(".", channel !== undefined ? label.length - 3 : label.length) + 1);
     row.appendChild(name);
     const key = path.join(".").replace(/\.(\d+)(?=\.|$)/g, "[$1]") + (channel !== undefined ? `[${channel}]` : "");
     const set = (v) => {
@@ -1061,6 +1066,7 @@ void main() {
     q.set("log", state.view.log ? "1" : "0");
     q.set("xcos", state.view.xcos ? "1" : "0");
     q.set("compare", state.view.compare);
+    if (state.view.views !== defaults.view.views) q.set("views", state.view.views);
     return "#" + q.toString();
   }
   // Reads a link: every value is checked first; any bad one shows its message and nothing changes.
@@ -1090,8 +1096,26 @@ void main() {
       choice("compare", ["off", "split", "difference"], (s) => (next.view.compare = s));
       choice("log", ["0", "1"], (s) => (next.view.log = s === "1"));
       choice("xcos", ["0", "1"], (s) => (next.view.xcos = s === "1"));
+      if (q.has("size")) {
+        const m = /^(\d{2,4})x(\d{2,4})$/.exec(q.get("size"));
+        if (!m || Number(m[1]) < 64 || Number(m[2]) < 64 || Number(m[1]) > 4096 || Number(m[2]) > 4096)
+          throw new V.InputError(`link: key "size": expected WxH, each from 64 to 4096 (the lit views' canvas), got "${V.textEscape(q.get("size"))}"`);
+        next.size = [Number(m[1]), Number(m[2])];
+      }
+      if (q.has("views")) {
+        const all = defaults.view.views.split(","), v = q.get("views").split(",");
+        const bad = v.find((x) => !all.includes(x));
+        if (bad !== undefined || !v.length)
+          throw new V.InputError(`link: key "views": unknown view "${V.textEscape(bad || "")}"; expected a comma-separated list of ${all.map((x) => `"${x}"`).join(", ")}`);
+        next.view.views = v.join(",");
+      }
       const A = q.has("material") ? makeMaterial(q.get("material"), "inline material") : state.A;
       const B = q.has("material_b") ? makeMaterial(q.get("material_b"), "inline material") : state.B;
+      if (next.size) {
+        canvas.width = next.size[0];
+        canvas.height = next.size[1];
+        delete next.size;
+      }
       Object.assign(state, next, { A, B });
       showError("");
       syncInputs();
@@ -1123,7 +1147,7 @@ void main() {
   }
 
   // ---- redraw only on change ------------------------------------------------------------------
-  const dirty = { lit: false, polar: false, albedo: false, lobe: false };
+  const dirty = { lit: false, display: false, polar: false, albedo: false, lobe: false };
   let pending = false;
   function schedule(what) {
     Object.assign(dirty, what);
@@ -1136,11 +1160,32 @@ void main() {
     const t0 = performance.now();
     try {
       const cmp = state.view.compare !== "off";
-      if (dirty.lit) drawLit();
+      // Views left out of the link's "views" list are not computed (the tests' CPU time).
+      const on = new Set(state.view.views.split(","));
+      for (const [k, id] of [["lit", "gl"], ["polar", "polar-in"], ["polar", "polar-perp"], ["albedo", "albedo"], ["lobe", "lobe"]])
+        $(id).parentElement.hidden = !on.has(k);
+      if (!on.has("lit")) dirty.lit = dirty.display = false;
+      if (!on.has("albedo")) dirty.albedo = false;
+      if (!on.has("lobe")) dirty.lobe = false;
+      // Each stage's time. Chromium's gl.finish() does not wait for the GPU process; reading one
+      // pixel back does, so the GPU's work is counted in the stage that issued it.
+      const stage = {};
+      let mark = performance.now();
+      const px = new Uint8Array(4);
+      const lap = (name) => {
+        gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+        const now = performance.now();
+        stage[name] = now - mark;
+        mark = now;
+      };
+      if (dirty.lit || dirty.display) drawLit(dirty.lit);
+      lap("lit");
       if (dirty.polar) {
         computePolar("A");
         if (cmp) computePolar("B");
       }
+      lap("polar");
       if (dirty.polar || dirty.view) {
         drawPolar("polar-in", 0, "plane of incidence");
         drawPolar("polar-perp", 1, "perpendicular plane");
@@ -1149,11 +1194,13 @@ void main() {
         computeAlbedo("A");
         if (cmp) computeAlbedo("B");
       }
-      if (dirty.albedo || dirty.view) drawAlbedo();
+      if (on.has("albedo") && (dirty.albedo || dirty.view)) drawAlbedo();
+      lap("albedo");
       if (dirty.lobe) computeLobe();
-      if (dirty.lobe || dirty.view) drawLobe();
+      if (on.has("lobe") && (dirty.lobe || dirty.view)) drawLobe();
+      lap("lobe");
       drawLightWidget();
-      gl.finish();
+      results.stageMs.push(stage);
     } catch (err) {
       reportError(err);
       console.error(err);
@@ -1192,7 +1239,11 @@ void main() {
     bind("theta", state.light, "theta", true);
     bind("phi", state.light, "phi", true);
     bind("irradiance", state.light, "irradiance", false);
-    bind("exposure", state.light, "exposure", false);
+    $("exposure").addEventListener("input", () => {
+      state.light.exposure = Number($("exposure").value);
+      syncInputs();
+      schedule({ display: true });
+    });
     bind("tangent-angle", state.tangent, "angle", false);
     bind("swirl", state.tangent, "swirl", false);
     bind("noise-scale", state.tangent, "noise_scale", false);
