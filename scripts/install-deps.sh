@@ -48,7 +48,15 @@ if [[ $render_only == 0 ]]; then packages+=(
   # The sanitizer build and the fuzz targets (make test-sanitize, make fuzz; docs/testing.md).
   clang               # clang++ 14: the sanitize build, so the fuzz targets can link libFuzzer
   libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes for clang (only "recommended" by clang)
+  # The browser explorer's tests (web/, tests/web, docs/web.md): headless Chromium (software WebGL2
+  # through SwiftShader) driven by playwright-core from npm. About 2 minutes and 393 MB (chromium and the
+  # 22 libraries it adds to the rest of this list); the npm package adds 14 MB and a few seconds.
+  chromium
 ); fi
+# Node and npm: Debian's, unless a node is already installed (NodeSource's nodejs bundles npm and
+# conflicts with Debian's npm package).
+if [[ $render_only == 0 ]] && ! command -v node >/dev/null 2>&1; then packages+=(nodejs); fi
+if [[ $render_only == 0 ]] && ! command -v npm >/dev/null 2>&1; then packages+=(npm); fi
 # Optional: regenerating/checking the metal RGB table (scripts/reduce_ior.py --check).
 if [[ $render_only == 0 && "${ANISO_WITH_PYTHON_TOOLS:-1}" == "1" ]]; then
   packages+=(python3-scipy)
@@ -61,13 +69,20 @@ for p in "${packages[@]}"; do
   fi
 done
 
-if [[ ${#missing[@]} -eq 0 ]]; then
-  exit 0
+if [[ ${#missing[@]} -gt 0 ]]; then
+  echo "install-deps: installing ${missing[*]}"
+  SUDO=""
+  if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-echo "install-deps: installing ${missing[*]}"
-SUDO=""
-if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# playwright-core for tests/web, exactly as tests/web/package-lock.json pins it (npm ci; it
+# downloads no browser: the tests use /usr/bin/chromium). Skipped when already installed.
+web_tests="$(dirname "$0")/../tests/web"
+if [[ ! -f "$web_tests/node_modules/playwright-core/package.json" ||
+      "$web_tests/package-lock.json" -nt "$web_tests/node_modules/.package-lock.json" ]]; then
+  echo "install-deps: npm ci in tests/web"
+  (cd "$web_tests" && npm ci --no-audit --no-fund --loglevel=error)
+fi

@@ -40,4 +40,7 @@ void add_export_commands(CLI::App& app);
 // view: the interactive explorer (cmd_view.cpp, view_app.cpp, docs/explorer.md).
 void add_view_command(CLI::App& app);
 
+// web-data and serve: the browser explorer's generated data and its local server (cmd_web.cpp, docs/web.md).
+void add_web_commands(CLI::App& app);
+
 }  // namespace aniso

@@ -596,6 +596,7 @@ int main(int argc, char** argv) {
   add_export_commands(app);
   add_fit_command(app);
   add_view_command(app);
+  add_web_commands(app);
 
   // An unknown command would otherwise be reported by CLI11 as "A subcommand is required".
   if (argc > 1 && argv[1][0] != '-') {

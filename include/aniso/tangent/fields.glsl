@@ -122,7 +122,10 @@ Frame tangent_frame(TangentField f, SurfacePoint sp) {
   Frame frame = Frame_from_normal_tangent(sp.n, tangent_field_direction(f, sp));
   float psi = f.angle;
   if (f.kind == TangentFieldKind_Noise) psi += Tangent_NoiseAngle(sp.p, f.scale, f.strength);
-  return psi != 0.0 ? Frame_rotated(frame, psi) : frame;
+  // if, not ?: : WebGL refuses the conditional operator on structures (ANGLE: "ternary operator is
+  // not allowed for structures or arrays"), and the library also runs in browsers (docs/web.md).
+  if (psi != 0.0) return Frame_rotated(frame, psi);
+  return frame;
 }
 
 // Tangent maps (docs/scenes.md): "angle" red channel v -> angle pi v from dp/du towards dp/dv;

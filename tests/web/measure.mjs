@@ -1,0 +1,43 @@
+// tests/web/measure.mjs: frame times of the browser explorer in headless Chromium (docs/web.md).
+//   node measure.mjs <aniso binary> <built page folder> [WxH ...]
+// For each size of the lit views' canvas: the mean time of a redraw (JavaScript + WebGL, gl.finish()
+// at the end) when the light moves (every view recomputed) and when only the exposure changes (the
+// lit views alone), 8 changes each after 2 warm-up ones (the shader compiles).
+import { spawn } from "node:child_process";
+import path from "node:path";
+import { chromium } from "playwright-core";
+
+const [aniso, webDir, ...sizes] = process.argv.slice(2);
+const server = spawn(path.resolve(aniso), ["serve", "--port", "0", "--root", webDir], { stdio: ["ignore", "pipe", "inherit"] });
+const url = await new Promise((resolve) => server.stdout.on("data", (d) => resolve(/http:\/\/127\.0\.0\.1:\d+\//.exec(String(d))[0])));
+const browser = await chromium.launch({
+  executablePath: process.env.ANISO_CHROMIUM || "/usr/bin/chromium",
+  args: ["--headless=new", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-gpu-sandbox",
+    "--disable-background-networking", "--disable-component-update", "--no-first-run"],
+});
+for (const size of sizes.length ? sizes : ["512x384", "1024x768"]) {
+  const page = await browser.newPage({ viewport: { width: 1600, height: 1100 } });
+  await page.goto(`${url}#size=${size}`);
+  await page.waitForFunction(() => window.anisoExplorer && window.anisoExplorer.idle() && window.anisoExplorer.state.redraws > 0, null, { timeout: 120000 });
+  const run = async (id, values) => {
+    const times = [];
+    for (const v of values) {
+      const n = await page.evaluate(([i, x]) => {
+        const e = document.getElementById(i);
+        e.value = x;
+        e.dispatchEvent(new Event("input"));
+        return window.anisoExplorer.state.redraws;
+      }, [id, v]);
+      await page.waitForFunction((k) => window.anisoExplorer.state.redraws > k && window.anisoExplorer.idle(), n, { timeout: 120000 });
+      times.push(await page.evaluate(() => [window.anisoExplorer.results.frameMs.at(-1), window.anisoExplorer.results.stageMs.at(-1)]));
+    }
+    const t = times.slice(2), mean = (f) => (t.reduce((a, b) => a + f(b), 0) / t.length).toFixed(1);
+    return `${mean((x) => x[0])} (lit ${mean((x) => x[1].lit)}, polar ${mean((x) => x[1].polar)}, albedo ${mean((x) => x[1].albedo)}, lobe ${mean((x) => x[1].lobe)})`;
+  };
+  const light = await run("theta", [20, 25, 30, 35, 40, 45, 50, 55, 60, 65]);
+  const exposure = await run("exposure", [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]);
+  console.log(`${size}: light moves ${light} ms a redraw; exposure only ${exposure} ms`);
+  await page.close();
+}
+await browser.close();
+server.kill("SIGTERM");
