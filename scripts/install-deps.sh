@@ -81,7 +81,7 @@ fi
 # playwright-core for tests/web, exactly as tests/web/package-lock.json pins it (npm ci; it
 # downloads no browser: the tests use /usr/bin/chromium). Skipped when already installed.
 web_tests="$(dirname "$0")/../tests/web"
-if [[ ! -f "$web_tests/node_modules/playwright-core/package.json" ||
+if [[ $render_only == 0 ]] && [[ ! -f "$web_tests/node_modules/playwright-core/package.json" ||
       "$web_tests/package-lock.json" -nt "$web_tests/node_modules/.package-lock.json" ]]; then
   echo "install-deps: npm ci in tests/web"
   (cd "$web_tests" && npm ci --no-audit --no-fund --loglevel=error)
