@@ -1,5 +1,5 @@
 // tests/test_reference.cpp: every model against reference values computed independently from the
-// formulas of docs/models.md (tests/reference/reference_brdfs.h: plain double precision, angle
+// formulas of docs/reference/models-spec.md (tests/reference/reference_brdfs.h: plain double precision, angle
 // forms, complex Fresnel), at fixed directions, in double (relative 1e-9) and float (relative
 // ~1e-5). Also: Ward angle == vector form, the size of Ward's 1992 approximation, the lecture's
 // matte steel, the conductor Fresnel against its complex form and the metal table's spectral
@@ -54,7 +54,7 @@ std::vector<DirPair> direction_pairs() {
   };
 }
 
-// Degenerate pairs: f must be exactly 0 (models.md, Conventions).
+// Degenerate pairs: f must be exactly 0 (models-spec.md, Conventions).
 std::vector<DirPair> degenerate_pairs() {
   return {
       {"wi below horizon", spherical(100, 30), spherical(40, 200)},
@@ -246,7 +246,7 @@ TEST(ReferenceValues, Lafortune) {
   }
 }
 
-// The matte-steel preset against the lecture's table, typed in from models.md (rho_d = 0).
+// The matte-steel preset against the lecture's table, typed in from docs/reference/models-spec.md (rho_d = 0).
 TEST(ReferenceValues, MatteSteelPresetMatchesTheLecturesTable) {
   const auto preset = aniso::find_preset("matte-steel");
   ASSERT_TRUE(preset.has_value());

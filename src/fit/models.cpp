@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "data/metals.h"
+#include "io/enum_names.h"
 
 namespace aniso::fit_detail {
 namespace {
@@ -177,7 +178,7 @@ WardFit::WardFit(bool anisotropic, WardNormalization norm) : anisotropic_(anisot
 }
 
 Json WardFit::to_json(const double* x) const {
-  const char* norm = norm_ == WardNormalization::Duer ? "duer" : (norm_ == WardNormalization::Balanced ? "balanced" : "ward");
+  const std::string norm(enum_name(norm_));
   return {{"model", "ward"}, {"kd", rgb_json(x)}, {"ks", rgb_json(x + 3)}, {"alpha_x", x[6]},
           {"alpha_y", x[anisotropic_ ? 7 : 6]}, {"form", "vector"}, {"normalization", norm}};
 }
@@ -296,8 +297,7 @@ MetalFit::MetalFit(bool anisotropic, const std::string& metal, SpecularLobeKind 
     }
     for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("metal"), "k", fmt::format("k.{}", ch[c])));
   }
-  const char* lobe_name = lobe == SpecularLobeKind::Ward ? "ward" : (lobe == SpecularLobeKind::AshikhminShirley ? "ashikhmin-shirley" : "ggx");
-  const ModelSpec& ls = metal_lobe_spec(lobe_name);
+  const ModelSpec& ls = metal_lobe_spec(enum_name(lobe));
   const bool as = lobe == SpecularLobeKind::AshikhminShirley;
   defs.push_back(table_def(ls, as ? "n_u" : "alpha_x", anisotropic ? (as ? "n_u" : "alpha_x") : (as ? "n" : "alpha")));
   if (anisotropic) defs.push_back(table_def(ls, as ? "n_v" : "alpha_y", as ? "n_v" : "alpha_y"));

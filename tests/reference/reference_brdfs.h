@@ -1,6 +1,6 @@
 // tests/reference/reference_brdfs.h: an independent, deliberately plain double-precision
-// evaluation of every model, written from the formulas in docs/models.md (the project's
-// specification, /work/shared/docs/models.md) and the lecture (VGP352 week 5), not from
+// evaluation of every model, written from the formulas of the project's specification
+// (docs/reference/models-spec.md) and the lecture (docs/reference/vgp352-week5-*.txt), not from
 // include/aniso. tests/test_reference.cpp holds the library against it.
 //
 // Independence is the point, so the formulas are written in a *different* form from the kernels
@@ -39,7 +39,7 @@ inline V3 normalize(const V3& a) {
 }
 inline C3 grey(double v) { return {v, v, v}; }
 
-// Both directions strictly above the horizon and wi + wo != 0 (models.md: otherwise f = 0).
+// Both directions strictly above the horizon and wi + wo != 0 (models-spec.md: otherwise f = 0).
 inline bool valid(const V3& wi, const V3& wo) { return wi.z > 0.0 && wo.z > 0.0; }
 
 // Angles of the unit half vector: theta_h from z, phi_h from x (atan2 of the projection onto the
@@ -83,7 +83,7 @@ inline C3 phong(const C3& kd, const C3& ks, double s, bool normalized, const V3&
 enum class WardForm { Vector, Angle, Approx };
 enum class WardNorm { Ward1992, Duer, Balanced };
 
-// The Gaussian term. Vector and Angle are the same function (models.md, Ward point 3), so both are
+// The Gaussian term. Vector and Angle are the same function (models-spec.md, Ward point 3), so both are
 // computed from the angles; Approx is Ward's Eq. 5b, with the unit h.
 inline double ward_exponential(double ax, double ay, WardForm form, const V3& wi, const V3& wo) {
   const HalfAngles a = half_angles(wi, wo);
@@ -199,7 +199,7 @@ inline C3 lafortune(const C3& rho_d, const std::vector<LafortuneLobe>& lobes, co
   return out;
 }
 
-// The lecture's matte steel (three lobes, C_xy, C_z, s per channel), typed in from models.md.
+// The lecture's matte steel (three lobes, C_xy, C_z, s per channel), typed in from models-spec.md.
 inline std::vector<LafortuneLobe> matte_steel_lobes() {
   const double t[3][3][3] = {
       // [lobe][channel] = {C_xy, C_z, s}
@@ -325,5 +325,6 @@ inline C3 metal(const MetalParams& p, const V3& wi, const V3& wo) {
   }
   return out;
 }
+
 
 }  // namespace aniso_ref
