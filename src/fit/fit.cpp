@@ -567,6 +567,7 @@ constexpr Fittable kFittable[] = {
        const SpecularLobeKind lobe = option_enum<SpecularLobeKind>(o.metal_lobe, "--metal-lobe");
        return dispatch(MetalFit(o.anisotropic, o.metal, lobe), data, o);
      }},
+    {"principled", [](const SampleSet& data, const FitOptions& o) { return dispatch(PrincipledFit(o.anisotropic), data, o); }},
 };
 
 }  // namespace

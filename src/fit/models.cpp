@@ -277,6 +277,44 @@ std::vector<double> GGXFit::random_start(Rng& rng, const DataMoments& d) const {
   return alpha_lobe_random_start(rng, d, anisotropic_, defs);
 }
 
+// --- Principled --------------------------------------------------------------------------------
+
+PrincipledFit::PrincipledFit(bool anisotropic) : anisotropic_(anisotropic) {
+  const char* ch = "rgb";
+  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("principled"), "base_color", fmt::format("base_color.{}", ch[c])));
+  for (const char* key : {"metallic", "specular", "roughness"}) defs.push_back(table_def(spec("principled"), key, key));
+  // roughness below 0.0316 clamps alpha = roughness^2 at 0.001 (principled.h): a flat direction
+  // for the solver, so the fit stays above it.
+  defs.back().lo = 0.04;
+  if (anisotropic) defs.push_back(table_def(spec("principled"), "anisotropic", "anisotropic"));
+}
+
+Json PrincipledFit::to_json(const double* x) const {
+  return {{"model", "principled"}, {"base_color", rgb_json(x)}, {"metallic", x[3]}, {"specular", x[4]},
+          {"roughness", x[5]},     {"anisotropic", anisotropic_ ? x[6] : 0.0}};
+}
+
+// A dielectric start: the floor albedo as base colour, specular 0.5 (F0 0.04), roughness from the
+// mirror lobe's width (alpha = roughness^2), anisotropic 0.2 (inside the range, where the
+// derivative of sqrt(1 - 0.9 anisotropic) is moderate).
+std::vector<double> PrincipledFit::moment_start(const DataMoments& d) const {
+  std::vector<double> x(defs.size());
+  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c];
+  x[3] = 0.0, x[4] = 0.5, x[5] = std::sqrt(alpha_from_exponent(d.mirror_exponent));
+  if (anisotropic_) x[6] = 0.2;
+  clamp_into(x, defs);
+  return x;
+}
+
+std::vector<double> PrincipledFit::random_start(Rng& rng, const DataMoments& d) const {
+  std::vector<double> x(defs.size());
+  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+  x[3] = uniform(rng, 0.0, 1.0), x[4] = uniform(rng, 0.0, 1.0), x[5] = uniform(rng, 0.1, 0.9);
+  if (anisotropic_) x[6] = uniform(rng, 0.0, 0.9);
+  clamp_into(x, defs);
+  return x;
+}
+
 // --- Metal -------------------------------------------------------------------------------------
 
 MetalFit::MetalFit(bool anisotropic, const std::string& metal, SpecularLobeKind lobe)

@@ -272,6 +272,14 @@ std::string body(ModelType<MetalT<float>>, Build& c) {
   return b;
 }
 
+std::string body(ModelType<PrincipledT<float>>, Build& c) {
+  std::string b;
+  for (const char* key : {"base_color", "metallic", "subsurface", "specular", "roughness", "specular_tint", "anisotropic",
+                          "sheen", "sheen_tint", "clearcoat", "clearcoat_gloss"})
+    b += fmt::format("  m.{} = {};\n", key, c.P(key));
+  return b;
+}
+
 // A measured table (35 MB of bins plus sampling tables) is data, not a shader: fit a model first.
 std::string body(ModelType<MeasuredT<float>>, Build& c) {
   const std::string file = c.m.params.has("file") ? c.m.params.text("file") : std::string();

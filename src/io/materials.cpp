@@ -411,6 +411,23 @@ template <typename T> GGXT<T> build(ModelType<GGXT<T>>, const MaterialDesc& d) {
   return m;
 }
 
+template <typename T> PrincipledT<T> build(ModelType<PrincipledT<T>>, const MaterialDesc& d) {
+  const ParamValues& p = d.params;
+  PrincipledT<T> m;
+  m.base_color = rgb<T>(p.color("base_color"));
+  m.metallic = T(p.scalar("metallic"));
+  m.subsurface = T(p.scalar("subsurface"));
+  m.specular = T(p.scalar("specular"));
+  m.roughness = T(p.scalar("roughness"));
+  m.specular_tint = T(p.scalar("specular_tint"));
+  m.anisotropic = T(p.scalar("anisotropic"));
+  m.sheen = T(p.scalar("sheen"));
+  m.sheen_tint = T(p.scalar("sheen_tint"));
+  m.clearcoat = T(p.scalar("clearcoat"));
+  m.clearcoat_gloss = T(p.scalar("clearcoat_gloss"));
+  return m;
+}
+
 template <typename T> MeasuredT<T> build(ModelType<MeasuredT<T>>, const MaterialDesc& d) {
   if (!d.measured) throw InputError(fmt::format("{}: measured material without its table", d.params.where));
   return measured_kernel<T>(*d.measured);

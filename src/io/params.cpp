@@ -184,6 +184,28 @@ constexpr ParamSpec kMeasured[] = {
 };
 constexpr std::span<const ParamSpec> kMeasuredParts[] = {kMeasured};
 
+// --- principled -------------------------------------------------------------------------------
+// Disney's BRDF Explorer, src/brdfs/disney.brdf lines 21-33: every parameter in [0, 1] with the
+// file's defaults (base colour: ours is linear, the file's .82 .67 .16 is a display colour; a grey
+// default here). Roughness 0 is allowed: the kernel clamps alpha to 0.001 (principled.h).
+constexpr ParamSpec unit(std::string_view name, double def, std::string_view doc) {
+  return ParamSpec{.name = name, .kind = ParamKind::Scalar, .doc = doc, .min = 0.0, .max = 1.0, .default_value = def};
+}
+constexpr ParamSpec kPrincipled[] = {
+    reflectance("base_color", 0.5, "base colour C (linear RGB): diffuse albedo, metallic specular colour"),
+    unit("metallic", 0.0, "0 dielectric, 1 metallic (mixes the specular colour to C, removes the diffuse)"),
+    unit("subsurface", 0.0, "blend from the diffuse to Hanrahan-Krueger's subsurface approximation"),
+    unit("specular", 0.5, "dielectric specular amount: F0 = 0.08 specular (0.5: F0 = 0.04, IOR 1.5)"),
+    unit("roughness", 0.5, "alpha = roughness^2 (split by anisotropic); also the diffuse retro-reflection"),
+    unit("specular_tint", 0.0, "tints the dielectric F0 towards the hue of C"),
+    unit("anisotropic", 0.0, "aspect = sqrt(1 - 0.9 anisotropic), alpha_x = alpha / aspect, alpha_y = alpha aspect"),
+    unit("sheen", 0.0, "grazing sheen amount (for cloth)"),
+    unit("sheen_tint", 0.5, "tints the sheen towards the hue of C"),
+    unit("clearcoat", 0.0, "second, GTR1 specular lobe (F0 0.04, fixed alpha 0.25 masking), scaled 0.25 clearcoat"),
+    unit("clearcoat_gloss", 1.0, "clearcoat alpha = 0.1 (0, satin) to 0.001 (1, gloss)"),
+};
+constexpr std::span<const ParamSpec> kPrincipledParts[] = {kPrincipled};
+
 constexpr ModelSpec kLambertSpec{"lambert", "Lambert", "Lambert 1760", kLambertParts};
 constexpr ModelSpec kPhongSpec{"phong", "Phong", "Phong 1975; Lewis 1994 (normalisation)", kPhongParts};
 constexpr ModelSpec kWardSpec{"ward", "Ward",
@@ -196,6 +218,10 @@ constexpr ModelSpec kGGXSpec{"ggx", "Anisotropic GGX",
                              "Walter et al. 2007; Heitz 2014 (Smith G2); Heitz 2018 (visible normals)", kGGXParts};
 constexpr ModelSpec kMetalSpec{"metal", "Metal", "Cook & Torrance 1982; Born & Wolf (conductor Fresnel)",
                                kMetalParts};
+
+constexpr ModelSpec kPrincipledSpec{"principled", "Disney principled",
+                                    "Burley 2012, Physically-Based Shading at Disney (BRDF Explorer's disney.brdf)",
+                                    kPrincipledParts};
 
 constexpr ModelSpec kMeasuredSpec{"measured", "Measured (MERL table)",
                                   "Matusik et al. 2003, A Data-Driven Reflectance Model (MERL BRDF database)",

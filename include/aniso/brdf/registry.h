@@ -31,6 +31,7 @@
 #include "aniso/brdf/measured.h"
 #include "aniso/brdf/metal.h"
 #include "aniso/brdf/phong.h"
+#include "aniso/brdf/principled.h"
 #include "aniso/brdf/ward.h"
 
 #define ANISO_MODELS(X)                                                                         \
@@ -41,6 +42,7 @@
   X(Lafortune, LafortuneT, lafortune, "lafortune", Simd, Glsl)                                  \
   X(GGX, GGXT, ggx, "ggx", Simd, Glsl)                                                          \
   X(Metal, MetalT, metal, "metal", Simd, Glsl)                                                  \
+  X(Principled, PrincipledT, principled, "principled", Scalar, Glsl)                            \
   X(Measured, MeasuredT, measured, "measured", Scalar, NoGlsl)
 
 namespace aniso {
