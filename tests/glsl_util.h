@@ -104,7 +104,7 @@ inline std::vector<GpuResult> run_pairs(const std::string& material_glsl, const 
   return r;
 }
 
-// "within 1e-4 relative, or 1e-6 absolute where the value is tiny" (issue 6).
+// The GLSL parity bound: within 1e-4 relative, or 1e-6 absolute where the value is tiny.
 inline bool close(double gpu, double cpu, double rel = 1e-4, double abs_tol = 1e-6) {
   if (!std::isfinite(gpu) || !std::isfinite(cpu)) return false;
   const double d = std::abs(gpu - cpu);

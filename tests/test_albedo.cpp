@@ -40,6 +40,12 @@ std::vector<NamedMaterial> energy_conserving() {
   v.push_back({"metal_silver_ggx", {{"model", "metal"}, {"metal", "silver"}, {"lobe", {{"model", "ggx"}, {"alpha_x", 0.3}, {"alpha_y", 0.3}}}}});
   v.push_back({"metal_silver_ward_balanced", {{"model", "metal"}, {"metal", "silver"}, {"lobe", {{"model", "ward"}, {"alpha_x", 0.4}, {"alpha_y", 0.1}, {"normalization", "balanced"}}}}});
   v.push_back({"metal_silver_as", {{"model", "metal"}, {"metal", "silver"}, {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 10.0}, {"n_v", 100.0}}}}});
+  // Disney principled, metallic 1 with a white base colour: Fresnel 1 times the separable-Smith GGX
+  // lobe, whose single scattering loses energy (separable G <= height-correlated G <= 1).
+  for (double r : {0.1, 0.5, 1.0})
+    v.push_back({"principled_white_metal_" + std::to_string(int(r * 100)),
+                 {{"model", "principled"}, {"base_color", 1.0}, {"metallic", 1.0}, {"roughness", r}}});
+  v.push_back({"principled_white_metal_aniso", {{"model", "principled"}, {"base_color", 1.0}, {"metallic", 1.0}, {"roughness", 0.5}, {"anisotropic", 1.0}}});
   return v;
 }
 

@@ -197,6 +197,21 @@ TEST(FitMetal, FittedEtaKRecoverF0AndRoughness) {
   EXPECT_LT(r.errors.relative_l2cos, 0.01);
 }
 
+// The Disney principled model recovers its roughness and anisotropy from its own samples (the
+// other keys, base colour, metallic and specular, are fitted with them).
+TEST(FitPrincipled, RecoversRoughnessAndAnisotropic) {
+  const json m = {{"model", "principled"}, {"base_color", {0.5, 0.3, 0.2}}, {"metallic", 0.0}, {"specular", 0.5},
+                  {"roughness", 0.4},      {"anisotropic", 0.6}};
+  for (const double noise : {0.0, 0.02}) {
+    const SampleSet data = synthetic(m, 1500, 700, noise, 5);
+    const FitResult r = fit_samples(data, opts("principled", true));
+    const double tol = noise == 0.0 ? 1e-3 : 0.03;
+    EXPECT_NEAR(r.material["roughness"].get<double>(), 0.4, tol * 0.4) << "noise " << noise;
+    EXPECT_NEAR(r.material["anisotropic"].get<double>(), 0.6, tol * 0.6) << "noise " << noise;
+    EXPECT_LT(r.errors.relative_l2cos, noise == 0.0 ? 1e-4 : 0.03) << "noise " << noise;
+  }
+}
+
 // The Lafortune Jacobian is assembled lobe by lobe (fit.cpp, evaluate_by_parts): it must equal the
 // Jacobian of one Jet over every parameter, for every layout and both metrics, at random points.
 TEST(Fit, LafortuneJacobianByPartsEqualsTheWholeJet) {

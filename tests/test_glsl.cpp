@@ -204,7 +204,7 @@ TEST_P(GlslParity, MaterialMatchesCppFloat) {
                            g.wi, g.wo, g.u, [&](const gl::ComputeProgram& p) { gl::set_uniforms(p, gm, "u_"); });
   const std::string f_name = gm.model_struct + "_f", pdf_name = gm.model_struct + "_pdf",
                     sample_name = gm.model_struct + "_sample";
-  // 1e-4 relative (issue 6), unless the function itself is worse conditioned than that in float:
+  // 1e-4 relative (docs/glsl.md's parity bound), unless the function itself is worse conditioned than that in float:
   // Ngan 2005's Ashikhmin-Shirley fits have exponents ~1e4, where one float rounding of n.h moves
   // pow(n.h, e) by ~1e-3, and C++ float already differs from C++ double by that much. The
   // tolerance is then four times the worst float-vs-double difference of the C++ kernels on this

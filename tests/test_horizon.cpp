@@ -1,8 +1,8 @@
 // The horizon rule (include/aniso/core/math.h, HorizonCos; docs/conventions.md): for every model
 // and every preset, in float and in double, no direction pair gives a non-finite or negative f or
 // pdf, down to the smallest normal (and subnormal) cosines; at or below kHorizonCos everything is 0.
-// Regression tests for issue 13's grazing reproducers (`1 0 1e-170 -1 0 1e-170`, mirror pairs with
-// z <= 1e-120, float pdf NaN at z = 1e-15) and its Lafortune overflow reproducers.
+// Grazing pairs that once gave NaN (`1 0 1e-170 -1 0 1e-170`, mirror pairs with z <= 1e-120, the
+// float pdf at z = 1e-15) and Lafortune lobes whose base^n overflowed are held here.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -138,7 +138,8 @@ TEST(Horizon, AshikhminShirleyOppositeGrazingPairIsNotNegative) {
   for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(fm[c]) && fm[c] >= 0.0) << fm[c];
 }
 
-// Issue 13: `1 0 1e-170 -1 0 1e-170` gave NaN for 196 of 461 presets in double.
+// The grazing opposite pair `1 0 1e-170 -1 0 1e-170` is exactly 0 for every preset, in double
+// (where 1e-170 is representable and products of such cosines underflow).
 TEST(Horizon, ReproducerGrazingOppositePairIsZero) {
   const Vec3d wi(1, 0, 1e-170), wo(-1, 0, 1e-170);
   for (const PresetInfo& p : presets()) {
@@ -158,8 +159,8 @@ TEST(Horizon, ThresholdIsExactlyTheDocumentedValue) {
   EXPECT_GT(f.f(Vec3(1, 0, 1.001e-6f), Vec3(0, 0, 1)).x, 0.0f);
 }
 
-// Issue 13: Lafortune materials the reader accepts gave inf / NaN: base^n overflowed before the
-// scale (log-space evaluation now, lafortune.h Lafortune_Lobe).
+// Every Lafortune material the reader accepts is finite: base^n would overflow before the scale
+// brings it down, so the lobe is evaluated in log space (lafortune.h, Lafortune_Lobe).
 TEST(LafortuneOverflow, AcceptedMaterialsAreFinite) {
   using nlohmann::json;
   const json cases[] = {
@@ -192,7 +193,7 @@ TEST(LafortuneOverflow, AcceptedMaterialsAreFinite) {
   EXPECT_NEAR(m.f(Vec3d(0, 0, 1), Vec3d(0, 0, 1)).x / 1e-226, 1.0, 1e-12);
 }
 
-// Issue 13: eta = 1, k = 0 (index matched to air) gave f = -1e-12 from rounding.
+// eta = 1, k = 0 (index matched to air): F is exactly 0, never a negative rounding residue.
 TEST(FresnelConductor, IndexMatchedToAirIsZeroNotNegative) {
   for (double c = 0.0; c <= 1.0; c += 1.0 / 64) {
     EXPECT_GE(F_Conductor(c, 1.0, 0.0), 0.0) << c;

@@ -142,7 +142,7 @@ TEST(MaterialPresets, FamilySizes) {
   const std::map<std::string, int> expected_ngan = {
       {"ward", 86}, {"wardduer", 86}, {"blinnphong", 86}, {"lafortune", 86}, {"ashikhminshirley", 86}};
   EXPECT_EQ(ngan, expected_ngan);
-  EXPECT_EQ(presets().size(), 1u + 6u + 24u + 5u * 86u);
+  EXPECT_EQ(presets().size(), 1u + 6u + 24u + 5u * 86u + 4u);
 }
 
 TEST(MaterialPresets, NganModelsMapOntoOurs) {

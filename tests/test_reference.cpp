@@ -1,5 +1,5 @@
 // tests/test_reference.cpp: every model against reference values computed independently from the
-// formulas of docs/models.md (tests/reference/reference_brdfs.h: plain double precision, angle
+// formulas of docs/reference/models-spec.md (tests/reference/reference_brdfs.h: plain double precision, angle
 // forms, complex Fresnel), at fixed directions, in double (relative 1e-9) and float (relative
 // ~1e-5). Also: Ward angle == vector form, the size of Ward's 1992 approximation, the lecture's
 // matte steel, the conductor Fresnel against its complex form and the metal table's spectral
@@ -54,7 +54,7 @@ std::vector<DirPair> direction_pairs() {
   };
 }
 
-// Degenerate pairs: f must be exactly 0 (models.md, Conventions).
+// Degenerate pairs: f must be exactly 0 (models-spec.md, Conventions).
 std::vector<DirPair> degenerate_pairs() {
   return {
       {"wi below horizon", spherical(100, 30), spherical(40, 200)},
@@ -246,7 +246,7 @@ TEST(ReferenceValues, Lafortune) {
   }
 }
 
-// The matte-steel preset against the lecture's table, typed in from models.md (rho_d = 0).
+// The matte-steel preset against the lecture's table, typed in from docs/reference/models-spec.md (rho_d = 0).
 TEST(ReferenceValues, MatteSteelPresetMatchesTheLecturesTable) {
   const auto preset = aniso::find_preset("matte-steel");
   ASSERT_TRUE(preset.has_value());
@@ -371,6 +371,41 @@ void for_grid(Fn&& fn) {
     for (double pi = 0.0; pi < 360.0; pi += 30.0)
       for (double to = 0.0; to <= 88.0; to += 4.0)
         for (double po = 15.0; po < 375.0; po += 30.0) fn(spherical(ti, pi), spherical(to, po));
+}
+
+// --- Disney principled -------------------------------------------------------------------------
+
+// A grid over roughness x anisotropic x clearcoat with the other parameters varied along it; the
+// library (principled.h: disney.brdf's dot-product form) against the reference's angle form.
+TEST(ReferenceValues, Principled) {
+  const R::C3 colours[] = {{0.8, 0.5, 0.2}, {0.05, 0.3, 0.9}, {0.0, 0.0, 0.0}};
+  int i = 0;
+  for (double roughness : {0.0, 0.1, 0.5, 0.9})
+    for (double anisotropic : {0.0, 0.5, 1.0})
+      for (double clearcoat : {0.0, 1.0}) {
+        R::PrincipledParams p;
+        p.base_color = colours[i % 3];
+        p.roughness = roughness, p.anisotropic = anisotropic, p.clearcoat = clearcoat;
+        p.metallic = (i % 4) / 3.0, p.subsurface = (i % 3) / 2.0, p.specular = 0.2 + 0.1 * (i % 5);
+        p.specular_tint = (i % 2) * 0.7, p.sheen = ((i + 1) % 2) * 0.8, p.sheen_tint = 0.3 * (i % 3);
+        p.clearcoat_gloss = (i % 5) / 4.0;
+        ++i;
+        const json mat = {{"model", "principled"},
+                          {"base_color", {p.base_color[0], p.base_color[1], p.base_color[2]}},
+                          {"metallic", p.metallic},
+                          {"subsurface", p.subsurface},
+                          {"specular", p.specular},
+                          {"roughness", p.roughness},
+                          {"specular_tint", p.specular_tint},
+                          {"anisotropic", p.anisotropic},
+                          {"sheen", p.sheen},
+                          {"sheen_tint", p.sheen_tint},
+                          {"clearcoat", p.clearcoat},
+                          {"clearcoat_gloss", p.clearcoat_gloss}};
+        const ErrStats st = check_against_reference("principled #" + std::to_string(i), mat,
+                                                    [&](const R::V3& wi, const R::V3& wo) { return R::principled(p, wi, wo); });
+        EXPECT_LT(st.max_rel_double, 1e-6);
+      }
 }
 
 TEST(ReferenceWard, AngleFormEqualsVectorForm) {

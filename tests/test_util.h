@@ -70,6 +70,13 @@ inline std::vector<NamedMaterial> all_model_materials() {
   v.push_back({"metal_as", {{"model", "metal"}, {"metal", "copper"}, {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 20.0}, {"n_v", 300.0}}}}});
   v.push_back({"metal_ggx", {{"model", "metal"}, {"eta", {0.2, 0.9, 1.1}}, {"k", {3.9, 2.4, 2.2}},
                              {"lobe", {{"model", "ggx"}, {"alpha_x", 0.3}, {"alpha_y", 0.1}}}}});
+  v.push_back({"principled", {{"model", "principled"}, {"base_color", {0.8, 0.5, 0.2}}}});
+  v.push_back({"principled_aniso_clearcoat",
+               {{"model", "principled"}, {"base_color", {0.2, 0.4, 0.7}}, {"metallic", 0.3}, {"subsurface", 0.5},
+                {"roughness", 0.4}, {"specular_tint", 0.5}, {"anisotropic", 0.8}, {"sheen", 0.5}, {"clearcoat", 1.0},
+                {"clearcoat_gloss", 0.5}}});
+  v.push_back({"principled_metal_aniso",
+               {{"model", "principled"}, {"base_color", {0.9, 0.6, 0.3}}, {"metallic", 1.0}, {"roughness", 0.3}, {"anisotropic", 0.9}}});
   return v;
 }
 

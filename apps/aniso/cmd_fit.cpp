@@ -174,7 +174,9 @@ void add_fit_command(CLI::App& app) {
   auto* fit = app.add_subcommand("fit", "fit a model to measured data (MERL .binary, Cornell .brdf, CSV of samples): "
                                         "write the material, print the parameters and errors");
   fit->add_option("data", a->data, "measured data: .binary (MERL), .brdf (Cornell), .csv (theta_i,phi_i,theta_o,phi_o,r,g,b)")->required();
-  fit->add_option("--model", a->options.model, "lafortune | ward | ashikhmin-shirley | ggx | metal");
+  std::string models;
+  for (std::string_view m : fittable_models()) models += fmt::format("{}{}", models.empty() ? "" : " | ", m);
+  fit->add_option("--model", a->options.model, models);
   fit->add_option("--lobes", a->options.lobes, "Lafortune: number of lobes, 1 to 8");
   fit->add_flag("--anisotropic", a->options.anisotropic, "fit C_x != C_y, alpha_x != alpha_y, n_u != n_v");
   fit->add_flag("--shared-exponents", a->options.shared_exponents, "Lafortune: one exponent per lobe for all channels");

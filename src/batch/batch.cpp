@@ -14,17 +14,17 @@ HWY_BEFORE_NAMESPACE();
 namespace aniso::batch::HWY_NAMESPACE {
 
 void EvalFloat(const MaterialT<float>& m, const EvalArgs<float>& a, size_t begin, size_t end, bool want_pdf) {
-  RunMaterial(m, a, begin, end, want_pdf);
+  (void)RunMaterial(m, a, begin, end, want_pdf);
 }
 void EvalDouble(const MaterialT<double>& m, const EvalArgs<double>& a, size_t begin, size_t end, bool want_pdf) {
-  RunMaterial(m, a, begin, end, want_pdf);
+  (void)RunMaterial(m, a, begin, end, want_pdf);
 }
 void EvalInterleavedFloat(const MaterialT<float>& m, const InterleavedArgs<float>& a, size_t begin, size_t end, bool want_pdf) {
-  RunMaterialInterleaved(m, a, begin, end, want_pdf);
+  (void)RunMaterialInterleaved(m, a, begin, end, want_pdf);
 }
 void EvalInterleavedDouble(const MaterialT<double>& m, const InterleavedArgs<double>& a, size_t begin, size_t end,
                            bool want_pdf) {
-  RunMaterialInterleaved(m, a, begin, end, want_pdf);
+  (void)RunMaterialInterleaved(m, a, begin, end, want_pdf);
 }
 bool SampleFloat(const MaterialT<float>& m, const SampleArgs<float>& a, size_t begin, size_t end) {
   return SampleMaterial(m, a, begin, end);
@@ -171,9 +171,9 @@ template <typename T>
 void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f, Threads threads,
               Kernels kernels, NonFinite non_finite) {
   const EvalArgs<T> a{wi, wo, f, nullptr, non_finite};
-  // A measured BRDF (table lookups, gathers from 35 MB) has no SIMD twin: the scalar kernel per
-  // element, on the same blocks and threads.
-  if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;
+  // A model whose registry row says Scalar (the measured BRDF: table lookups, gathers from 35 MB)
+  // has no SIMD twin: the scalar kernel per element, on the same blocks and threads.
+  if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;
   const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
@@ -195,7 +195,7 @@ template <typename T>
 void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads, Kernels kernels,
          NonFinite non_finite) {
   const EvalArgs<T> a{wi, wo, {}, out, non_finite};
-  if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
+  if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
   const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
@@ -216,7 +216,7 @@ template <typename T>
 void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* f_rgb, Threads threads,
                           Kernels kernels, NonFinite non_finite) {
   const InterleavedArgs<T> a{wi, wo, f_rgb, nullptr, non_finite};
-  if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
+  if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
   const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
@@ -238,7 +238,7 @@ template <typename T>
 void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* out, Threads threads,
                      Kernels kernels, NonFinite non_finite) {
   const InterleavedArgs<T> a{wi, wo, nullptr, out, non_finite};
-  if (m.kind == ModelKind::Measured) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
+  if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
   const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
@@ -255,8 +255,8 @@ void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo
   });
 }
 
-// The SIMD samplers (kernels-inl.h) for every model; the scalar loop below is the fallback for a
-// model kind without one (the measured BRDF: table lookups).
+// The SIMD samplers (src/batch/twins/) for every model whose registry row says Simd; the scalar
+// loop below for the others (the measured BRDF: table lookups).
 template <typename T>
 void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
             Threads threads) {

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "io/params.h"
+#include "io/input_error.h"
 
 namespace aniso {
 namespace embedded {

@@ -16,6 +16,7 @@
 #include <glog/logging.h>
 
 #include "fit/models.h"
+#include "io/enum_names.h"
 #include "io/materials.h"
 #include "io/presets.h"
 #include "io/text_input.h"
@@ -452,11 +453,18 @@ template <class Model> FitResult dispatch(const Model& model, const SampleSet& d
   return fit_with<Model, 112>(model, data, o);  // Lafortune: 8 anisotropic lobes, 3 + 8 x 12 = 99
 }
 
-WardNormalization ward_normalization(const std::string& s) {
-  if (s == "ward") return WardNormalization::Ward1992;
-  if (s == "duer") return WardNormalization::Duer;
-  if (s == "balanced") return WardNormalization::Balanced;
-  throw InputError(fmt::format("--normalization: expected ward, duer or balanced, got \"{}\"", s));
+// "ward, duer or balanced": the names of an enumeration (io/enum_names.h) for an error message.
+template <typename E> std::string name_list() {
+  const auto names = enum_names<E>();
+  std::string s;
+  for (size_t i = 0; i < names.size(); ++i) s += fmt::format("{}{}", i == 0 ? "" : i + 1 == names.size() ? " or " : ", ", names[i]);
+  return s;
+}
+
+template <typename E> E option_enum(const std::string& s, std::string_view option) {
+  const std::optional<E> e = enum_from_name<E>(s);
+  if (!e) throw InputError(fmt::format("{}: expected {}, got \"{}\"", option, name_list<E>(), s));
+  return *e;
 }
 
 }  // namespace
@@ -533,27 +541,52 @@ FitOptions parse_fit_options(const FitOptionText& a) {
   return o;
 }
 
+namespace {
+
+// The fittable models, one row each (its class in fit/models.h), in the order `--model` lists them.
+struct Fittable {
+  std::string_view model;
+  FitResult (*fit)(const SampleSet& data, const FitOptions& o);
+};
+constexpr Fittable kFittable[] = {
+    {"lafortune",
+     [](const SampleSet& data, const FitOptions& o) {
+       if (o.lobes < 1 || o.lobes > kLafortuneMaxLobes)
+         throw InputError(fmt::format("--lobes: expected 1 to {}, got {}", kLafortuneMaxLobes, o.lobes));
+       return dispatch(LafortuneFit(o.lobes, o.anisotropic, o.shared_exponents), data, o);
+     }},
+    {"ward",
+     [](const SampleSet& data, const FitOptions& o) {
+       return dispatch(WardFit(o.anisotropic, option_enum<WardNormalization>(o.normalization, "--normalization")), data, o);
+     }},
+    {"ashikhmin-shirley",
+     [](const SampleSet& data, const FitOptions& o) { return dispatch(AshikhminShirleyFit(o.anisotropic), data, o); }},
+    {"ggx", [](const SampleSet& data, const FitOptions& o) { return dispatch(GGXFit(o.anisotropic), data, o); }},
+    {"metal",
+     [](const SampleSet& data, const FitOptions& o) {
+       const SpecularLobeKind lobe = option_enum<SpecularLobeKind>(o.metal_lobe, "--metal-lobe");
+       return dispatch(MetalFit(o.anisotropic, o.metal, lobe), data, o);
+     }},
+    {"principled", [](const SampleSet& data, const FitOptions& o) { return dispatch(PrincipledFit(o.anisotropic), data, o); }},
+};
+
+}  // namespace
+
+std::vector<std::string_view> fittable_models() {
+  std::vector<std::string_view> out;
+  for (const Fittable& f : kFittable) out.push_back(f.model);
+  return out;
+}
+
 FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
   if (o.starts < 1 || o.starts > 1000) throw InputError(fmt::format("--starts: expected 1 to 1000, got {}", o.starts));
   if (o.max_iterations < 1) throw InputError("--max-iterations: expected at least 1");
-  const bool aniso = o.anisotropic;
-  if (o.model == "lafortune") {
-    if (o.lobes < 1 || o.lobes > kLafortuneMaxLobes)
-      throw InputError(fmt::format("--lobes: expected 1 to {}, got {}", kLafortuneMaxLobes, o.lobes));
-    return dispatch(LafortuneFit(o.lobes, aniso, o.shared_exponents), data, o);
+  std::string names;
+  for (size_t i = 0; i < std::size(kFittable); ++i) {
+    if (kFittable[i].model == o.model) return kFittable[i].fit(data, o);
+    names += fmt::format("{}{}", i == 0 ? "" : i + 1 == std::size(kFittable) ? " or " : ", ", kFittable[i].model);
   }
-  if (o.model == "ward") return dispatch(WardFit(aniso, ward_normalization(o.normalization)), data, o);
-  if (o.model == "ashikhmin-shirley") return dispatch(AshikhminShirleyFit(aniso), data, o);
-  if (o.model == "ggx") return dispatch(GGXFit(aniso), data, o);
-  if (o.model == "metal") {
-    SpecularLobeKind lobe;
-    if (o.metal_lobe == "ggx") lobe = SpecularLobeKind::GGX;
-    else if (o.metal_lobe == "ward") lobe = SpecularLobeKind::Ward;
-    else if (o.metal_lobe == "ashikhmin-shirley") lobe = SpecularLobeKind::AshikhminShirley;
-    else throw InputError(fmt::format("--metal-lobe: expected ggx, ward or ashikhmin-shirley, got \"{}\"", o.metal_lobe));
-    return dispatch(MetalFit(aniso, o.metal, lobe), data, o);
-  }
-  throw InputError(fmt::format("--model: expected lafortune, ward, ashikhmin-shirley, ggx or metal, got \"{}\"", o.model));
+  throw InputError(fmt::format("--model: expected {}, got \"{}\"", names, o.model));
 }
 
 nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const FitOptions& o) {

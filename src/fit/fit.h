@@ -15,6 +15,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -101,6 +102,9 @@ struct FitResult {
 
 // Throws InputError for options that do not make a model (unknown model, --lobes out of range).
 FitResult fit_samples(const SampleSet& data, const FitOptions& options);
+
+// The models fit_samples accepts (FitOptions::model), in order.
+std::vector<std::string_view> fittable_models();
 
 // Both metrics of a material against the data (every sample).
 FitErrors fit_errors(const MaterialD& m, const SampleSet& data);

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "data/metals.h"
+#include "io/enum_names.h"
 
 namespace aniso::fit_detail {
 namespace {
@@ -177,7 +178,7 @@ WardFit::WardFit(bool anisotropic, WardNormalization norm) : anisotropic_(anisot
 }
 
 Json WardFit::to_json(const double* x) const {
-  const char* norm = norm_ == WardNormalization::Duer ? "duer" : (norm_ == WardNormalization::Balanced ? "balanced" : "ward");
+  const std::string norm(enum_name(norm_));
   return {{"model", "ward"}, {"kd", rgb_json(x)}, {"ks", rgb_json(x + 3)}, {"alpha_x", x[6]},
           {"alpha_y", x[anisotropic_ ? 7 : 6]}, {"form", "vector"}, {"normalization", norm}};
 }
@@ -276,6 +277,44 @@ std::vector<double> GGXFit::random_start(Rng& rng, const DataMoments& d) const {
   return alpha_lobe_random_start(rng, d, anisotropic_, defs);
 }
 
+// --- Principled --------------------------------------------------------------------------------
+
+PrincipledFit::PrincipledFit(bool anisotropic) : anisotropic_(anisotropic) {
+  const char* ch = "rgb";
+  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("principled"), "base_color", fmt::format("base_color.{}", ch[c])));
+  for (const char* key : {"metallic", "specular", "roughness"}) defs.push_back(table_def(spec("principled"), key, key));
+  // roughness below 0.0316 clamps alpha = roughness^2 at 0.001 (principled.h): a flat direction
+  // for the solver, so the fit stays above it.
+  defs.back().lo = 0.04;
+  if (anisotropic) defs.push_back(table_def(spec("principled"), "anisotropic", "anisotropic"));
+}
+
+Json PrincipledFit::to_json(const double* x) const {
+  return {{"model", "principled"}, {"base_color", rgb_json(x)}, {"metallic", x[3]}, {"specular", x[4]},
+          {"roughness", x[5]},     {"anisotropic", anisotropic_ ? x[6] : 0.0}};
+}
+
+// A dielectric start: the floor albedo as base colour, specular 0.5 (F0 0.04), roughness from the
+// mirror lobe's width (alpha = roughness^2), anisotropic 0.2 (inside the range, where the
+// derivative of sqrt(1 - 0.9 anisotropic) is moderate).
+std::vector<double> PrincipledFit::moment_start(const DataMoments& d) const {
+  std::vector<double> x(defs.size());
+  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c];
+  x[3] = 0.0, x[4] = 0.5, x[5] = std::sqrt(alpha_from_exponent(d.mirror_exponent));
+  if (anisotropic_) x[6] = 0.2;
+  clamp_into(x, defs);
+  return x;
+}
+
+std::vector<double> PrincipledFit::random_start(Rng& rng, const DataMoments& d) const {
+  std::vector<double> x(defs.size());
+  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+  x[3] = uniform(rng, 0.0, 1.0), x[4] = uniform(rng, 0.0, 1.0), x[5] = uniform(rng, 0.1, 0.9);
+  if (anisotropic_) x[6] = uniform(rng, 0.0, 0.9);
+  clamp_into(x, defs);
+  return x;
+}
+
 // --- Metal -------------------------------------------------------------------------------------
 
 MetalFit::MetalFit(bool anisotropic, const std::string& metal, SpecularLobeKind lobe)
@@ -296,8 +335,7 @@ MetalFit::MetalFit(bool anisotropic, const std::string& metal, SpecularLobeKind 
     }
     for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("metal"), "k", fmt::format("k.{}", ch[c])));
   }
-  const char* lobe_name = lobe == SpecularLobeKind::Ward ? "ward" : (lobe == SpecularLobeKind::AshikhminShirley ? "ashikhmin-shirley" : "ggx");
-  const ModelSpec& ls = metal_lobe_spec(lobe_name);
+  const ModelSpec& ls = metal_lobe_spec(enum_name(lobe));
   const bool as = lobe == SpecularLobeKind::AshikhminShirley;
   defs.push_back(table_def(ls, as ? "n_u" : "alpha_x", anisotropic ? (as ? "n_u" : "alpha_x") : (as ? "n" : "alpha")));
   if (anisotropic) defs.push_back(table_def(ls, as ? "n_v" : "alpha_y", as ? "n_v" : "alpha_y"));

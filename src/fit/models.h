@@ -239,6 +239,35 @@ class MetalFit {
   SpecularLobeKind lobe_;
 };
 
+// The Disney principled BRDF (principled.h): base_color (3), metallic, specular, roughness and,
+// when anisotropic, anisotropic; subsurface, sheen and clearcoat stay 0 (their keys' defaults).
+class PrincipledFit {
+ public:
+  int penalty_count() const { return 0; }
+  template <typename T> void penalties(const T*, T*) const {}
+  explicit PrincipledFit(bool anisotropic);
+  std::vector<ParamDef> defs;
+  template <typename T> PrincipledT<T> build(const T* x) const {
+    PrincipledT<T> m;
+    m.base_color = RGBT<T>(x[0], x[1], x[2]);
+    m.metallic = x[3];
+    m.specular = x[4];
+    m.roughness = x[5];
+    m.anisotropic = anisotropic_ ? x[6] : T(0);
+    m.subsurface = T(0), m.specular_tint = T(0), m.sheen = T(0), m.sheen_tint = T(0.5);
+    m.clearcoat = T(0), m.clearcoat_gloss = T(1);
+    return m;
+  }
+  Json to_json(const double* x) const;
+  std::vector<double> moment_start(const DataMoments& d) const;
+  std::optional<std::vector<double>> from_preset(const MaterialDesc&, const DataMoments&) const { return std::nullopt; }
+  std::vector<double> random_start(Rng& rng, const DataMoments& d) const;
+  std::string ngan_model() const { return "ward"; }  // no Ngan fit of this model: the start comes from moments
+
+ private:
+  bool anisotropic_;
+};
+
 // For tests: the largest relative difference between the Lafortune Jacobian assembled by parts
 // and the one from a single Jet over every parameter (fit.cpp), residuals included, at x.
 double lafortune_parts_jacobian_difference(int lobes, bool anisotropic, bool shared, FitMetric metric, const SampleSet& data,

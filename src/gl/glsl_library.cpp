@@ -4,35 +4,85 @@
 #include <cctype>
 #include <regex>
 #include <sstream>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "aniso/brdf/registry.h"
 
 namespace aniso::embedded {
 extern const std::string_view glsl_core_platform, glsl_core_math, glsl_core_frame, glsl_core_sampling,
-    glsl_core_lobe_mixture, glsl_brdf_fresnel, glsl_brdf_lambert, glsl_brdf_phong, glsl_brdf_ward,
-    glsl_brdf_ashikhmin_shirley, glsl_brdf_ggx, glsl_brdf_lafortune, glsl_brdf_metal, glsl_brdf_material,
-    glsl_tangent_fields;
-}
+    glsl_core_lobe_mixture, glsl_brdf_fresnel, glsl_tangent_fields;
+// The twin of each registry row that says Glsl: include/aniso/brdf/<member>.glsl (CMakeLists.txt
+// embeds every brdf/*.glsl; a row whose file is missing does not link).
+#define ANISO_GLSL_EXTERN_Glsl(member) extern const std::string_view glsl_brdf_##member;
+#define ANISO_GLSL_EXTERN_NoGlsl(member)
+#define ANISO_X(Tag, Type, member, name, batch, glsl) ANISO_GLSL_EXTERN_##glsl(member)
+ANISO_MODELS(ANISO_X)
+#undef ANISO_X
+}  // namespace aniso::embedded
 
 namespace aniso::gl {
 
+std::string glsl_material_dispatch() {
+  std::string kinds, members, f, pdf, sample;
+  for (const ModelInfo& m : kModels) {
+    kinds += fmt::format("const int ModelKind_{} = {};\n", m.tag, int(m.kind));
+    if (!m.glsl) continue;
+    members += fmt::format("  {} {};\n", m.tag, m.member);
+    if (m.kind == ModelKind::Lambert) continue;  // the last line of each function
+    const std::string test = fmt::format("  if (self.kind == ModelKind_{}) return {}_", m.tag, m.tag);
+    f += fmt::format("{}f(self.{}, wi, wo);\n", test, m.member);
+    pdf += fmt::format("{}pdf(self.{}, wi, wo);\n", test, m.member);
+    sample += fmt::format("{}sample(self.{}, wo, uc, u);\n", test, m.member);
+  }
+  return fmt::format(
+      "// aniso/brdf/material.glsl: GLSL twin of material.h, generated from the registry\n"
+      "// (aniso/brdf/registry.h) by src/gl/glsl_library.cpp: every model behind one value type,\n"
+      "// dispatched by a tag. GLSL has no unions: Material holds one member per model and `kind` says\n"
+      "// which one is live (the others are never read). Models without a GLSL twin (the measured\n"
+      "// table) have a ModelKind constant and no member.\n"
+      "//\n"
+      "// Interface of every model (docs/conventions.md): directions in the local shading frame\n"
+      "// (z = normal, x = tangent), wi towards the light, wo towards the viewer, both unit.\n"
+      "//   Material_f(m, wi, wo)           the BRDF without the cosine; 0 unless both are above the horizon\n"
+      "//   Material_pdf(m, wi, wo)         the solid-angle density of Material_sample producing wi for this wo\n"
+      "//   Material_sample(m, wo, uc, u)   {{wi, weight = f cos / pdf, pdf}} or \"no sample\"; uc picks the lobe,\n"
+      "//                                   u (2D) the direction; all uniform in [0, 1)\n"
+      "\n"
+      "// enum class ModelKind (enumerator values as in registry.h).\n"
+      "{}\n"
+      "struct Material {{\n  int kind;  // ModelKind_*\n{}}};\n\n"
+      "vec3 Material_f(Material self, vec3 wi, vec3 wo) {{\n{}  return Lambert_f(self.lambert, wi, wo);\n}}\n"
+      "float Material_pdf(Material self, vec3 wi, vec3 wo) {{\n{}  return Lambert_pdf(self.lambert, wi, wo);\n}}\n"
+      "BSDFSample Material_sample(Material self, vec3 wo, float uc, vec2 u) {{\n{}"
+      "  return Lambert_sample(self.lambert, wo, uc, u);\n}}\n",
+      kinds, members, f, pdf, sample);
+}
+
 std::span<const GlslFile> glsl_library_files() {
   using namespace aniso::embedded;
-  static const GlslFile files[] = {
-      {"include/aniso/core/platform.glsl", glsl_core_platform},
-      {"include/aniso/core/math.glsl", glsl_core_math},
-      {"include/aniso/core/frame.glsl", glsl_core_frame},
-      {"include/aniso/core/sampling.glsl", glsl_core_sampling},
-      {"include/aniso/core/lobe_mixture.glsl", glsl_core_lobe_mixture},
-      {"include/aniso/brdf/fresnel.glsl", glsl_brdf_fresnel},
-      {"include/aniso/brdf/lambert.glsl", glsl_brdf_lambert},
-      {"include/aniso/brdf/phong.glsl", glsl_brdf_phong},
-      {"include/aniso/brdf/ward.glsl", glsl_brdf_ward},
-      {"include/aniso/brdf/ashikhmin_shirley.glsl", glsl_brdf_ashikhmin_shirley},
-      {"include/aniso/brdf/ggx.glsl", glsl_brdf_ggx},
-      {"include/aniso/brdf/lafortune.glsl", glsl_brdf_lafortune},
-      {"include/aniso/brdf/metal.glsl", glsl_brdf_metal},
-      {"include/aniso/brdf/material.glsl", glsl_brdf_material},
-      {"include/aniso/tangent/fields.glsl", glsl_tangent_fields},
-  };
+  static const std::string dispatch = glsl_material_dispatch();
+  // Paths as written in the repository; the models' twins in registry order (metal after the
+  // lobes it holds), then the generated Material dispatch.
+  static const std::vector<GlslFile> files = [] {
+    std::vector<GlslFile> v = {
+        {"include/aniso/core/platform.glsl", glsl_core_platform},
+        {"include/aniso/core/math.glsl", glsl_core_math},
+        {"include/aniso/core/frame.glsl", glsl_core_frame},
+        {"include/aniso/core/sampling.glsl", glsl_core_sampling},
+        {"include/aniso/core/lobe_mixture.glsl", glsl_core_lobe_mixture},
+        {"include/aniso/brdf/fresnel.glsl", glsl_brdf_fresnel},
+    };
+#define ANISO_GLSL_FILE_Glsl(member) v.push_back({"include/aniso/brdf/" #member ".glsl", glsl_brdf_##member});
+#define ANISO_GLSL_FILE_NoGlsl(member)
+#define ANISO_X(Tag, Type, member, name, batch, glsl) ANISO_GLSL_FILE_##glsl(member)
+    ANISO_MODELS(ANISO_X)
+#undef ANISO_X
+    v.push_back({"include/aniso/brdf/material.glsl (generated from the registry)", dispatch});
+    v.push_back({"include/aniso/tangent/fields.glsl", glsl_tangent_fields});
+    return v;
+  }();
   return files;
 }
 

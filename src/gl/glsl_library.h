@@ -6,6 +6,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace aniso::gl {
 
@@ -14,7 +15,12 @@ struct GlslFile {
   std::string_view source;  // the file's text
 };
 
-// Every library file, dependencies first.
+// The GLSL Material (the twin of material.h: a struct with one member per model and the tag
+// dispatch of f, pdf and sample), generated from the registry (aniso/brdf/registry.h).
+std::string glsl_material_dispatch();
+
+// Every library file, dependencies first: the core, the models' twins in registry order, the
+// generated Material dispatch, the tangent fields.
 std::span<const GlslFile> glsl_library_files();
 
 // The concatenation of every library file (no #version, no main).

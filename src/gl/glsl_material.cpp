@@ -7,11 +7,14 @@
 #include <cstdint>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "aniso/brdf/material.h"
 #include "data/metals.h"
+#include "io/enum_names.h"
 #include "gl/gl_context.h"
 
 namespace aniso::gl {
@@ -173,14 +176,134 @@ GlslMaterial glsl_material(const MaterialDesc& m, GlslStorage storage, std::stri
   return glsl_material(m, *spec, storage, prefix);
 }
 
+namespace {
+
+// One GLSL builder per registry row (the twins of the builders in src/io/materials.cpp): the body
+// of aniso_model(), which fills the kernel struct `m` from the slots. A row without one does not
+// compile (glsl_material() dispatches with visit_kind).
+struct Build {
+  const MaterialDesc& m;
+  const Walker& w;
+  Slots& P;
+};
+
+std::string body(ModelType<LambertT<float>>, Build& c) { return fmt::format("  m.kd = {};\n", c.P("kd")); }
+
+std::string body(ModelType<PhongT<float>>, Build& c) {
+  Slots& P = c.P;
+  return fmt::format("  m.kd = {};\n  m.ks = {};\n  m.lobe.exponent = {};\n  m.lobe.normalized = {};\n", P("kd"), P("ks"),
+                     P("exponent"), P("normalized"));
+}
+
+std::string body(ModelType<WardT<float>>, Build& c) {
+  return fmt::format("  m.kd = {};\n  m.ks = {};\n", c.P("kd"), c.P("ks")) + ward_lobe(c.P, "m.lobe", "");
+}
+
+std::string body(ModelType<AshikhminShirleyT<float>>, Build& c) {
+  Slots& P = c.P;
+  return fmt::format("  m.rd = {};\n  m.rs = {};\n  m.kd = {};\n  m.ks_scale = {};\n  m.lobe.n_u = {};\n  m.lobe.n_v = {};\n",
+                     P("rd"), P("rs"), P("kd"), P("ks_scale"), P("n_u"), P("n_v"));
+}
+
+std::string body(ModelType<LafortuneT<float>>, Build& c) {
+  Slots& P = c.P;
+  const int count = c.w.counts.at("lobes");
+  std::string b = fmt::format("  m.rho_d = {};\n  m.lobe_count = {};\n", P("rho_d"), count);
+  for (int i = 0; i < count; ++i) {
+    const std::string l = fmt::format("lobes{}_", i);
+    b += fmt::format("  m.lobes[{0}].cx = {1};\n  m.lobes[{0}].cy = {2};\n  m.lobes[{0}].cz = {3};\n"
+                     "  m.lobes[{0}].n = {4};\n  m.lobes[{0}].scale = {5};\n",
+                     i, P(l + "cx"), P(l + "cy"), P(l + "cz"), P(l + "n"), P(l + "scale"));
+  }
+  return b;
+}
+
+std::string body(ModelType<GGXT<float>>, Build& c) {
+  Slots& P = c.P;
+  return fmt::format("  m.kd = {};\n  m.f0 = {};\n  m.lobe.alpha_x = {};\n  m.lobe.alpha_y = {};\n", P("kd"), P("f0"),
+                     P("alpha_x"), P("alpha_y"));
+}
+
+std::string body(ModelType<MetalT<float>>, Build& c) {
+  Slots& P = c.P;
+  std::string b = fmt::format("  m.eta = {};\n  m.k = {};\n", P("eta"), P("k"));
+  // Every lobe member gets a value, so that no field of the struct is read uninitialised.
+  b += "  m.ward = WardLobe(0.15, 0.15, WardForm_Vector, WardNormalization_Ward1992);\n"
+       "  m.ashikhmin_shirley = AshikhminShirleyLobe(100.0, 100.0);\n  m.ggx = GGXLobe(0.2, 0.2);\n";
+  switch (*enum_from_name<SpecularLobeKind>(c.w.tags.at("lobe"))) {
+    case SpecularLobeKind::Ward:
+      b += "  m.lobe_kind = SpecularLobeKind_Ward;\n";
+      b += ward_lobe(P, "m.ward", "lobe_");
+      break;
+    case SpecularLobeKind::AshikhminShirley:
+      b += fmt::format("  m.lobe_kind = SpecularLobeKind_AshikhminShirley;\n  m.ashikhmin_shirley.n_u = {};\n"
+                       "  m.ashikhmin_shirley.n_v = {};\n",
+                       P("lobe_n_u"), P("lobe_n_v"));
+      break;
+    case SpecularLobeKind::GGX:
+      b += fmt::format("  m.lobe_kind = SpecularLobeKind_GGX;\n  m.ggx.alpha_x = {};\n  m.ggx.alpha_y = {};\n",
+                       P("lobe_alpha_x"), P("lobe_alpha_y"));
+      break;
+  }
+  b += "  m.specular_weight = vec3(1.0);\n"
+       "  m.directional_diffuse = LafortuneLobe(vec3(-1.0), vec3(-1.0), vec3(1.0), vec3(10.0), vec3(0.0));\n";
+  const auto dd = c.w.structure.find("directional_diffuse");
+  if (dd != c.w.structure.end() && dd->second) {
+    // build_metal(): Ngan et al. 2005's normalisation folded in, C / max|C| and
+    // scale = albedo F0 (n + 2) / (2 pi); the directional lobe takes its energy from the specular one.
+    b += fmt::format(
+        "  m.has_directional_diffuse = true;\n"
+        "  float dd_cx = {}, dd_cy = {}, dd_cz = {}, dd_n = {};\n"
+        "  vec3 dd_albedo = {};\n"
+        "  float dd_cmax = max(max(abs(dd_cx), abs(dd_cy)), abs(dd_cz));\n"
+        "  // The host rejects an all-zero C; a slider can reach it: the lobe is then 0, not 0 / 0.\n"
+        "  float dd_inv = dd_cmax > 0.0 ? 1.0 / dd_cmax : 0.0;\n"
+        "  m.directional_diffuse.cx = vec3(dd_cx * dd_inv);\n"
+        "  m.directional_diffuse.cy = vec3(dd_cy * dd_inv);\n"
+        "  m.directional_diffuse.cz = vec3(dd_cz * dd_inv);\n"
+        "  m.directional_diffuse.n = vec3(dd_n);\n"
+        "  m.directional_diffuse.scale = dd_albedo * F_Conductor(1.0, m.eta, m.k) * ((dd_n + 2.0) * kInv2Pi);\n"
+        "  m.specular_weight = vec3(1.0) - dd_albedo;\n",
+        P("directional_diffuse_cx"), P("directional_diffuse_cy"), P("directional_diffuse_cz"), P("directional_diffuse_n"),
+        P("directional_diffuse_albedo"));
+  } else {
+    b += "  m.has_directional_diffuse = false;\n";
+  }
+  return b;
+}
+
+std::string body(ModelType<PrincipledT<float>>, Build& c) {
+  std::string b;
+  for (const char* key : {"base_color", "metallic", "subsurface", "specular", "roughness", "specular_tint", "anisotropic",
+                          "sheen", "sheen_tint", "clearcoat", "clearcoat_gloss"})
+    b += fmt::format("  m.{} = {};\n", key, c.P(key));
+  return b;
+}
+
+// A measured table (35 MB of bins plus sampling tables) is data, not a shader: fit a model first.
+std::string body(ModelType<MeasuredT<float>>, Build& c) {
+  const std::string file = c.m.params.has("file") ? c.m.params.text("file") : std::string();
+  throw InputError(fmt::format(
+      "{}: a measured material (a MERL table) has no GLSL form; fit an analytic model to it first "
+      "(`aniso fit {} --model lafortune -o fitted.json`) and export that",
+      file.empty() ? std::string("measured material") : file, file.empty() ? std::string("FILE") : file));
+}
+
+}  // namespace
+
 GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslStorage storage, std::string_view prefix) {
-  // A measured table (35 MB of bins plus sampling tables) is data, not a shader: fit a model first.
-  if (m.model == "measured")
-    throw InputError(fmt::format(
-        "{}: a measured material (a MERL table) has no GLSL form; fit an analytic model to it first "
-        "(`aniso fit {} --model lafortune -o fitted.json`) and export that",
-        m.params.has("file") ? m.params.text("file") : std::string("measured material"),
-        m.params.has("file") ? m.params.text("file") : std::string("FILE")));
+  const std::optional<ModelKind> kind = find_model_kind(m.model);
+  if (!kind) throw InputError(fmt::format("model \"{}\" is not a registered model", m.model));
+  const ModelInfo& info = model_info(*kind);
+  // A model without a GLSL twin: its builder above says why (before any slot is made).
+  if (!info.glsl) {
+    std::vector<GlslSlot> none;
+    Walker w;
+    Slots P(none, storage, prefix);
+    Build c{m, w, P};
+    (void)visit_kind<float>(*kind, [&](auto type) { return body(type, c); });
+    throw std::logic_error(fmt::format("model \"{}\" has no GLSL twin (registry.h)", m.model));
+  }
   // A named metal's eta and k come from the measured table (as build_metal() does).
   ParamValues pv = m.params;
   if (m.model == "metal" && pv.has("metal")) {
@@ -195,88 +318,13 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
   GlslMaterial out;
   out.slots = w.slots;
   Slots P(out.slots, storage, prefix);
-  std::string b;  // the body of aniso_model()
-  const std::string& model = m.model;
-  if (model == "lambert") {
-    out.model_struct = "Lambert";
-    b += fmt::format("  m.kd = {};\n", P("kd"));
-  } else if (model == "phong") {
-    out.model_struct = "Phong";
-    b += fmt::format("  m.kd = {};\n  m.ks = {};\n  m.lobe.exponent = {};\n  m.lobe.normalized = {};\n", P("kd"), P("ks"),
-                     P("exponent"), P("normalized"));
-  } else if (model == "ward") {
-    out.model_struct = "Ward";
-    b += fmt::format("  m.kd = {};\n  m.ks = {};\n", P("kd"), P("ks"));
-    b += ward_lobe(P, "m.lobe", "");
-  } else if (model == "ashikhmin-shirley") {
-    out.model_struct = "AshikhminShirley";
-    b += fmt::format("  m.rd = {};\n  m.rs = {};\n  m.kd = {};\n  m.ks_scale = {};\n  m.lobe.n_u = {};\n  m.lobe.n_v = {};\n",
-                     P("rd"), P("rs"), P("kd"), P("ks_scale"), P("n_u"), P("n_v"));
-  } else if (model == "lafortune") {
-    out.model_struct = "Lafortune";
-    const int count = w.counts["lobes"];
-    b += fmt::format("  m.rho_d = {};\n  m.lobe_count = {};\n", P("rho_d"), count);
-    for (int i = 0; i < count; ++i) {
-      const std::string l = fmt::format("lobes{}_", i);
-      b += fmt::format("  m.lobes[{0}].cx = {1};\n  m.lobes[{0}].cy = {2};\n  m.lobes[{0}].cz = {3};\n"
-                       "  m.lobes[{0}].n = {4};\n  m.lobes[{0}].scale = {5};\n",
-                       i, P(l + "cx"), P(l + "cy"), P(l + "cz"), P(l + "n"), P(l + "scale"));
-    }
-  } else if (model == "ggx") {
-    out.model_struct = "GGX";
-    b += fmt::format("  m.kd = {};\n  m.f0 = {};\n  m.lobe.alpha_x = {};\n  m.lobe.alpha_y = {};\n", P("kd"), P("f0"),
-                     P("alpha_x"), P("alpha_y"));
-  } else if (model == "metal") {
-    out.model_struct = "Metal";
-    b += fmt::format("  m.eta = {};\n  m.k = {};\n", P("eta"), P("k"));
-    // Every lobe member gets a value, so that no field of the struct is read uninitialised.
-    b += "  m.ward = WardLobe(0.15, 0.15, WardForm_Vector, WardNormalization_Ward1992);\n"
-         "  m.ashikhmin_shirley = AshikhminShirleyLobe(100.0, 100.0);\n  m.ggx = GGXLobe(0.2, 0.2);\n";
-    const std::string& kind = w.tags["lobe"];
-    if (kind == "ward") {
-      b += "  m.lobe_kind = SpecularLobeKind_Ward;\n";
-      b += ward_lobe(P, "m.ward", "lobe_");
-    } else if (kind == "ashikhmin-shirley") {
-      b += fmt::format("  m.lobe_kind = SpecularLobeKind_AshikhminShirley;\n  m.ashikhmin_shirley.n_u = {};\n"
-                       "  m.ashikhmin_shirley.n_v = {};\n",
-                       P("lobe_n_u"), P("lobe_n_v"));
-    } else {
-      b += fmt::format("  m.lobe_kind = SpecularLobeKind_GGX;\n  m.ggx.alpha_x = {};\n  m.ggx.alpha_y = {};\n",
-                       P("lobe_alpha_x"), P("lobe_alpha_y"));
-    }
-    b += "  m.specular_weight = vec3(1.0);\n"
-         "  m.directional_diffuse = LafortuneLobe(vec3(-1.0), vec3(-1.0), vec3(1.0), vec3(10.0), vec3(0.0));\n";
-    if (w.structure["directional_diffuse"]) {
-      // build_metal(): Ngan et al. 2005's normalisation folded in, C / max|C| and
-      // scale = albedo F0 (n + 2) / (2 pi); the directional lobe takes its energy from the specular one.
-      b += fmt::format(
-          "  m.has_directional_diffuse = true;\n"
-          "  float dd_cx = {}, dd_cy = {}, dd_cz = {}, dd_n = {};\n"
-          "  vec3 dd_albedo = {};\n"
-          "  float dd_cmax = max(max(abs(dd_cx), abs(dd_cy)), abs(dd_cz));\n"
-          "  // The host rejects an all-zero C; a slider can reach it: the lobe is then 0, not 0 / 0.\n"
-          "  float dd_inv = dd_cmax > 0.0 ? 1.0 / dd_cmax : 0.0;\n"
-          "  m.directional_diffuse.cx = vec3(dd_cx * dd_inv);\n"
-          "  m.directional_diffuse.cy = vec3(dd_cy * dd_inv);\n"
-          "  m.directional_diffuse.cz = vec3(dd_cz * dd_inv);\n"
-          "  m.directional_diffuse.n = vec3(dd_n);\n"
-          "  m.directional_diffuse.scale = dd_albedo * F_Conductor(1.0, m.eta, m.k) * ((dd_n + 2.0) * kInv2Pi);\n"
-          "  m.specular_weight = vec3(1.0) - dd_albedo;\n",
-          P("directional_diffuse_cx"), P("directional_diffuse_cy"), P("directional_diffuse_cz"), P("directional_diffuse_n"),
-          P("directional_diffuse_albedo"));
-    } else {
-      b += "  m.has_directional_diffuse = false;\n";
-    }
-  } else {
-    throw std::logic_error(fmt::format("model \"{}\" has no GLSL builder (src/gl/glsl_material.cpp)", model));
-  }
+  Build c{m, w, P};
+  const std::string b = visit_kind<float>(*kind, [&](auto type) { return body(type, c); });  // the body of aniso_model()
   P.check_all_used();
 
-  const std::map<std::string, std::string> kinds = {
-      {"Lambert", "lambert"}, {"Phong", "phong"}, {"Ward", "ward"}, {"AshikhminShirley", "ashikhmin_shirley"},
-      {"Lafortune", "lafortune"}, {"GGX", "ggx"}, {"Metal", "metal"}};
-  out.model_kind = "ModelKind_" + out.model_struct;
-  const std::string member = kinds.at(out.model_struct);
+  out.model_struct = info.tag;
+  out.model_kind = std::string("ModelKind_") + info.tag;
+  const std::string member = info.member;
 
   if (storage == GlslStorage::UniformBlock) {
     out.declarations += fmt::format("layout(std140) uniform {} {{\n", kGlslMaterialBlock);

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "data/metals.h"
+#include "io/enum_names.h"
 #include "io/json_read.h"
 #include "io/presets.h"
 #include "measured/measured.h"
@@ -290,11 +291,9 @@ template <typename T> WardLobeT<T> build_ward_lobe(const ParamValues& p) {
   WardLobeT<T> l;
   l.alpha_x = T(p.scalar("alpha_x"));
   l.alpha_y = T(p.scalar("alpha_y"));
-  const std::string& form = p.text("form");
-  l.form = form == "angle" ? WardForm::Angle : (form == "approx" ? WardForm::Approx : WardForm::Vector);
-  const std::string& norm = p.text("normalization");
-  l.normalization = norm == "duer" ? WardNormalization::Duer
-                                   : (norm == "balanced" ? WardNormalization::Balanced : WardNormalization::Ward1992);
+  // The reader checked the names against the same tables (params.cpp: the choices).
+  l.form = *enum_from_name<WardForm>(p.text("form"));
+  l.normalization = *enum_from_name<WardNormalization>(p.text("normalization"));
   return l;
 }
 
@@ -308,7 +307,8 @@ template <typename T> LafortuneLobeT<T> build_lafortune_lobe(const ParamValues& 
   return l;
 }
 
-template <typename T> MetalT<T> build_metal(const ParamValues& p) {
+template <typename T> MetalT<T> build(ModelType<MetalT<T>>, const MaterialDesc& d) {
+  const ParamValues& p = d.params;
   MetalT<T> m;
   if (p.has("metal")) {
     const MetalData* md = find_metal(p.text("metal"));
@@ -319,18 +319,17 @@ template <typename T> MetalT<T> build_metal(const ParamValues& p) {
     m.k = rgb<T>(p.color("k"));
   }
   const ParamValues& lobe = p.object("lobe");
-  const std::string& kind = lobe.text("model");
-  if (kind == "ward") {
-    m.lobe_kind = SpecularLobeKind::Ward;
-    m.ward = build_ward_lobe<T>(lobe);
-  } else if (kind == "ashikhmin-shirley") {
-    m.lobe_kind = SpecularLobeKind::AshikhminShirley;
-    m.ashikhmin_shirley.n_u = T(lobe.scalar("n_u"));
-    m.ashikhmin_shirley.n_v = T(lobe.scalar("n_v"));
-  } else {
-    m.lobe_kind = SpecularLobeKind::GGX;
-    m.ggx.alpha_x = T(lobe.scalar("alpha_x"));
-    m.ggx.alpha_y = T(lobe.scalar("alpha_y"));
+  m.lobe_kind = *enum_from_name<SpecularLobeKind>(lobe.text("model"));
+  switch (m.lobe_kind) {
+    case SpecularLobeKind::Ward: m.ward = build_ward_lobe<T>(lobe); break;
+    case SpecularLobeKind::AshikhminShirley:
+      m.ashikhmin_shirley.n_u = T(lobe.scalar("n_u"));
+      m.ashikhmin_shirley.n_v = T(lobe.scalar("n_v"));
+      break;
+    case SpecularLobeKind::GGX:
+      m.ggx.alpha_x = T(lobe.scalar("alpha_x"));
+      m.ggx.alpha_y = T(lobe.scalar("alpha_y"));
+      break;
   }
   if (p.has("directional_diffuse")) {
     // Ngan et al. 2005's Lafortune normalisation, (n + 2) / (2 pi max|C|^n), folded in: dividing C by
@@ -354,62 +353,94 @@ template <typename T> MetalT<T> build_metal(const ParamValues& p) {
   return m;
 }
 
+
+template <typename T> LambertT<T> build(ModelType<LambertT<T>>, const MaterialDesc& d) {
+  LambertT<T> m;
+  m.kd = rgb<T>(d.params.color("kd"));
+  return m;
+}
+
+template <typename T> PhongT<T> build(ModelType<PhongT<T>>, const MaterialDesc& d) {
+  const ParamValues& p = d.params;
+  PhongT<T> m;
+  m.kd = rgb<T>(p.color("kd"));
+  m.ks = rgb<T>(p.color("ks"));
+  m.lobe.exponent = T(p.scalar("exponent"));
+  m.lobe.normalized = p.boolean("normalized");
+  return m;
+}
+
+template <typename T> WardT<T> build(ModelType<WardT<T>>, const MaterialDesc& d) {
+  const ParamValues& p = d.params;
+  WardT<T> m;
+  m.kd = rgb<T>(p.color("kd"));
+  m.ks = rgb<T>(p.color("ks"));
+  m.lobe = build_ward_lobe<T>(p);
+  return m;
+}
+
+template <typename T> AshikhminShirleyT<T> build(ModelType<AshikhminShirleyT<T>>, const MaterialDesc& d) {
+  const ParamValues& p = d.params;
+  AshikhminShirleyT<T> m;
+  m.rd = rgb<T>(p.color("rd"));
+  m.rs = rgb<T>(p.color("rs"));
+  m.kd = rgb<T>(p.color("kd"));
+  m.ks_scale = rgb<T>(p.color("ks_scale"));
+  m.lobe.n_u = T(p.scalar("n_u"));
+  m.lobe.n_v = T(p.scalar("n_v"));
+  return m;
+}
+
+template <typename T> LafortuneT<T> build(ModelType<LafortuneT<T>>, const MaterialDesc& d) {
+  const ParamValues& p = d.params;
+  LafortuneT<T> m;
+  m.rho_d = rgb<T>(p.color("rho_d"));
+  const auto& lobes = p.list("lobes");
+  m.lobe_count = static_cast<int>(lobes.size());
+  for (size_t i = 0; i < lobes.size(); ++i) m.lobes[i] = build_lafortune_lobe<T>(lobes[i]);
+  return m;
+}
+
+template <typename T> GGXT<T> build(ModelType<GGXT<T>>, const MaterialDesc& d) {
+  const ParamValues& p = d.params;
+  GGXT<T> m;
+  m.kd = rgb<T>(p.color("kd"));
+  m.f0 = rgb<T>(p.color("f0"));
+  m.lobe.alpha_x = T(p.scalar("alpha_x"));
+  m.lobe.alpha_y = T(p.scalar("alpha_y"));
+  return m;
+}
+
+template <typename T> PrincipledT<T> build(ModelType<PrincipledT<T>>, const MaterialDesc& d) {
+  const ParamValues& p = d.params;
+  PrincipledT<T> m;
+  m.base_color = rgb<T>(p.color("base_color"));
+  m.metallic = T(p.scalar("metallic"));
+  m.subsurface = T(p.scalar("subsurface"));
+  m.specular = T(p.scalar("specular"));
+  m.roughness = T(p.scalar("roughness"));
+  m.specular_tint = T(p.scalar("specular_tint"));
+  m.anisotropic = T(p.scalar("anisotropic"));
+  m.sheen = T(p.scalar("sheen"));
+  m.sheen_tint = T(p.scalar("sheen_tint"));
+  m.clearcoat = T(p.scalar("clearcoat"));
+  m.clearcoat_gloss = T(p.scalar("clearcoat_gloss"));
+  return m;
+}
+
+template <typename T> MeasuredT<T> build(ModelType<MeasuredT<T>>, const MaterialDesc& d) {
+  if (!d.measured) throw InputError(fmt::format("{}: measured material without its table", d.params.where));
+  return measured_kernel<T>(*d.measured);
+}
+
 }  // namespace
 
+// One builder per registry row: build(ModelType<Type<T>>, desc) above (a row without one does
+// not compile).
 template <typename T> MaterialT<T> build_material(const MaterialDesc& d) {
-  const ParamValues& p = d.params;
-  if (d.model == "lambert") {
-    LambertT<T> m;
-    m.kd = rgb<T>(p.color("kd"));
-    return m;
-  }
-  if (d.model == "phong") {
-    PhongT<T> m;
-    m.kd = rgb<T>(p.color("kd"));
-    m.ks = rgb<T>(p.color("ks"));
-    m.lobe.exponent = T(p.scalar("exponent"));
-    m.lobe.normalized = p.boolean("normalized");
-    return m;
-  }
-  if (d.model == "ward") {
-    WardT<T> m;
-    m.kd = rgb<T>(p.color("kd"));
-    m.ks = rgb<T>(p.color("ks"));
-    m.lobe = build_ward_lobe<T>(p);
-    return m;
-  }
-  if (d.model == "ashikhmin-shirley") {
-    AshikhminShirleyT<T> m;
-    m.rd = rgb<T>(p.color("rd"));
-    m.rs = rgb<T>(p.color("rs"));
-    m.kd = rgb<T>(p.color("kd"));
-    m.ks_scale = rgb<T>(p.color("ks_scale"));
-    m.lobe.n_u = T(p.scalar("n_u"));
-    m.lobe.n_v = T(p.scalar("n_v"));
-    return m;
-  }
-  if (d.model == "lafortune") {
-    LafortuneT<T> m;
-    m.rho_d = rgb<T>(p.color("rho_d"));
-    const auto& lobes = p.list("lobes");
-    m.lobe_count = static_cast<int>(lobes.size());
-    for (size_t i = 0; i < lobes.size(); ++i) m.lobes[i] = build_lafortune_lobe<T>(lobes[i]);
-    return m;
-  }
-  if (d.model == "ggx") {
-    GGXT<T> m;
-    m.kd = rgb<T>(p.color("kd"));
-    m.f0 = rgb<T>(p.color("f0"));
-    m.lobe.alpha_x = T(p.scalar("alpha_x"));
-    m.lobe.alpha_y = T(p.scalar("alpha_y"));
-    return m;
-  }
-  if (d.model == "metal") return build_metal<T>(p);
-  if (d.model == "measured") {
-    if (!d.measured) throw InputError(fmt::format("{}: measured material without its table", p.where));
-    return measured_kernel<T>(*d.measured);
-  }
-  throw InputError(fmt::format("{}: model \"{}\" has no builder", p.where, d.model));
+  const std::optional<ModelKind> kind = find_model_kind(d.model);
+  if (!kind) throw InputError(fmt::format("{}: model \"{}\" is not a registered model", d.params.where, d.model));
+  return visit_kind<T>(*kind, [&](auto type) { return MaterialT<T>(build(type, d)); });
 }
 
 template MaterialT<float> build_material<float>(const MaterialDesc&);

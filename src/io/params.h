@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -17,13 +18,10 @@
 
 #include <glm/glm.hpp>
 
+#include "io/input_error.h"
+
 namespace aniso {
 
-// Every error a host reader raises: the message names the file, the key and what was expected.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 enum class ParamKind {
   Scalar,  // a number in [min, max]
@@ -95,6 +93,9 @@ struct ParamValues {
 // All model tables, in the order `aniso models` lists them.
 std::span<const ModelSpec* const> model_specs();
 const ModelSpec* find_model_spec(std::string_view name);
+// The registry row (aniso/brdf/registry.h) whose name is `name`.
+enum class ModelKind : int;
+std::optional<ModelKind> find_model_kind(std::string_view name);
 
 // Sub-tables used inside models (lobes).
 const ModelSpec& lafortune_lobe_spec();

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "aniso/brdf/fresnel.h"
 #include "data/fits.h"
 #include "data/metals.h"
 #include "io/names.h"
@@ -140,12 +141,43 @@ void add_metals(std::vector<PresetInfo>& out) {
   }
 }
 
+// A few Disney principled materials (docs/presets.md, "Disney principled"); base colours linear.
+void add_principled(std::vector<PresetInfo>& out) {
+  out.push_back({"principled/red-plastic", "Disney principled: glossy red plastic (dielectric, F0 0.04)",
+                 {{"model", "principled"}, {"base_color", {0.6, 0.05, 0.04}}, {"roughness", 0.3}, {"specular", 0.5}}});
+  out.push_back({"principled/car-paint", "Disney principled: blue paint under a glossy clearcoat",
+                 {{"model", "principled"},
+                  {"base_color", {0.03, 0.08, 0.35}},
+                  {"roughness", 0.45},
+                  {"metallic", 0.2},
+                  {"clearcoat", 1.0},
+                  {"clearcoat_gloss", 0.95}}});
+  // The base colour of a metal is its F0: aluminium's, from the measured eta and k (metals.md).
+  const MetalData* al = find_metal("aluminium");
+  const glm::dvec3 f0 = F_Conductor(1.0, RGBT<double>(al->eta), RGBT<double>(al->k));
+  out.push_back({"principled/brushed-aluminium", "Disney principled: aluminium (F0 from the metal table) brushed along the tangent",
+                 {{"model", "principled"},
+                  {"base_color", {f0.x, f0.y, f0.z}},
+                  {"metallic", 1.0},
+                  {"roughness", 0.35},
+                  {"anisotropic", 0.8}}});
+  out.push_back({"principled/velvet", "Disney principled: dark red velvet (sheen, subsurface, rough)",
+                 {{"model", "principled"},
+                  {"base_color", {0.3, 0.02, 0.06}},
+                  {"roughness", 0.9},
+                  {"specular", 0.2},
+                  {"subsurface", 0.5},
+                  {"sheen", 1.0},
+                  {"sheen_tint", 0.5}}});
+}
+
 std::vector<PresetInfo> build_presets() {
   std::vector<PresetInfo> out;
   out.push_back({"matte-steel", "the lecture's 3-lobe Lafortune fit (VGP352 week 5; Lafortune et al. 1997)", matte_steel()});
   add_pbrt_v1(out);
   add_metals(out);
   add_ngan(out);
+  add_principled(out);
   return out;
 }
 

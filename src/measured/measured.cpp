@@ -13,7 +13,7 @@
 #include <openssl/evp.h>
 #include <tbb/parallel_for.h>
 
-#include "io/params.h"
+#include "io/input_error.h"
 
 namespace aniso {
 namespace embedded {

@@ -14,7 +14,7 @@
 #include <tbb/parallel_for.h>
 
 #include "io/atomic_file.h"
-#include "io/params.h"
+#include "io/input_error.h"
 
 namespace aniso {
 

@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 
 #include "io/json_read.h"
-#include "io/params.h"
+#include "io/input_error.h"
 #include "io/text_input.h"
 #include "measured/merl.h"
 #include "measured/spectral.h"

@@ -1,6 +1,6 @@
 // tests/reference/reference_brdfs.h: an independent, deliberately plain double-precision
-// evaluation of every model, written from the formulas in docs/models.md (the project's
-// specification, /work/shared/docs/models.md) and the lecture (VGP352 week 5), not from
+// evaluation of every model, written from the formulas of the project's specification
+// (docs/reference/models-spec.md) and the lecture (docs/reference/vgp352-week5-*.txt), not from
 // include/aniso. tests/test_reference.cpp holds the library against it.
 //
 // Independence is the point, so the formulas are written in a *different* form from the kernels
@@ -39,7 +39,7 @@ inline V3 normalize(const V3& a) {
 }
 inline C3 grey(double v) { return {v, v, v}; }
 
-// Both directions strictly above the horizon and wi + wo != 0 (models.md: otherwise f = 0).
+// Both directions strictly above the horizon and wi + wo != 0 (models-spec.md: otherwise f = 0).
 inline bool valid(const V3& wi, const V3& wo) { return wi.z > 0.0 && wo.z > 0.0; }
 
 // Angles of the unit half vector: theta_h from z, phi_h from x (atan2 of the projection onto the
@@ -83,7 +83,7 @@ inline C3 phong(const C3& kd, const C3& ks, double s, bool normalized, const V3&
 enum class WardForm { Vector, Angle, Approx };
 enum class WardNorm { Ward1992, Duer, Balanced };
 
-// The Gaussian term. Vector and Angle are the same function (models.md, Ward point 3), so both are
+// The Gaussian term. Vector and Angle are the same function (models-spec.md, Ward point 3), so both are
 // computed from the angles; Approx is Ward's Eq. 5b, with the unit h.
 inline double ward_exponential(double ax, double ay, WardForm form, const V3& wi, const V3& wo) {
   const HalfAngles a = half_angles(wi, wo);
@@ -199,7 +199,7 @@ inline C3 lafortune(const C3& rho_d, const std::vector<LafortuneLobe>& lobes, co
   return out;
 }
 
-// The lecture's matte steel (three lobes, C_xy, C_z, s per channel), typed in from models.md.
+// The lecture's matte steel (three lobes, C_xy, C_z, s per channel), typed in from models-spec.md.
 inline std::vector<LafortuneLobe> matte_steel_lobes() {
   const double t[3][3][3] = {
       // [lobe][channel] = {C_xy, C_z, s}
@@ -322,6 +322,74 @@ inline C3 metal(const MetalParams& p, const V3& wi, const V3& wo) {
     const double l = base > 0.0 ? std::pow(base, p.dd_n) : 0.0;
     for (int i = 0; i < 3; ++i)
       out[i] += p.dd_albedo[i] * fresnel_conductor(1.0, p.eta[i], p.k[i]) * (p.dd_n + 2.0) / (2.0 * kPi) * l;
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Disney principled BRDF, from Burley 2012 ("Physically-Based Shading at Disney", Sec. 5.3-5.6 and
+// Appendix B) and the BRDF Explorer's disney.brdf, with base_color linear. Written with the
+// angles theta_l, theta_v, theta_h, theta_d (Burley's notation) and phi_h, not the kernels' dot
+// products:
+//   diffuse  C / pi (1 + (F_D90 - 1)(1 - cos theta_l)^5)(1 + (F_D90 - 1)(1 - cos theta_v)^5),
+//            F_D90 = 0.5 + 2 roughness cos^2 theta_d                     (Burley Sec. 5.3)
+//   subsurface 1.25 C / pi (F_ss (1 / (cos theta_l + cos theta_v) - 0.5) + 0.5), F_ss the same
+//            product with F_SS90 = roughness cos^2 theta_d (Hanrahan-Krueger; disney.brdf)
+//   specular D_GTR2aniso(theta_h, phi_h) F(theta_d) G1(l) G1(v) / (4 cos theta_l cos theta_v),
+//            G1 separable Smith GGX, alpha(phi)^2 tan^2 theta form (the reference's ggx_D and
+//            ggx_Lambda above), F = Schlick from Cspec0
+//   sheen    sheen Csheen (1 - cos theta_d)^5
+//   clearcoat 0.25 clearcoat D_GTR1(theta_h) F(0.04, theta_d) G1(l; 0.25) G1(v; 0.25) / (4 cos cos),
+//            D_GTR1 = (a^2 - 1) / (pi ln a^2 (a^2 cos^2 theta_h + sin^2 theta_h)), a = lerp(0.1, 0.001, gloss)
+//   f = ((1 - subsurface) diffuse + subsurface ss + sheen) (1 - metallic) + specular + clearcoat
+struct PrincipledParams {
+  C3 base_color{0.5, 0.5, 0.5};
+  double metallic = 0, subsurface = 0, specular = 0.5, roughness = 0.5, specular_tint = 0, anisotropic = 0, sheen = 0,
+         sheen_tint = 0.5, clearcoat = 0, clearcoat_gloss = 1;
+};
+
+inline double schlick_weight(double cos_theta) { return std::pow(1.0 - cos_theta, 5.0); }
+inline double lerp(double a, double b, double t) { return a + (b - a) * t; }
+
+// Smith G1 for an isotropic GGX of roughness a, from the angle: 2 / (1 + sqrt(1 + a^2 tan^2 theta)).
+inline double smith_g1_iso(double a, double theta) {
+  const double t = std::tan(theta);
+  return 2.0 / (1.0 + std::sqrt(1.0 + a * a * t * t));
+}
+
+inline C3 principled(const PrincipledParams& p, const V3& wi, const V3& wo) {
+  if (!valid(wi, wo)) return grey(0.0);
+  const HalfAngles a = half_angles(wi, wo);
+  const double theta_l = std::acos(wi.z), theta_v = std::acos(wo.z);
+  const double theta_d = std::acos(std::clamp(dot(wi, a.h), -1.0, 1.0));
+  const double cl = std::cos(theta_l), cv = std::cos(theta_v), cd = std::cos(theta_d);
+  const C3& C = p.base_color;
+  const double lum = 0.3 * C[0] + 0.6 * C[1] + 0.1 * C[2];
+  C3 tint, spec0, csheen;
+  for (int i = 0; i < 3; ++i) {
+    tint[i] = lum > 0.0 ? C[i] / lum : 1.0;
+    spec0[i] = lerp(p.specular * 0.08 * lerp(1.0, tint[i], p.specular_tint), C[i], p.metallic);
+    csheen[i] = lerp(1.0, tint[i], p.sheen_tint);
+  }
+  const double FL = schlick_weight(cl), FV = schlick_weight(cv), FH = schlick_weight(cd);
+  const double fd90 = 0.5 + 2.0 * p.roughness * cd * cd;
+  const double diffuse = (1.0 + (fd90 - 1.0) * FL) * (1.0 + (fd90 - 1.0) * FV);
+  const double fss90 = p.roughness * cd * cd;
+  const double fss = (1.0 + (fss90 - 1.0) * FL) * (1.0 + (fss90 - 1.0) * FV);
+  const double ss = 1.25 * (fss * (1.0 / (cl + cv) - 0.5) + 0.5);
+  const double aspect = std::sqrt(1.0 - 0.9 * p.anisotropic);
+  const double ax = std::max(0.001, p.roughness * p.roughness / aspect), ay = std::max(0.001, p.roughness * p.roughness * aspect);
+  const double G1l = 1.0 / (1.0 + ggx_Lambda(ax, ay, wi)), G1v = 1.0 / (1.0 + ggx_Lambda(ax, ay, wo));
+  const double spec = ggx_D(ax, ay, a.theta, a.phi) * G1l * G1v / (4.0 * cl * cv);
+  const double ga = lerp(0.1, 0.001, p.clearcoat_gloss), ga2 = ga * ga;
+  const double ch = std::cos(a.theta), sh = std::sin(a.theta);
+  const double d_gtr1 = (ga2 - 1.0) / (kPi * std::log(ga2) * (ga2 * ch * ch + sh * sh));
+  const double coat = 0.25 * p.clearcoat * d_gtr1 * lerp(0.04, 1.0, FH) * smith_g1_iso(0.25, theta_l) *
+                      smith_g1_iso(0.25, theta_v) / (4.0 * cl * cv);
+  C3 out;
+  for (int i = 0; i < 3; ++i) {
+    const double base = lerp(diffuse, ss, p.subsurface) * C[i] / kPi + FH * p.sheen * csheen[i];
+    out[i] = base * (1.0 - p.metallic) + spec * lerp(spec0[i], 1.0, FH) + coat;
   }
   return out;
 }

@@ -1,4 +1,4 @@
-// aniso/batch/batch.h: f, pdf and sample for N direction pairs at once (issue 8).
+// aniso/batch/batch.h: f, pdf and sample for N direction pairs at once.
 //
 // Structure of arrays in and out: each coordinate and each colour channel is its own contiguous
 // array, so that the SIMD code loads 8 (AVX2) or 16 (AVX-512) lanes of one quantity at a time.
@@ -6,11 +6,12 @@
 // model struct: `batch::evaluate(MaterialT<float>(ward), ...)`), float or double.
 //
 // The numbers are the scalar kernels' (include/aniso/brdf) within 1e-5 relative (tests/test_batch.cpp):
-// evaluate, pdf and sample run Google Highway twins of the scalar terms (src/batch/kernels-inl.h,
+// evaluate, pdf and sample run Google Highway twins of the scalar terms (src/batch/twins/,
 // one binary, the instruction set chosen at run time: AVX2, AVX-512, ...); the sampler fed the
 // same uniforms gives the scalar sampler's directions to ~1e-5 (other sin / cos / log code).
-// The measured BRDF (ModelKind::Measured: table lookups) has no SIMD twin: evaluate, pdf and
-// sample run its scalar kernel element by element, on the same blocks and threads.
+// A model whose registry row says Scalar (aniso/brdf/registry.h; the measured BRDF: table lookups)
+// has no SIMD twin: evaluate, pdf and sample run its scalar kernel element by element, on the same
+// blocks and threads.
 // Threads::All splits the N elements into fixed blocks that oneTBB runs on all cores; every
 // element's result depends only on its inputs, so the output is the same bit for bit whatever the
 // thread count and the block order. docs/performance.md has the details and the measurements.

@@ -10,56 +10,37 @@
 //                        u (2D) the direction; all uniform in [0, 1)
 #pragma once
 
-#include "aniso/brdf/ashikhmin_shirley.h"
-#include "aniso/brdf/ggx.h"
-#include "aniso/brdf/lafortune.h"
-#include "aniso/brdf/lambert.h"
-#include "aniso/brdf/measured.h"
-#include "aniso/brdf/metal.h"
-#include "aniso/brdf/phong.h"
-#include "aniso/brdf/ward.h"
+#include "aniso/brdf/registry.h"
 
 namespace aniso {
 
-// Measured: a tabulated BRDF (MERL layout, aniso/brdf/measured.h); its tables are host-owned
-// arrays the kernel only points to (lifetime: src/measured/measured.h).
-enum class ModelKind : int { Lambert = 0, Phong, Ward, AshikhminShirley, Lafortune, GGX, Metal, Measured };
-
+// Every model of the registry (aniso/brdf/registry.h); Measured's tables are host-owned arrays
+// the kernel only points to (lifetime: src/measured/measured.h).
 template <typename T> struct MaterialT {
   ModelKind kind = ModelKind::Lambert;
   union {
-    LambertT<T> lambert;
-    PhongT<T> phong;
-    WardT<T> ward;
-    AshikhminShirleyT<T> ashikhmin_shirley;
-    LafortuneT<T> lafortune;
-    GGXT<T> ggx;
-    MetalT<T> metal;
-    MeasuredT<T> measured;
+#define ANISO_X(Tag, Type, member, name, batch, glsl) Type<T> member;
+    ANISO_MODELS(ANISO_X)
+#undef ANISO_X
   };
 
   ANISO_HD MaterialT() : lambert() {}
-  ANISO_HD MaterialT(const LambertT<T>& m) : kind(ModelKind::Lambert), lambert(m) {}
-  ANISO_HD MaterialT(const PhongT<T>& m) : kind(ModelKind::Phong), phong(m) {}
-  ANISO_HD MaterialT(const WardT<T>& m) : kind(ModelKind::Ward), ward(m) {}
-  ANISO_HD MaterialT(const AshikhminShirleyT<T>& m) : kind(ModelKind::AshikhminShirley), ashikhmin_shirley(m) {}
-  ANISO_HD MaterialT(const LafortuneT<T>& m) : kind(ModelKind::Lafortune), lafortune(m) {}
-  ANISO_HD MaterialT(const GGXT<T>& m) : kind(ModelKind::GGX), ggx(m) {}
-  ANISO_HD MaterialT(const MetalT<T>& m) : kind(ModelKind::Metal), metal(m) {}
-  ANISO_HD MaterialT(const MeasuredT<T>& m) : kind(ModelKind::Measured), measured(m) {}
+#define ANISO_X(Tag, Type, member, name, batch, glsl) \
+  ANISO_HD MaterialT(const Type<T>& m) : kind(ModelKind::Tag), member(m) {}
+  ANISO_MODELS(ANISO_X)
+#undef ANISO_X
 
-  // Calls fn(model) with the active alternative (a tag switch the compiler turns into a jump table).
+  // Calls fn(model) with the active alternative (a tag switch the compiler turns into a jump
+  // table). The cases are generated from the registry, one per row, and there is no default; a
+  // kind outside the enumeration (corrupted memory only) gets Lambert's member after the switch.
   template <typename Fn> ANISO_HD auto visit(Fn&& fn) const {
     switch (kind) {
-      case ModelKind::Phong: return fn(phong);
-      case ModelKind::Ward: return fn(ward);
-      case ModelKind::AshikhminShirley: return fn(ashikhmin_shirley);
-      case ModelKind::Lafortune: return fn(lafortune);
-      case ModelKind::GGX: return fn(ggx);
-      case ModelKind::Metal: return fn(metal);
-      case ModelKind::Measured: return fn(measured);
-      default: return fn(lambert);
+#define ANISO_X(Tag, Type, member, name, batch, glsl) \
+  case ModelKind::Tag: return fn(member);
+      ANISO_MODELS(ANISO_X)
+#undef ANISO_X
     }
+    return fn(lambert);
   }
 
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
@@ -72,6 +53,21 @@ template <typename T> struct MaterialT {
     return visit([&](const auto& m) { return m.sample(wo, uc, u); });
   }
 };
+
+// Calls fn(ModelType<Type<T>>{}) for the kernel type of kind k: dispatch on a kind before a model
+// exists (the builders of src/io/materials.cpp, the GLSL builders). Generated like visit.
+template <typename M> struct ModelType {
+  using type = M;
+};
+template <typename T, typename Fn> auto visit_kind(ModelKind k, Fn&& fn) {
+  switch (k) {
+#define ANISO_X(Tag, Type, member, name, batch, glsl) \
+  case ModelKind::Tag: return fn(ModelType<Type<T>>{});
+    ANISO_MODELS(ANISO_X)
+#undef ANISO_X
+  }
+  return fn(ModelType<LambertT<T>>{});
+}
 
 using Material = MaterialT<float>;
 using MaterialD = MaterialT<double>;

@@ -1,0 +1,41 @@
+// io/enum_names.h: the one name table of each enumeration a user spells in JSON or on the command
+// line. The parameter tables' choices (params.cpp), the material builders (materials.cpp), the
+// fitter (src/fit) and the GLSL slots (the choice's index is the enumerator's value, which the
+// GLSL twins' constants repeat) all read these.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "aniso/brdf/metal.h"
+#include "aniso/brdf/ward.h"
+
+namespace aniso {
+
+// EnumNames<E>::kNames[i] is the name of the enumerator with value i (the enumerators are 0..n-1).
+template <typename E> struct EnumNames;
+
+template <> struct EnumNames<WardForm> {
+  static constexpr std::string_view kNames[] = {"vector", "angle", "approx"};
+  static_assert(int(WardForm::Approx) + 1 == std::size(kNames));
+};
+template <> struct EnumNames<WardNormalization> {
+  static constexpr std::string_view kNames[] = {"ward", "duer", "balanced"};
+  static_assert(int(WardNormalization::Balanced) + 1 == std::size(kNames));
+};
+// The metal's specular lobe: the names are those of the models the lobe comes from.
+template <> struct EnumNames<SpecularLobeKind> {
+  static constexpr std::string_view kNames[] = {"ward", "ashikhmin-shirley", "ggx"};
+  static_assert(int(SpecularLobeKind::GGX) + 1 == std::size(kNames));
+};
+
+template <typename E> constexpr std::span<const std::string_view> enum_names() { return EnumNames<E>::kNames; }
+template <typename E> constexpr std::string_view enum_name(E e) { return EnumNames<E>::kNames[static_cast<int>(e)]; }
+template <typename E> constexpr std::optional<E> enum_from_name(std::string_view s) {
+  for (size_t i = 0; i < std::size(EnumNames<E>::kNames); ++i)
+    if (EnumNames<E>::kNames[i] == s) return static_cast<E>(i);
+  return std::nullopt;
+}
+
+}  // namespace aniso
