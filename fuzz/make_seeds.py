@@ -6,7 +6,10 @@ Run from the repository root: python3 fuzz/make_seeds.py. Standard library only.
 crash-*, regression-*) are added by hand and never rewritten here. The image and tangent-map seeds
 start with the target's selector byte (fuzz_image.cpp, fuzz_tangent_map.cpp).
 Not written here: image/render-16x16.exr is byte 2 followed by the output of
-`aniso render --material gold --width 16 --height 16 --spp 1 -o x.exr` (OpenEXR, ZIP)."""
+`aniso render --material gold --width 16 --height 16 --spp 1 -o x.exr` (OpenEXR, ZIP); nor
+rgl/iso-rgb.bsdf and rgl/aniso-spectral.bsdf, written by `aniso export-rgl` (--material gold --rgb,
+and an anisotropic GGX; --resolution 4 --theta-i 2 --phi-i 3 --ndf 8), and rgl/truncated.bsdf,
+header-only.bsdf, huge-field-count.bsdf and bad-magic.bsdf cut from iso-rgb.bsdf by hand."""
 import os
 import struct
 import zlib

@@ -37,6 +37,9 @@ void add_fit_command(CLI::App& app);
 // export-glsl and export-brdf (cmd_export.cpp, docs/glsl.md).
 void add_export_commands(CLI::App& app);
 
+// export-rgl: an RGL tensor file (.bsdf) for pbrt-v4 and Mitsuba 3 (cmd_rgl.cpp, docs/rgl.md).
+void add_rgl_command(CLI::App& app);
+
 // view: the interactive explorer (cmd_view.cpp, view_app.cpp, docs/explorer.md).
 void add_view_command(CLI::App& app);
 

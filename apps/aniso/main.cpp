@@ -34,6 +34,7 @@
 #include "measured/measured.h"
 #include "render/gallery.h"
 #include "render/integrator.h"
+#include "rgl/rgl_material.h"
 #include "stats/albedo.h"
 #include "stats/rng.h"
 
@@ -212,6 +213,11 @@ int cmd_presets(const std::string& show, bool show_given) {
       const MaterialDesc d = load_material(show);
       fmt::print(stderr, "aniso: {}\n", describe_measured(*d.measured));
       write_stdout(fmt::format("{}\n", resolved_json(d).dump(2)));
+      return 0;
+    }
+    if (rgl::is_rgl_file_name(show)) {
+      // An RGL tensor file: its fields, grids, isotropy and description (docs/rgl.md).
+      write_stdout(rgl::describe_rgl(*rgl::load_rgl(show)));
       return 0;
     }
     if (!find_preset(show)) {
@@ -594,6 +600,7 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
 
   add_export_commands(app);
+  add_rgl_command(app);
   add_fit_command(app);
   add_view_command(app);
   add_web_commands(app);

@@ -1,0 +1,401 @@
+// rgl/rgl_export.cpp: an RGL tensor file from any BRDF (rgl/rgl_export.h; docs/rgl.md).
+#include "rgl/rgl_export.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+
+#include <fmt/format.h>
+
+#include "measured/spectral.h"
+#include "rgl/rgl_material.h"
+#include "stats/rng.h"
+
+namespace aniso::rgl {
+namespace {
+
+constexpr double kPiD = 3.14159265358979323846;
+
+double luminance_of(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }  // Rec. 709 Y
+
+Vec3d dir(double theta, double phi) {
+  return Vec3d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+}
+
+// Grid node k of n on [0, 1] and the (u_theta, u_phi) -> angle maps of pbrt-v4 bxdfs.h:1058-1065.
+double node(int k, int n) { return double(k) / double(n - 1); }
+double u2theta(double u) { return u * u * (kPiD / 2.0); }
+double u2phi(double u) { return (2.0 * u - 1.0) * kPiD; }
+
+double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+// sigma(w) = integral of D(m) <w, m>+ over the hemisphere of m: the projected area of the
+// microfacets (Dupuy & Jakob 2018, Sec. 3; for GGX, cos(theta) (1 + Lambda(w)), Heitz 2014 Eq. 80).
+double sigma_ggx(const Vec3d& w, double ax, double ay) {
+  return 0.5 * (w.z + std::sqrt(w.z * w.z + ax * ax * w.x * w.x + ay * ay * w.y * w.y));
+}
+double d_ggx(const Vec3d& m, double ax, double ay) {
+  const double d = (m.x / ax) * (m.x / ax) + (m.y / ay) * (m.y / ay) + m.z * m.z;
+  return 1.0 / (kPiD * ax * ay * d * d);
+}
+// The uniform distribution D = 1/pi (normalised: integral of D cos = 1) has sigma = (1 + cos) / 2.
+double sigma_uniform(const Vec3d& w) { return 0.5 * (1.0 + w.z); }
+
+}  // namespace
+
+std::vector<float> export_wavelengths() {
+  std::vector<float> l;
+  for (int nm = 380; nm <= 780; nm += 20) l.push_back(float(nm));
+  return l;
+}
+
+namespace {
+double box(int c, double nm) {  // c: 0 red, 1 green, 2 blue
+  const int band = nm < 490.0 ? 2 : (nm < 590.0 ? 1 : 0);
+  return band == c ? 1.0 : 0.0;
+}
+}  // namespace
+
+glm::dmat3 rgb_to_box_coefficients() {
+  const std::vector<float> lf = export_wavelengths();
+  const std::vector<double> l(lf.begin(), lf.end());
+  const SpectralToRgb reduce(l);
+  glm::dmat3 a(0.0);  // column c: the RGB of box c
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> v(l.size());
+    for (size_t j = 0; j < l.size(); ++j) v[j] = box(c, l[j]);
+    a[c] = reduce(v);
+  }
+  return glm::inverse(a);
+}
+
+BrdfSource brdf_source(const MaterialD& m) {
+  BrdfSource s;
+  s.f = [m](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(m.f(wi, wo)); };
+  if (m.kind == ModelKind::GGX) {
+    s.ggx_alpha = glm::dvec2(m.ggx.lobe.alpha_x, m.ggx.lobe.alpha_y);
+    // The diffuse term kd / pi gets a uniform share of the distribution, in proportion to its
+    // albedo against the specular one (Schlick at normal incidence bounds it).
+    const double kd = luminance_of(glm::dvec3(m.ggx.kd)), ks = luminance_of(glm::dvec3(m.ggx.f0));
+    // At most 0.2: more spreads the colour grid over the diffuse part and leaves the specular peak
+    // to few grid points (measured: GGX alpha 0.2 with kd 0.2, L1 at 80 degrees 8 % with 0.75, 2.6 % with 0.2).
+    s.uniform_weight = kd > 0.0 ? std::clamp(kd / (kd + ks), 0.02, 0.2) : 0.0;
+  } else if (m.kind == ModelKind::Metal && m.metal.lobe_kind == SpecularLobeKind::GGX) {
+    s.ggx_alpha = glm::dvec2(m.metal.ggx.alpha_x, m.metal.ggx.alpha_y);
+    s.uniform_weight = m.metal.has_directional_diffuse ? 0.1 : 0.0;
+  }
+  return s;
+}
+
+bool is_isotropic(const BrdfSource& src) {
+  // A fixed low-discrepancy set of pairs (golden-ratio sequences) and rotation angles.
+  for (int k = 0; k < 64; ++k) {
+    const double a = std::fmod(0.5 + k * 0.6180339887498949, 1.0), b = std::fmod(0.3 + k * 0.7548776662466927, 1.0);
+    const double c = std::fmod(0.1 + k * 0.5698402909980532, 1.0), d = std::fmod(0.7 + k * 0.3247179572447460, 1.0);
+    const double th_i = 1.4 * a, ph_i = 2 * kPiD * b, th_o = 1.4 * c, ph_o = 2 * kPiD * d, rot = 0.3 + 2.0 * a * d;
+    const glm::dvec3 f0 = src.f(dir(th_i, ph_i), dir(th_o, ph_o)), f1 = src.f(dir(th_i, ph_i + rot), dir(th_o, ph_o + rot));
+    for (int ch = 0; ch < 3; ++ch)
+      if (std::abs(f0[ch] - f1[ch]) > 1e-6 * std::max({std::abs(f0[ch]), std::abs(f1[ch]), 1e-12})) return false;
+  }
+  return true;
+}
+
+std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& opt, ExportReport* report) {
+  const double t0 = cpu_seconds();
+  const bool iso = is_isotropic(src);
+  const int N = opt.ndf;
+  // ndf and sigma: [phi rows, theta columns] over (u_phi, u_theta) (pbrt-v4 bxdfs.cpp:950-957:
+  // xSize = shape[1] is u_theta, ySize = shape[0] is u_phi). Isotropic: 2 constant rows.
+  const int rows = iso ? 2 : N;
+  // D and sigma at the nodes of an N x N (u_theta, u_phi) grid; isotropic ones are evaluated at
+  // phi = 0 and repeated.
+  const int nphi_q = N;  // phi nodes of the integration grid
+  std::vector<double> D(size_t(N) * nphi_q), S(size_t(N) * nphi_q);
+  std::vector<Vec3d> m_dir(size_t(N) * nphi_q);
+  std::vector<double> w_quad(size_t(N) * nphi_q);
+  for (int j = 0; j < nphi_q; ++j)
+    for (int i = 0; i < N; ++i) {
+      const double ut = node(i, N), up = node(j, nphi_q);
+      const double th = u2theta(ut);
+      m_dir[size_t(j) * N + i] = dir(th, u2phi(up));
+      // Trapezoid weights in u_theta and in u_phi (the last phi node repeats the first: weight
+      // 1/2 at each end makes the periodic sum exact), times the Jacobian 2 pi^2 u_theta sin(theta)
+      // of (u_theta, u_phi) -> solid angle (the factor in pbrt-v4 bxdfs.cpp:1081).
+      const double wt = (i == 0 || i == N - 1) ? 0.5 : 1.0, wp = (j == 0 || j == nphi_q - 1) ? 0.5 : 1.0;
+      w_quad[size_t(j) * N + i] = wt * wp / double(N - 1) / double(nphi_q - 1) * 2.0 * kPiD * kPiD * ut * std::sin(th);
+    }
+  std::string d_method;
+  auto sigma_of = [&](const Vec3d& w) {
+    double s = 0.0;
+    for (size_t k = 0; k < D.size(); ++k) s += w_quad[k] * D[k] * std::max(0.0, glm::dot(w, m_dir[k]));
+    return s;
+  };
+  if (src.ggx_alpha) {
+    const double ax = src.ggx_alpha->x, ay = src.ggx_alpha->y, u = src.uniform_weight;
+    for (size_t k = 0; k < D.size(); ++k) {
+      D[k] = (1.0 - u) * d_ggx(m_dir[k], ax, ay) + u / kPiD;
+      S[k] = (1.0 - u) * sigma_ggx(m_dir[k], ax, ay) + u * sigma_uniform(m_dir[k]);
+    }
+    d_method = u > 0 ? fmt::format("exact GGX D and sigma, {:.2f} uniform for the diffuse part", u) : "exact GGX D and sigma";
+  } else {
+    // Dupuy, Heitz, Iehl, Poulin & Ostromoukhov 2015, "Extracting Microfacet-based BRDF Parameters
+    // from Arbitrary Materials with Power Iterations", Eq. 6-8: under the microfacet model the
+    // retro-reflection is f(w, w) = F D(w) G1(w) / (4 cos^2) with G1 = cos / sigma(w), so
+    // D(w) is proportional to f(w, w) cos(w) sigma(w): the leading eigenvector of the linear map
+    // D -> f(w, w) cos(w) sigma_D(w), found by power iteration (Dupuy & Jakob 2018, Sec. 5.1).
+    std::vector<double> retro(D.size());
+    for (size_t k = 0; k < D.size(); ++k) {
+      const Vec3d w = m_dir[k];
+      retro[k] = w.z > 0 ? std::max(0.0, luminance_of(src.f(w, w))) * w.z : 0.0;
+    }
+    D = retro;
+    for (int it = 0; it < opt.power_iterations; ++it) {
+      std::vector<double> next(D.size());
+      if (iso) {
+        std::vector<double> s_row(N);
+        for (int i = 0; i < N; ++i) s_row[size_t(i)] = sigma_of(m_dir[size_t(i)]);
+        for (size_t k = 0; k < D.size(); ++k) next[k] = retro[k] * s_row[k % size_t(N)];
+      } else {
+        for (size_t k = 0; k < D.size(); ++k) next[k] = retro[k] * sigma_of(m_dir[k]);
+      }
+      double norm = 0.0;  // integral of D cos(theta_m) = 1 (the projected area of the macrosurface)
+      for (size_t k = 0; k < D.size(); ++k) norm += w_quad[k] * next[k] * m_dir[k].z;
+      if (!(norm > 0.0) || !std::isfinite(norm)) {
+        std::fill(next.begin(), next.end(), 1.0 / kPiD);  // no retro-reflection at all: uniform D
+        norm = 1.0;
+      }
+      for (size_t k = 0; k < D.size(); ++k) D[k] = next[k] / norm;
+    }
+    // 2 % of the uniform distribution: every half vector keeps a positive density, so the vndf
+    // warp reaches wherever f > 0 even when the retro-reflection is 0 there (a forward lobe).
+    for (double& d : D) d = 0.98 * d + 0.02 / kPiD;
+    if (iso)
+      for (int i = 0; i < N; ++i) {
+        const double s = sigma_of(m_dir[size_t(i)]);
+        for (int j = 0; j < nphi_q; ++j) S[size_t(j) * N + i] = s;
+      }
+    else
+      for (size_t k = 0; k < D.size(); ++k) S[k] = sigma_of(m_dir[k]);
+    d_method = fmt::format("power iteration on the retro-reflection ({} steps), 2% uniform", opt.power_iterations);
+  }
+  // Stored tables: rows x N. Isotropic: the phi = 0 column repeated in 2 rows.
+  std::vector<float> ndf_t(size_t(rows) * N), sigma_t(size_t(rows) * N);
+  for (int r = 0; r < rows; ++r)
+    for (int i = 0; i < N; ++i) {
+      const size_t k = iso ? size_t(i) : size_t(r) * N + i;
+      ndf_t[size_t(r) * N + i] = float(D[k]);
+      sigma_t[size_t(r) * N + i] = float(std::max(S[k], 1e-6));  // sigma >= cos/... > 0; 1e-6 guards float underflow
+    }
+  PL2DTables ndf_pl, sigma_pl;
+  ndf_pl.build(ndf_t.data(), N, rows, {}, false, false);
+  sigma_pl.build(sigma_t.data(), N, rows, {}, false, false);
+
+  // theta_i: placed by inverting s(theta) = (theta / theta_max + (sigma(0) - sigma(theta)) /
+  // (sigma(0) - sigma(theta_max))) / 2, half uniform in angle, half uniform in projected area
+  // (dense where sigma changes, near grazing for smooth materials). theta_max = 89 degrees: at
+  // 90 the cosine factors of f vanish or diverge (Ward's 1 / sqrt(cos cos)); the readers use the
+  // last slice beyond it (sampling.h:1494 clamps the weight).
+  const double theta_max = 89.0 * kPiD / 180.0;
+  auto sigma_avg = [&](double th) {
+    double s = 0.0;
+    const int np = iso ? 1 : 8;
+    for (int j = 0; j < np; ++j) s += sigma_pl.view.evaluate(float(std::sqrt(th / (kPiD / 2))), float(j + 0.5) / np, nullptr);
+    return s / np;
+  };
+  std::vector<float> theta_i(size_t(opt.theta_i));
+  {
+    const int fine = 2048;
+    std::vector<double> s(fine + 1), th(fine + 1);
+    const double s0 = sigma_avg(0.0), s1 = sigma_avg(theta_max);
+    const double span = s0 - s1;
+    double run = 0.0;
+    for (int k = 0; k <= fine; ++k) {
+      th[size_t(k)] = theta_max * k / fine;
+      const double area = span > 1e-9 ? (s0 - sigma_avg(th[size_t(k)])) / span : double(k) / fine;
+      run = std::max(run, std::clamp(area, 0.0, 1.0));  // monotone
+      s[size_t(k)] = 0.5 * (double(k) / fine + run);
+    }
+    for (int q = 0; q < opt.theta_i; ++q) {
+      const double target = s.back() * q / (opt.theta_i - 1);
+      const size_t k = size_t(std::lower_bound(s.begin(), s.end(), target) - s.begin());
+      double t = th[std::min(k, size_t(fine))];
+      if (k > 0 && k <= size_t(fine) && s[k] > s[k - 1]) t = th[k - 1] + (th[k] - th[k - 1]) * (target - s[k - 1]) / (s[k] - s[k - 1]);
+      theta_i[size_t(q)] = float(t);
+    }
+    theta_i.front() = 0.f;
+    theta_i.back() = float(theta_max);
+  }
+  // phi_i: isotropic: one value (0), the readers then measure phi relative to phi_i (bxdfs.cpp:
+  // 1033-1034); anisotropic: the full circle [-pi, pi] (bxdfs.cpp:941-948).
+  std::vector<float> phi_i;
+  if (iso) phi_i = {0.f};
+  else
+    for (int j = 0; j < opt.phi_i; ++j) phi_i.push_back(float(u2phi(node(j, opt.phi_i))));
+  const size_t n_phi = phi_i.size(), n_theta = theta_i.size();
+
+  // vndf: per incident direction w, the density of visible normals over (u_theta, u_phi),
+  // D(m) <w, m>+ / sigma(w) times the Jacobian 2 pi^2 u_theta sin(theta_m) of (u_theta, u_phi) ->
+  // solid angle (Dupuy & Jakob 2018, Sec. 4); the readers normalise each slice (sampling.h:
+  // 1404-1416), so the 1 / sigma is left out. (Tried here: a warp half following the slice's own
+  // cosine-weighted f. It did not lower the grazing errors of docs/rgl.md's table, and made the
+  // slices differ more, which the readers' linear blend between theta_i slices pays for.)
+  const size_t vslice = size_t(N) * N;
+  std::vector<float> vndf_t(n_phi * n_theta * vslice);
+  for (size_t a = 0; a < n_phi; ++a)
+    for (size_t b = 0; b < n_theta; ++b) {
+      const Vec3d w = dir(theta_i[b], phi_i[a]);
+      float* out = vndf_t.data() + (a * n_theta + b) * vslice;
+      for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+          const double ut = node(x, N), up = node(y, N), th = u2theta(ut);
+          const Vec3d m = dir(th, u2phi(up) + (iso ? phi_i[a] : 0.0));
+          const double d = ndf_pl.view.evaluate(float(ut), float(up), nullptr);
+          out[size_t(y) * N + x] = float(d * std::max(0.0, glm::dot(w, m)) * 2.0 * kPiD * kPiD * ut * std::sin(th));
+        }
+    }
+  PL2DTables vndf_pl;
+  vndf_pl.build(vndf_t.data(), N, N, {phi_i, theta_i}, true, true);
+
+  // Colour on the VNDF-warped square: at grid point u of the sample space, m = vndf.sample(u),
+  // wi = reflect(wo, m), and the table holds what MeasuredBxDF::f multiplies back:
+  // f cos(theta_i) 4 sigma(wo) / D(m) (bxdfs.cpp:1048-1049), with sigma and D the tables'
+  // own interpolants, so that f is reproduced exactly at every grid point.
+  const int n = opt.colour;
+  const size_t plane = size_t(n) * n;
+  std::vector<float> rgb_t(n_phi * n_theta * 3 * plane, 0.f), lum_t(n_phi * n_theta * plane, 0.f);
+  for (size_t a = 0; a < n_phi; ++a)
+    for (size_t b = 0; b < n_theta; ++b) {
+      const Vec3d wo = dir(theta_i[b], phi_i[a]);
+      const float p[2] = {phi_i[a], theta_i[b]};
+      const float sig = sigma_pl.view.evaluate(rgl_theta2u(theta_i[b]), rgl_phi2u(phi_i[a]), nullptr);
+      const size_t slice = a * n_theta + b;
+      double mean = 0.0;
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          PL2DSample s = vndf_pl.view.sample(float(node(x, n)), float(node(y, n)), p);
+          // At a node on the border of a region of zero density the warp can give 0 / 0
+          // (PL2DSample::finite); the point 1e-4 inside the square stands in for it.
+          if (!s.finite())
+            s = vndf_pl.view.sample(float(std::clamp(node(x, n), 1e-4, 1.0 - 1e-4)), float(std::clamp(node(y, n), 1e-4, 1.0 - 1e-4)), p);
+          if (!s.finite()) continue;  // the table keeps 0 there
+          const double th_m = rgl_u2theta(s.x), ph_m = rgl_u2phi(s.y) + (iso ? phi_i[a] : 0.f);
+          const Vec3d m = dir(th_m, ph_m);
+          const Vec3d wi = 2.0 * glm::dot(wo, m) * m - wo;
+          glm::dvec3 c(0.0);
+          double lum = 0.0;
+          const double d = ndf_pl.view.evaluate(s.x, s.y, nullptr);
+          if (wi.z > 0.0 && d > 0.0) {
+            const glm::dvec3 f = glm::max(src.f(wi, wo), glm::dvec3(0.0));
+            c = f * (wi.z * 4.0 * sig / d);
+            // The luminance table: the density of the sample space that makes the wi density
+            // proportional to Y(f) cos (pbrt-v4 bxdfs.cpp:1054-1082: pdf(wi) = luminance(u)
+            // vndf_pdf(m) / (4 <wo, m> 2 pi^2 u_theta sin(theta_m))): Y(f) cos times that Jacobian
+            // over the warp's density: Y of the colour table (the paper's luminance), computed this way so
+            // that it stays right for any warp.
+            const double jac = 4.0 * glm::dot(wo, m) * std::max(2.0 * kPiD * kPiD * s.x * std::sin(th_m), 1e-6);
+            lum = s.pdf > 0.f ? luminance_of(f) * wi.z * jac / s.pdf : 0.0;
+            if (!std::isfinite(lum)) lum = 0.0;
+          }
+          const size_t k = size_t(y) * n + x;
+          for (int ch = 0; ch < 3; ++ch) rgb_t[(slice * 3 + size_t(ch)) * plane + k] = float(c[ch]);
+          lum_t[slice * plane + k] = float(lum);
+          mean += lum / double(plane);
+        }
+      // 1 % of the slice's mean luminance everywhere: a defensive mixture (Hesterberg 1995) with
+      // plain VNDF sampling, so no direction with f > 0 gets a zero pdf; all zero (black): uniform.
+      for (size_t k = 0; k < plane; ++k) {
+        float& v = lum_t[slice * plane + k];
+        v = mean > 0.0 ? v + float(0.01 * mean) : 1.f;
+      }
+    }
+
+  std::vector<TensorField> fields;
+  const std::string& desc = src.description;
+  fields.push_back(make_field("description", {desc.size()}, std::span(reinterpret_cast<const uint8_t*>(desc.data()), desc.size())));
+  fields.push_back(make_field("phi_i", {n_phi}, phi_i));
+  fields.push_back(make_field("theta_i", {n_theta}, theta_i));
+  fields.push_back(make_field("ndf", {uint64_t(rows), uint64_t(N)}, ndf_t));
+  fields.push_back(make_field("sigma", {uint64_t(rows), uint64_t(N)}, sigma_t));
+  fields.push_back(make_field("vndf", {n_phi, n_theta, uint64_t(N), uint64_t(N)}, vndf_t));
+  fields.push_back(make_field("luminance", {n_phi, n_theta, uint64_t(n), uint64_t(n)}, lum_t));
+  if (opt.spectral) {
+    // rgb -> three non-negative box spectra whose reduction is that rgb (rgb_to_box_coefficients);
+    // a negative coefficient (a colour outside what the boxes reach) is clamped to 0.
+    const std::vector<float> lambda = export_wavelengths();
+    const glm::dmat3 inv = rgb_to_box_coefficients();
+    std::vector<float> spec(n_phi * n_theta * lambda.size() * plane);
+    for (size_t s = 0; s < n_phi * n_theta; ++s)
+      for (size_t k = 0; k < plane; ++k) {
+        const glm::dvec3 rgb(rgb_t[(s * 3) * plane + k], rgb_t[(s * 3 + 1) * plane + k], rgb_t[(s * 3 + 2) * plane + k]);
+        const glm::dvec3 coef = glm::max(inv * rgb, glm::dvec3(0.0));
+        for (size_t j = 0; j < lambda.size(); ++j) {
+          double v = 0.0;
+          for (int c = 0; c < 3; ++c) v += coef[c] * box(c, lambda[j]);
+          spec[(s * lambda.size() + j) * plane + k] = float(v);
+        }
+      }
+    fields.push_back(make_field("wavelengths", {lambda.size()}, lambda));
+    fields.push_back(make_field("spectra", {n_phi, n_theta, lambda.size(), uint64_t(n), uint64_t(n)}, spec));
+  } else {
+    fields.push_back(make_field("rgb", {n_phi, n_theta, 3, uint64_t(n), uint64_t(n)}, rgb_t));
+  }
+  const uint8_t one = 1;
+  fields.push_back(make_field("jacobian", {1}, std::span(&one, 1)));
+  if (report) {
+    report->isotropic = iso;
+    report->d_method = d_method;
+    report->seconds = cpu_seconds() - t0;
+  }
+  return fields;
+}
+
+SourceModel source_model(const MaterialD& m) {
+  return {[m](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(m.f(wi, wo)); },
+          [m](const Vec3d& wi, const Vec3d& wo) { return m.pdf(wi, wo); },
+          [m](const Vec3d& wo, double uc, const Vec2T<double>& u) { return m.sample(wo, uc, u); }};
+}
+
+RoundTripStats compare_rgl(const SourceModel& src, const RglT<double>& file, int samples) {
+  RoundTripStats r;
+  int count = 0;
+  for (int ti = 0; ti <= 4; ++ti)
+    for (const double phi_deg : {0.0, 60.0, 120.0, 210.0, 300.0}) {
+      const Vec3d wo = dir(ti * 20.0 * kPiD / 180.0, phi_deg * kPiD / 180.0);
+      Rng rng(1234 + uint64_t(ti) * 7 + uint64_t(phi_deg));
+      double diff = 0.0, ref = 0.0, a_src = 0.0, a_file = 0.0;
+      for (int k = 0; k < samples; ++k) {
+        const Vec2T<double> u(rng.uniform(), rng.uniform());
+        Vec3d wi;
+        if (k % 2 == 0) {
+          const BSDFSampleT<double> s = src.sample(wo, rng.uniform(), u);
+          if (!s.valid) continue;  // counted: the estimator divides by all samples
+          wi = s.wi;
+        } else {
+          wi = sample_cosine_hemisphere(u);
+        }
+        const double pdf = 0.5 * src.pdf(wi, wo) + 0.5 * cosine_hemisphere_pdf(wi.z);
+        if (!(pdf > 0.0) || !(wi.z > 0.0)) continue;
+        const glm::dvec3 fs = src.f(wi, wo), ff = file.f(wi, wo);
+        const double w = wi.z / pdf;
+        diff += (std::abs(ff.x - fs.x) + std::abs(ff.y - fs.y) + std::abs(ff.z - fs.z)) * w;
+        ref += (fs.x + fs.y + fs.z) * w;
+        a_src += luminance_of(fs) * w;
+        a_file += luminance_of(ff) * w;
+      }
+      const double l1 = ref > 0.0 ? diff / ref : 0.0;
+      const double alb = a_src > 0.0 ? std::abs(a_file - a_src) / a_src : 0.0;
+      if (l1 > r.l1_max) {
+        r.l1_max = l1;
+        r.worst_theta_deg = ti * 20.0;
+        r.worst_phi_deg = phi_deg;
+      }
+      r.albedo_max = std::max(r.albedo_max, alb);
+      r.l1_by_theta[ti] = std::max(r.l1_by_theta[ti], l1);
+      r.l1_mean += l1;
+      ++count;
+    }
+  r.l1_mean /= count;
+  return r;
+}
+
+}  // namespace aniso::rgl
