@@ -78,6 +78,7 @@ vec = {
     "too-few": "0 0 1 0 0\n",
     "minus-zero": "-0 -0 1 -0 0 1\n",
     "integers": "18446744073709551616\n-1\n1.5\n010\n",
+    "nul-byte": "0 0 1 \0\n0 0 1\n0 0 1 0 0 1\n",
     "opposite-grazing": "0.9519527964440391 -0.30624479316777603 2.6982672065979276e-10 -0.9519527964455237 0.3062447931631613 2.7586451918744186e-11\n",
 }
 for name, text in vec.items():
@@ -102,6 +103,9 @@ scenes = {
     "bad-key": '{%s, "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "clay", "colour": 1}]}' % cam,
     "missing-file": '{%s, "objects": [{"shape": "mesh", "file": "nope.obj", "material": "clay"}]}' % cam,
     "directory-as-file": '{%s, "objects": [{"shape": "mesh", "file": ".", "material": "clay"}]}' % cam,
+    "rectangle-1e39": '{%s, "objects": [{"shape": "rectangle", "center": [0, 0, 0], "normal": [0, 1, 0], "u": [1, 0, 0], "size": [1e39, 1], "material": "clay"}]}' % cam,
+    "name-number": '{%s, "name": 5, "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "clay"}]}' % cam,
+    "bounds-exact": '{%s, "name": "exact bounds", "environment": {"type": "sky", "sun_radius_deg": 0.05, "resolution": 16}, "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1e15, "material": "clay"}]}' % cam,
 }
 for name, text in scenes.items():
     put("scene", name + ".json", text)
@@ -194,6 +198,11 @@ objs = {
     "zero-normal": ("\x00", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n"),
     "nan-vertex": ("\x00", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
     "no-faces": ("\x00", "v 0 0 0\n"),
+    "not-a-number": ("\x00", "v hello -1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    "inf-vertex": ("\x00", "v inf -1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    "short-vertex": ("\x00", "v -1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    "nan-normal": ("\x00", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn nan 0 1\nf 1//1 2//1 3//1\n"),
+    "colors-and-w": ("\x00", "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 # c\nvt 0.5\nf 1 2 3\n"),
 }
 for name, (sel, text) in objs.items():
     put("obj", name + ".obj", sel + text)

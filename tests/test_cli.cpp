@@ -184,6 +184,19 @@ TEST_F(CliEval, AshikhminShirleyNearlyOppositeGrazingPairIsNotNegative) {
   for (double x : v) EXPECT_TRUE(std::isfinite(x) && x >= 0.0) << r.out;
 }
 
+// A NUL byte is named with its line; the lines around it stay separate (fgets stopped at the NUL
+// and joined what followed to the next line: one result for two bad lines, exit 0).
+TEST_F(CliEval, NulByteIsAnErrorNamingItsLine) {
+  expect_input_error(run({"eval", "--material", "clay"}, std::string("0 0 1 \0\n0 0 1\n", 14)),
+                     {"stdin line 1: column 7: a NUL byte"});
+  expect_input_error(run({"eval", "--material", "clay"}, std::string("0 0 1 0 0 1\n0 0 1 0 0 1\0\n", 25)),
+                     {"stdin line 2: column 12: a NUL byte"});
+  // A NUL inside a comment is part of the comment.
+  const Result r = run({"eval", "--material", "clay"}, std::string("# a\0b\n0 0 1 0 0 1\n", 18));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(numbers_of(r.out).size(), 4u);
+}
+
 TEST_F(CliEval, WrongNumberOfFieldsNamesTheLineAndPrintsNothing) {
   // Line 1 is valid: it must not be printed either (all lines are checked before any output).
   const Result r = run({"eval", "--material", "clay"}, "0 0 1 0 0 1\n0 0 1 0 0\n");

@@ -60,16 +60,15 @@ void flush_stdout() {
 // One line of stdin without its newline; false at the end of input. A read error (a directory as
 // stdin, a closed descriptor) is an error, not the end of input; lines are capped at 1 MiB (a
 // direction pair needs under 200 bytes) so that a line without newline cannot exhaust memory.
+// Byte by byte (getc_unlocked, no lock per byte): fgets cannot tell a NUL byte from the end of what
+// it read, so a line with a NUL lost its rest and was joined to the next one.
 bool read_stdin_line(std::string& line, size_t line_no) {
   constexpr size_t kMaxLine = size_t(1) << 20;
   line.clear();
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, stdin)) {
-    line.append(buf);
-    if (!line.empty() && line.back() == '\n') {
-      line.pop_back();
-      return true;
-    }
+  int c;
+  while ((c = getc_unlocked(stdin)) != EOF) {
+    if (c == '\n') return true;
+    line.push_back(char(c));
     if (line.size() > kMaxLine) throw InputError(fmt::format("stdin line {}: longer than 1 MiB", line_no));
   }
   if (std::ferror(stdin)) throw InputError(fmt::format("stdin: read error after line {}: {}", line_no - 1, std::strerror(errno)));

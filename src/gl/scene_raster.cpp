@@ -15,6 +15,7 @@
 #include "gl/gl_shader.h"
 #include "gl/glsl_library.h"
 #include "gl/glsl_material.h"
+#include "render/geometry.h"
 
 namespace aniso::gl {
 namespace {
@@ -552,9 +553,7 @@ std::vector<Vertex> object_vertices(const render::Object& o) {
         // The triangle's normal and, without per-vertex tangents, its dp/du from the UVs: the
         // arithmetic of SceneGeometry::shade (render/geometry.cpp).
         const Vec3 e1 = m.positions[i[1]] - m.positions[i[0]], e2 = m.positions[i[2]] - m.positions[i[0]];
-        const Vec3 c = glm::cross(e1, e2);
-        const float cl = glm::length(c);
-        const Vec3 ng = cl > 0.0f ? c / cl : Vec3(0, 1, 0);
+        const Vec3 ng = render::SceneGeometry::triangle_normal(e1, e2);
         Vec3 face_dpdu(0.0f);
         if (m.tangents.empty() && !m.uvs.empty()) {
           const Vec2 d1 = m.uvs[i[1]] - m.uvs[i[0]], d2 = m.uvs[i[2]] - m.uvs[i[0]];

@@ -103,6 +103,9 @@ Vec3d direction_from_degrees(double theta_deg, double phi_deg) {
 DirectionPair parse_direction_line(std::string_view line, size_t line_no, bool angles) {
   const int want = angles ? 4 : 6;
   const char* layout = angles ? "theta_i phi_i theta_o phi_o, degrees" : "wi.x wi.y wi.z wo.x wo.y wo.z";
+  // A NUL byte (binary input, a C string cut short) is named, not taken for the end of the line.
+  if (const size_t nul = line.find('\0'); nul != std::string_view::npos)
+    throw InputError(fmt::format("stdin line {}: column {}: a NUL byte; expected text ({})", line_no, nul + 1, layout));
   double v[6] = {};
   int count = 0;
   size_t i = 0;

@@ -1,6 +1,7 @@
 // render/geometry.cpp: Embree 3 scene construction and hit shading.
 #include "render/geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -114,6 +115,17 @@ Vec3 SceneGeometry::offset_origin(const Vec3& p, const Vec3& ng, const Vec3& d) 
   return p + (glm::dot(d, ng) >= 0.0f ? scale : -scale) * ng;
 }
 
+Vec3 SceneGeometry::triangle_normal(const Vec3& e1, const Vec3& e2) {
+  // Each edge scaled by its largest component first: |e1 x e2|^2 overflows float once the edges
+  // are longer than about 4e9 (a triangle of size 1e11 had a zero normal and rendered black), and
+  // the direction of the cross product does not depend on the scales.
+  const float m1 = std::max({std::fabs(e1.x), std::fabs(e1.y), std::fabs(e1.z)});
+  const float m2 = std::max({std::fabs(e2.x), std::fabs(e2.y), std::fabs(e2.z)});
+  const Vec3 c = m1 > 0.0f && m2 > 0.0f ? glm::cross(e1 / m1, e2 / m2) : Vec3(0.0f);
+  const float cl = glm::length(c);
+  return cl > 0.0f ? c / cl : Vec3(0, 1, 0);
+}
+
 float SceneGeometry::bounding_radius() const {
   RTCBounds b;
   rtcGetSceneBounds(impl_->scene, &b);
@@ -208,9 +220,7 @@ void SceneGeometry::shade(int object, int prim, float bu, float bv, const Ray& r
       const float b0 = 1.0f - bu - bv;
       const Vec3 e1 = m.positions[i1] - m.positions[i0], e2 = m.positions[i2] - m.positions[i0];
       p = b0 * m.positions[i0] + bu * m.positions[i1] + bv * m.positions[i2];
-      const Vec3 c = glm::cross(e1, e2);
-      const float cl = glm::length(c);
-      ng = cl > 0.0f ? c / cl : Vec3(0, 1, 0);
+      ng = triangle_normal(e1, e2);
       ns = ng;
       if (!m.normals.empty()) {
         const Vec3 nn = b0 * m.normals[i0] + bu * m.normals[i1] + bv * m.normals[i2];

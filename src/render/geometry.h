@@ -53,6 +53,9 @@ class SceneGeometry {
   // Ray origin for leaving p towards d without hitting the surface it sits on: offset along the
   // geometric normal by a few float ulps of the coordinates' magnitude.
   static Vec3 offset_origin(const Vec3& p, const Vec3& ng, const Vec3& d);
+  // The unit normal of a triangle with edges e1, e2 (right-handed, e1 x e2); +y for a degenerate
+  // one. Finite for any finite edges (no overflow of the cross product).
+  static Vec3 triangle_normal(const Vec3& e1, const Vec3& e2);
 
   // Shading data at a point of an object (the part of intersect() after the BVH), exposed for tests.
   void shade(int object, int prim, float bu, float bv, const Ray& ray, float t, SurfaceHit* hit) const;

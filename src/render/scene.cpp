@@ -2,7 +2,9 @@
 // message (docs/scenes.md is the reference for the keys); the renderer trusts what it gets.
 #include "render/scene.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -14,6 +16,7 @@
 #include "io/json_read.h"
 #include "io/materials.h"
 #include "io/presets.h"
+#include "io/text_input.h"
 #include "render/image.h"
 
 namespace aniso::render {
@@ -45,10 +48,12 @@ class Node {
     return obj_.at(std::string(key));
   }
 
-  float number(std::string_view key, float def, float lo, float hi, bool required = false, bool lo_exclusive = false) {
+  // The bounds are compared in double, with the JSON number as written (a float bound would be
+  // rounded: 1e15 is 999999986991104, 0.05f is 0.0500000007, refusing the documented limits).
+  float number(std::string_view key, double def, double lo, double hi, bool required = false, bool lo_exclusive = false) {
     if (!has(key)) {
       if (required) fail(key, fmt::format("missing (required): expected a number in {}{}, {}]", lo_exclusive ? "(" : "[", lo, hi));
-      return def;
+      return float(def);
     }
     const json& v = obj_.at(std::string(key));
     const double x = v.is_number() ? v.get<double>() : NAN;
@@ -126,6 +131,14 @@ class Node {
     return v.get<std::string>();
   }
 
+  // Free text: optional, any string (empty included), but a string.
+  std::string text(std::string_view key) {
+    if (!has(key)) return {};
+    const json& v = obj_.at(std::string(key));
+    if (!v.is_string()) fail(key, fmt::format("expected a string (free text), got {}", json_type_name(v)));
+    return v.get<std::string>();
+  }
+
   void finish() const {
     for (const auto& [k, v] : obj_.items()) {
       if (known_.count(k)) continue;
@@ -176,7 +189,7 @@ Environment read_environment(Node n, const std::string& base_dir) {
     SkyParams p;
     p.sun_to = n.direction("sun_to", p.sun_to);
     p.sun_radiance = n.color("sun_radiance", p.sun_radiance);
-    p.sun_radius_deg = n.number("sun_radius_deg", p.sun_radius_deg, 0.05f, 45.0f);
+    p.sun_radius_deg = n.number("sun_radius_deg", p.sun_radius_deg, 0.05, 45.0);
     p.zenith = n.color("zenith", p.zenith);
     p.horizon = n.color("horizon", p.horizon);
     p.ground = n.color("ground", p.ground);
@@ -184,7 +197,7 @@ Environment read_environment(Node n, const std::string& base_dir) {
     env = Environment::sky(p);
   } else {
     const std::string file = n.string("file");
-    const float scale = n.number("scale", 1.0f, 0.0f, 1e12f);
+    const float scale = n.number("scale", 1.0, 0.0, 1e12);
     const float rotation = n.number("rotation_deg", 0.0f, -360.0f, 360.0f);
     Image img = read_image(resolve_path(file, base_dir), fmt::format("{}: {}", n.source(), n.key_path("file")));
     env = Environment::from_image(std::move(img), scale, rotation);
@@ -207,7 +220,7 @@ Light read_light(Node n) {
   } else {
     l.kind = LightKind::Sphere;
     l.position = n.vec3("center", l.position, true);
-    l.radius = n.number("radius", 1.0f, 0.0f, 1e15f, true, true);
+    l.radius = n.number("radius", 1.0f, 0.0f, 1e15, true, true);
     l.power = n.color("radiance", RGB(0.0f), true);
   }
   n.finish();
@@ -280,10 +293,61 @@ glm::mat3 rotation_xyz_deg(const Vec3& deg) {
   return rz * ry * rx;  // X first, then Y, then Z
 }
 
+// Checks every number on the OBJ's "v", "vn" and "vt" lines before tinyobjloader reads them:
+// tinyobjloader's parser turns text that is not a number ("v hello -1 0", "nan", "inf") into 0 and
+// a missing coordinate ("v -1") into 0 without a word, so after it has read the file the mistake
+// can no longer be told from a real 0. Numbers follow the CLI's rule (io/text_input.h: decimal,
+// finite); "v" takes x y z [w] or x y z r g b (tinyobjloader's two forms, tiny_obj_loader.h
+// parseVertexWithColor), "vn" x y z, "vt" u [v [w]].
+void check_obj_numbers(const std::string& file, const std::string& where) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: {}: cannot open ({})", where, file, std::strerror(errno)));
+  std::string line;
+  size_t line_no = 0;
+  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (std::getline(in, line)) {
+    ++line_no;
+    size_t i = 0;
+    while (i < line.size() && is_space(line[i])) ++i;
+    if (i >= line.size() || line[i] != 'v') continue;
+    size_t k = i + 1;
+    char kind = 'v';  // "v", "vn" or "vt"; any other word starting with v ("vp") is not checked
+    if (k < line.size() && (line[k] == 'n' || line[k] == 't')) kind = line[k++];
+    if (k < line.size() && !is_space(line[k])) continue;
+    const char* name = kind == 'v' ? "v" : kind == 'n' ? "vn" : "vt";
+    const char* layout = kind == 'v' ? "x y z [w], or x y z r g b" : kind == 'n' ? "x y z" : "u [v [w]]";
+    const size_t min = kind == 't' ? 1 : 3, max = kind == 'v' ? 6 : 3;
+    i = k;
+    const size_t comment = line.find('#', i);
+    const std::string_view rest = std::string_view(line).substr(i, comment == std::string::npos ? std::string::npos : comment - i);
+    size_t count = 0, j = 0;
+    const auto fail = [&](const std::string& problem) {
+      throw InputError(fmt::format("{}: {}: line {}: \"{}\": {}", where, file, line_no, text_escape(std::string_view(line).substr(0, 80)),
+                                   problem));
+    };
+    while (true) {
+      while (j < rest.size() && is_space(rest[j])) ++j;
+      if (j == rest.size()) break;
+      size_t end = j;
+      while (end < rest.size() && !is_space(rest[end])) ++end;
+      std::string why;
+      if (!parse_decimal(rest.substr(j, end - j), &why))
+        fail(fmt::format("field {}: expected a finite decimal number, got \"{}\" ({})", count + 1,
+                         text_escape(rest.substr(j, std::min<size_t>(end - j, 40))), why));
+      ++count;
+      j = end;
+    }
+    if (count < min || count > max || (kind == 'v' && count == 5))
+      fail(fmt::format("expected the numbers of a \"{}\" line ({}), got {}", name, layout, count));
+  }
+  if (in.bad()) throw InputError(fmt::format("{}: {}: read error ({})", where, file, std::strerror(errno)));
+}
+
 std::shared_ptr<Mesh> load_obj(const std::string& file, const std::string& where) {
   std::error_code ec;
   if (!fs::exists(file, ec)) throw InputError(fmt::format("{}: {}: no such file", where, file));
   if (!fs::is_regular_file(file, ec)) throw InputError(fmt::format("{}: {}: not a regular file", where, file));
+  check_obj_numbers(file, where);
   tinyobj::ObjReaderConfig cfg;
   cfg.triangulate = true;
   cfg.vertex_color = false;
@@ -393,12 +457,12 @@ Object read_object(Node n, const std::string& base_dir) {
   if (shape == "sphere") {
     o.shape = ShapeKind::Sphere;
     o.center = n.vec3("center", o.center, true);
-    o.radius = n.number("radius", 1.0f, 0.0f, 1e15f, true, true);
+    o.radius = n.number("radius", 1.0f, 0.0f, 1e15, true, true);
   } else if (shape == "disc") {
     o.shape = ShapeKind::Disc;
     o.center = n.vec3("center", o.center, true);
     o.normal = n.direction("normal", o.normal, true);
-    o.radius = n.number("radius", 1.0f, 0.0f, 1e15f, true, true);
+    o.radius = n.number("radius", 1.0f, 0.0f, 1e15, true, true);
   } else if (shape == "rectangle") {
     o.shape = ShapeKind::Rectangle;
     o.center = n.vec3("center", o.center, true);
@@ -407,16 +471,18 @@ Object read_object(Node n, const std::string& base_dir) {
     const Vec3 u_perp = u - glm::dot(u, o.normal) * o.normal;
     if (glm::length(u_perp) < 1e-4f) n.fail("u", "must not be parallel to \"normal\"");
     o.u_axis = glm::normalize(u_perp);
+    // At most 1e15, as every other length (radius, scale): 1e39 is finite in the JSON's double
+    // but infinite in the renderer's float.
     const json& s = n.get("size");
-    if (!s.is_array() || s.size() != 2 || !s[0].is_number() || !s[1].is_number() || !(s[0].get<double>() > 0) ||
-        !(s[1].get<double>() > 0) || !std::isfinite(s[0].get<double>()) || !std::isfinite(s[1].get<double>()))
-      n.fail("size", fmt::format("expected [width, height], two finite numbers > 0, got {}", json_type_name(s)));
+    const auto side_ok = [](const json& x) { return x.is_number() && x.get<double>() > 0.0 && x.get<double>() <= 1e15; };
+    if (!s.is_array() || s.size() != 2 || !side_ok(s[0]) || !side_ok(s[1]))
+      n.fail("size", fmt::format("expected [width, height], two numbers in (0, 1e15], got {}", json_type_name(s)));
     o.size = Vec2(float(s[0].get<double>()), float(s[1].get<double>()));
   } else if (shape == "torus") {
     o.shape = ShapeKind::Mesh;
     o.center = n.vec3("center", o.center, true);
-    const float major = n.number("major_radius", 1.0f, 0.0f, 1e15f, false, true);
-    const float minor = n.number("minor_radius", 0.35f, 0.0f, 1e15f, false, true);
+    const float major = n.number("major_radius", 1.0f, 0.0f, 1e15, false, true);
+    const float minor = n.number("minor_radius", 0.35f, 0.0f, 1e15, false, true);
     if (!(minor < major)) n.fail("minor_radius", "must be smaller than major_radius");
     auto mesh = make_torus(Vec3(0.0f), major, minor, 192, 64);
     transform_mesh(*mesh, o.center, 1.0f, n.vec3("rotate_deg", Vec3(0.0f)));
@@ -425,7 +491,7 @@ Object read_object(Node n, const std::string& base_dir) {
     o.shape = ShapeKind::Mesh;
     const std::string file = n.string("file");
     const Vec3 translate = n.vec3("translate", Vec3(0.0f));
-    const float scale = n.number("scale", 1.0f, 0.0f, 1e15f, false, true);
+    const float scale = n.number("scale", 1.0f, 0.0f, 1e15, false, true);
     const Vec3 rot = n.vec3("rotate_deg", Vec3(0.0f));
     auto mesh = load_obj(resolve_path(file, base_dir), fmt::format("{}: {}", n.source(), n.key_path("file")));
     transform_mesh(*mesh, translate, scale, rot);
@@ -438,7 +504,7 @@ Object read_object(Node n, const std::string& base_dir) {
     o.tangent = read_tangent(Node(n.get("tangent"), n.source(), n.key_path("tangent")), o, base_dir);
     if (o.tangent.uv_tangents) compute_uv_tangents(*std::const_pointer_cast<Mesh>(o.mesh));
   }
-  n.has("name");  // a label, free text (the gallery uses it)
+  n.text("name");  // a label, free text (the gallery uses it)
   n.finish();
   return o;
 }
@@ -542,8 +608,8 @@ Scene parse_scene(const json& doc, const std::string& source, const std::string&
   const json& objs = top.get("objects");
   if (!objs.is_array()) top.fail("objects", fmt::format("expected an array, got {}", json_type_name(objs)));
   for (size_t i = 0; i < objs.size(); ++i) s.objects.push_back(read_object(Node(objs[i], source, fmt::format("objects[{}]", i)), base_dir));
-  top.has("name");
-  top.has("description");
+  top.text("name");
+  top.text("description");
   top.finish();
   return s;
 }
