@@ -48,8 +48,10 @@ void write_atomically(const std::string& path, const std::string& text) {
   }
   const std::string tmp = fmt::format("{}.tmp{}", path, getpid());
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(fmt::format("-o {}: cannot open for writing", path));
+    // errno from open(2) (libstdc++'s filebuf opens with it): the reason ("No such file or directory").
+    if (!out) throw InputError(fmt::format("-o {}: cannot open for writing: {}", path, errno ? std::strerror(errno) : "unknown error"));
     out.write(text.data(), std::streamsize(text.size()));
     out.close();
     if (!out) {
@@ -60,7 +62,7 @@ void write_atomically(const std::string& path, const std::string& text) {
   fs::rename(tmp, path, ec);
   if (ec) {
     fs::remove(tmp, ec);
-    throw InputError(fmt::format("-o {}: cannot rename the temporary file into place", path));
+    throw InputError(fmt::format("-o {}: cannot rename the temporary file into place: {}", path, ec.message()));
   }
 }
 
@@ -78,14 +80,16 @@ MaterialDesc load_checked(const std::string& material) {
 void add_export_commands(CLI::App& app) {
   struct Args {
     std::string material, output;
+    bool full = false;
   };
   auto args = std::make_shared<Args>();
   auto* glsl = app.add_subcommand("export-glsl", "write the material as one self-contained GLSL source (aniso_f, aniso_pdf, "
                                                  "aniso_sample, aniso_f_world)");
   glsl->add_option("--material,-m", args->material, "preset name or JSON file")->required();
   glsl->add_option("-o,--output", args->output, "output file (default: stdout)");
+  glsl->add_flag("--full", args->full, "the whole GLSL library, not only the functions the material uses");
   glsl->callback([args] {
-    run_command([&] { write_atomically(args->output, gl::export_glsl(load_checked(args->material), args->material)); });
+    run_command([&] { write_atomically(args->output, gl::export_glsl(load_checked(args->material), args->material, args->full)); });
   });
   auto* brdf = app.add_subcommand("export-brdf", "write the material as a Disney BRDF Explorer .brdf file");
   brdf->add_option("--material,-m", args->material, "preset name or JSON file")->required();
