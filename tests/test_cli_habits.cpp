@@ -21,6 +21,8 @@ namespace {
 
 class CliHabits : public Cli {
  protected:
+  // A file in the test's directory (the CLI runs in the test's working directory).
+  std::string at(const std::string& name) const { return (dir_ / name).string(); }
   // The CSV of samples `fit` reads: a Ward-like lobe over a grid of directions.
   std::string ward_csv(const std::string& name, double scale = 1.0) {
     std::string csv = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,r,g,b\n";
@@ -45,7 +47,7 @@ TEST_F(CliHabits, AMistypedOptionIsNamedWithTheNearest) {
   expect_input_error(r, {"unknown option --materail for aniso eval; did you mean --material?"});
   EXPECT_FALSE(contains(r.err, "is required")) << r.err;
   expect_input_error(run({"albedo", "-m", "gold", "--theta", "30"}), {"unknown option --theta", "--theta-deg"});
-  expect_input_error(run({"fit", "x.csv", "--modle", "ward", "-o", "f.json"}), {"unknown option --modle", "did you mean --model"});
+  expect_input_error(run({"fit", "x.csv", "--modle", "ward", "-o", at("f.json")}), {"unknown option --modle", "did you mean --model"});
   expect_input_error(run({"render", "-m", "gold", "--widht=200"}), {"unknown option --widht", "--width"});
   expect_input_error(run({"--verison"}), {"unknown option --verison", "--version"});
   // Negative numbers are values, not options.
@@ -61,15 +63,15 @@ TEST_F(CliHabits, AMistypedCommandIsNamedWithTheNearestAndNoCommandListsThem) {
 
 TEST_F(CliHabits, OptionsThatDoNotApplyAreRefused) {
   const std::string data = ward_csv("data.csv");
-  expect_input_error(run({"fit", data, "--model", "ward", "--lobes", "3", "-o", "f.json"}),
+  expect_input_error(run({"fit", data, "--model", "ward", "--lobes", "3", "-o", at("f.json")}),
                      {"--lobes applies to --model lafortune only, not to --model ward"});
-  expect_input_error(run({"fit", data, "--model", "ashikhmin-shirley", "--normalization", "duer", "-o", "f.json"}),
+  expect_input_error(run({"fit", data, "--model", "ashikhmin-shirley", "--normalization", "duer", "-o", at("f.json")}),
                      {"--normalization applies to --model ward only"});
   expect_input_error(run({"fit", data, "--compare", "--model", "ward"}), {"--model does not apply with --compare"});
-  expect_input_error(run({"fit", data, "--model", "ggx", "--metal", "gold", "-o", "f.json"}), {"--metal applies to --model metal only"});
-  expect_input_error(run({"render", "-m", "gold", "--exposure", "1", "-o", "x.exr"}),
+  expect_input_error(run({"fit", data, "--model", "ggx", "--metal", "gold", "-o", at("f.json")}), {"--metal applies to --model metal only"});
+  expect_input_error(run({"render", "-m", "gold", "--exposure", "1", "-o", at("x.exr")}),
                      {"--exposure and --tonemap apply to PNG output only"});
-  expect_input_error(run({"render", "-m", "gold", "--tonemap", "clamp", "-o", "x.pfm"}), {"PNG output only"});
+  expect_input_error(run({"render", "-m", "gold", "--tonemap", "clamp", "-o", at("x.pfm")}), {"PNG output only"});
   EXPECT_FALSE(fs::exists(dir_ / "f.json"));
   EXPECT_FALSE(fs::exists(dir_ / "x.exr"));
 }
@@ -92,7 +94,8 @@ TEST_F(CliHabits, HelpShowsRealDefaultsAndTypes) {
   EXPECT_FALSE(contains(albedo.out, "=0 REQUIRED")) << albedo.out;
   EXPECT_TRUE(contains(albedo.out, "--samples INT=1048576")) << albedo.out;
   const Result render = run({"render", "--help"});
-  EXPECT_FALSE(contains(render.out, "]=0")) << render.out;
+  EXPECT_FALSE(contains(render.out, "1048576]=0")) << render.out;  // --spp: the scene's, not 0
+  EXPECT_FALSE(contains(render.out, "16384]=0")) << render.out;    // --width, --height
   EXPECT_TRUE(contains(render.out, "the scene's")) << render.out;
   const Result fit = run({"fit", "--help"});
   EXPECT_TRUE(contains(fit.out, "--lobes INT=1")) << fit.out;
@@ -150,17 +153,17 @@ TEST_F(CliHabits, PrintSceneWritesAbsoluteAssetPaths) {
 
 TEST_F(CliHabits, WidthAloneKeepsTheAspectRatioAndUnlitScenesWarn) {
   // gl-direct.json is 640 x 360.
-  Result r = run({"render", std::string(ANISO_SOURCE_DIR) + "/examples/gl-direct.json", "--width", "64", "--spp", "1", "-o", "a.pfm"});
+  Result r = run({"render", std::string(ANISO_SOURCE_DIR) + "/examples/gl-direct.json", "--width", "64", "--spp", "1", "-o", at("a.pfm")});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "(64x36, 1 spp)")) << r.out;
-  r = run({"render", std::string(ANISO_SOURCE_DIR) + "/examples/gl-direct.json", "--height", "18", "--spp", "1", "-o", "b.pfm"});
+  r = run({"render", std::string(ANISO_SOURCE_DIR) + "/examples/gl-direct.json", "--height", "18", "--spp", "1", "-o", at("b.pfm")});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "(32x18, 1 spp)")) << r.out;
   EXPECT_FALSE(contains(r.err, "warning")) << r.err;
   const std::string dark = write("dark.json", R"({"camera": {"position": [0, 0, 3], "look_at": [0, 0, 0]},
     "film": {"width": 16, "height": 16, "spp": 1},
     "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "material": "gold"}]})");
-  r = run({"render", dark, "-o", "dark.pfm"});
+  r = run({"render", dark, "-o", at("dark.pfm")});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.err, "aniso render: warning: " + dark + ": no light with power and no environment")) << r.err;
 }
@@ -175,12 +178,12 @@ TEST_F(CliHabits, FitRefusesDataItCannotFitAndPlotsOnlyPng) {
   const std::string data = ward_csv("data.csv");
   std::string text = read_file(data);
   const std::string huge = write("huge.csv", text.substr(0, text.find('\n') + 1) + "10,0,20,0,1e300,0.1,0.1\n" + text.substr(text.find('\n') + 1));
-  expect_input_error(run({"fit", huge, "--model", "ward", "-o", "f.json"}),
+  expect_input_error(run({"fit", huge, "--model", "ward", "-o", at("f.json")}),
                      {"huge.csv: line 2: column r = 1e+300: expected a BRDF value of at most 1e+30 (1/sr)"});
   const std::string zero = ward_csv("zero.csv", 0.0);
-  expect_input_error(run({"fit", zero, "--model", "ward", "-o", "f.json"}), {"zero.csv: every sample is 0: there is nothing to fit"});
-  expect_input_error(run({"fit", data, "--model", "ward", "--plot", "p.bmp", "-o", "f.json"}),
-                     {"--plot p.bmp: expected a .png file name"});
+  expect_input_error(run({"fit", zero, "--model", "ward", "-o", at("f.json")}), {"zero.csv: every sample is 0: there is nothing to fit"});
+  expect_input_error(run({"fit", data, "--model", "ward", "--plot", at("p.bmp"), "-o", at("f.json")}),
+                     {"--plot ", "p.bmp: expected a .png file name"});
   EXPECT_FALSE(fs::exists(dir_ / "p.bmp"));
   EXPECT_FALSE(fs::exists(dir_ / "f.json"));
 }
@@ -194,7 +197,7 @@ TEST_F(CliHabits, FitIsBitIdenticalWhateverTheThreadCount) {
                                                std::vector<std::string>{"--model", "ggx", "--loss", "huber"}}) {
     std::vector<std::string> outputs;
     for (const char* threads : {"1", "2", "3"}) {
-      std::vector<std::string> args = {"fit", data, "-q", "--threads", threads, "-o", fmt::format("t{}.json", threads)};
+      std::vector<std::string> args = {"fit", data, "-q", "--threads", threads, "-o", at(fmt::format("t{}.json", threads))};
       args.insert(args.end(), model.begin(), model.end());
       const Result r = run(args);
       ASSERT_EQ(r.code, 0) << r.err;
