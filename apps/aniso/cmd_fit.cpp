@@ -100,7 +100,33 @@ void print_warnings(const SampleSet& data) {
   for (const std::string& w : data.warnings) fmt::print(stderr, "aniso: warning: {}\n", w);
 }
 
-void run_fit(const FitArgs& a) {
+// Options that only one model reads, or that --compare sets itself, are refused when they would
+// be ignored: the user meant something else.
+void check_options_apply(const FitArgs& a, const CLI::App& fit) {
+  const auto given = [&](const char* name) { return fit.get_option(name)->count() > 0; };
+  if (a.compare) {
+    for (const char* name : {"--model", "--lobes", "--normalization", "--metal", "--metal-lobe"})
+      if (given(name))
+        throw InputError(fmt::format("{} does not apply with --compare, which fits every model with its own settings "
+                                     "(lafortune 1 and 3 lobes, ward in its three normalizations, ashikhmin-shirley, ggx, metal)",
+                                     name));
+    return;
+  }
+  const std::string& m = a.options.model;
+  const struct {
+    const char* option;
+    const char* model;
+  } only[] = {{"--lobes", "lafortune"}, {"--shared-exponents", "lafortune"}, {"--normalization", "ward"},
+              {"--metal", "metal"},     {"--metal-lobe", "metal"}};
+  for (const auto& [option, model] : only)
+    if (given(option) && m != model)
+      throw InputError(fmt::format("{} applies to --model {} only, not to --model {}", option, model, m));
+}
+
+void run_fit(const FitArgs& a, const CLI::App& fit) {
+  check_options_apply(a, fit);
+  if (!a.plot.empty() && lower_extension(a.plot) != ".png")
+    throw InputError(fmt::format("--plot {}: expected a .png file name (the plot is written as PNG)", a.plot));
   FitOptions o = parse_fit_options(a.options);
   if (!a.compare && a.output.empty()) throw InputError("-o: required: the file to write the fitted material to (fitted.json)");
   const SampleSet data = read_measured(a.data);
@@ -176,26 +202,26 @@ void add_fit_command(CLI::App& app) {
   fit->add_option("data", a->data, "measured data: .binary (MERL), .brdf (Cornell), .csv (theta_i,phi_i,theta_o,phi_o,r,g,b)")->required();
   std::string models;
   for (std::string_view m : fittable_models()) models += fmt::format("{}{}", models.empty() ? "" : " | ", m);
-  fit->add_option("--model", a->options.model, models);
-  fit->add_option("--lobes", a->options.lobes, "Lafortune: number of lobes, 1 to 8");
+  fit->add_option("--model", a->options.model, models)->type_name("MODEL")->capture_default_str();
+  fit->add_option("--lobes", a->options.lobes, "Lafortune: number of lobes, 1 to 8")->type_name("INT")->capture_default_str();
   fit->add_flag("--anisotropic", a->options.anisotropic, "fit C_x != C_y, alpha_x != alpha_y, n_u != n_v");
   fit->add_flag("--shared-exponents", a->options.shared_exponents, "Lafortune: one exponent per lobe for all channels");
-  fit->add_option("--normalization", a->options.normalization, "Ward: ward | duer | balanced");
-  fit->add_option("--metal", a->options.metal, "metal: a measured metal's eta, k (fixed); default: fit eta and k");
-  fit->add_option("--metal-lobe", a->options.metal_lobe, "metal: ggx | ward | ashikhmin-shirley");
-  fit->add_option("--metric", a->options.metric, "l2cos (Ngan 2005's cosine-weighted L2) | log (relative)");
-  fit->add_option("--loss", a->options.loss, "robust loss per sample: none | huber | cauchy | soft_l1");
-  fit->add_option("--loss-scale", a->options.loss_scale, "the robust loss's scale (residual units); 0: from the data");
-  fit->add_option("--starts", a->options.starts, "number of starts (moments, Ngan 2005's nearest fit, random), 1 to 1000");
-  fit->add_option("--seed", a->options.seed, "seed of the random starts, 0 to 2^64-1");
-  fit->add_option("--threads", a->options.threads, "solver threads; 0: all cores");
-  fit->add_option("--max-iterations", a->options.max_iterations, "Levenberg-Marquardt iterations of the final refinement");
+  fit->add_option("--normalization", a->options.normalization, "Ward: ward | duer | balanced")->type_name("NAME")->capture_default_str();
+  fit->add_option("--metal", a->options.metal, "metal: a measured metal's eta, k (fixed); default: fit eta and k")->type_name("METAL");
+  fit->add_option("--metal-lobe", a->options.metal_lobe, "metal: ggx | ward | ashikhmin-shirley")->type_name("MODEL")->capture_default_str();
+  fit->add_option("--metric", a->options.metric, "l2cos (Ngan 2005's cosine-weighted L2) | log (relative)")->type_name("NAME")->capture_default_str();
+  fit->add_option("--loss", a->options.loss, "robust loss per sample: none | huber | cauchy | soft_l1")->type_name("NAME")->capture_default_str();
+  fit->add_option("--loss-scale", a->options.loss_scale, "the robust loss's scale (residual units); 0: from the data")->type_name("FLOAT")->capture_default_str();
+  fit->add_option("--starts", a->options.starts, "number of starts (moments, Ngan 2005's nearest fit, random), 1 to 1000")->type_name("INT")->capture_default_str();
+  fit->add_option("--seed", a->options.seed, "seed of the random starts, 0 to 2^64-1")->type_name("UINT64")->capture_default_str();
+  fit->add_option("--threads", a->options.threads, "solver threads; 0: all cores")->type_name("INT")->capture_default_str();
+  fit->add_option("--max-iterations", a->options.max_iterations, "Levenberg-Marquardt iterations of the final refinement")->type_name("INT")->capture_default_str();
   fit->add_option("-o,--output", a->output, "fitted material (JSON with a \"fit\" object); required unless --compare");
   fit->add_flag("--compare", a->compare, "fit every model and print a ranking table (Ngan 2005's comparison)");
   fit->add_option("--plot", a->plot, "PNG of measured vs fitted in-plane slices at several incidence angles");
   fit->add_flag("--quiet,-q", a->quiet, "no progress display");
-  fit->add_option("--progress-after", a->progress_after, "show the progress display once a fit has run this many seconds");
-  fit->callback([a] { run_command([&] { run_fit(*a); }); });
+  fit->add_option("--progress-after", a->progress_after, "show the progress display once a fit has run this many seconds")->type_name("SECONDS")->capture_default_str();
+  fit->callback([a, fit] { run_command([&] { run_fit(*a, *fit); }); });
 }
 
 }  // namespace aniso

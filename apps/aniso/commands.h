@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "io/params.h"
+#include "io/text_input.h"
 
 namespace aniso {
 

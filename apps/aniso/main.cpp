@@ -1,6 +1,8 @@
 // aniso: the command-line tool. Scripting commands (exact formats; other tools and tests depend on
 // them, docs/cli.md): eval, sample, albedo, fresnel; and presets, models for discovery.
 // Numbers are computed in double precision and printed with 9 significant digits.
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "aniso/batch/batch.h"
@@ -79,33 +82,65 @@ bool read_stdin_line(std::string& line, size_t line_no) {
 // Piped input: every line is checked before anything is printed, so a bad line leaves no
 // half-written output. On a terminal each result is printed as its line is entered (a bad line
 // still ends the command with exit 2).
-// Piped input of kEvalBatchThreshold pairs or more goes through the batch path on all cores, with
-// the scalar kernels (batch::Kernels::Scalar), so that a line's output never depends on how many
-// lines came with it: the SIMD twins agree to ~1e-14 relative in double, which still flips a 9th
-// printed digit now and then (within the first 2000 numbers of tests/test_batch.cpp's input).
-// Below it, the plain loop.
-constexpr size_t kEvalBatchThreshold = 1024;
+// Piped input is evaluated in blocks of kEvalBlock pairs; a block of kEvalBatchThreshold pairs or
+// more goes through the batch path on all cores, with the scalar kernels (batch::Kernels::Scalar),
+// so that a line's output never depends on how many lines came with it: the SIMD twins agree to
+// ~1e-14 relative in double, which still flips a 9th printed digit now and then (within the first
+// 2000 numbers of tests/test_batch.cpp's input). Below it, the plain loop.
+// Memory stays bounded whatever the input's length: the output waits in memory up to
+// kEvalMemory bytes, beyond that in an unnamed temporary file (EvalSpool), until the input ends.
+constexpr size_t kEvalBatchThreshold = 1024, kEvalBlock = size_t(1) << 16, kEvalMemory = size_t(16) << 20;
 
-int cmd_eval(const std::string& material, bool angles) {
-  const Mat m = build_material<double>(load_material(material));
-  const bool interactive = isatty(STDIN_FILENO) != 0;
-  std::string out, line;
-  size_t line_no = 0;
-  std::vector<Vec3d> wis, wos;
-  while (read_stdin_line(line, ++line_no)) {
-    if (is_blank_or_comment(line)) continue;
-    const DirectionPair d = parse_direction_line(line, line_no, angles);
-    if (!interactive) {  // read everything first, evaluate below
-      wis.push_back(d.wi);
-      wos.push_back(d.wo);
-      continue;
-    }
-    const RGBT<double> f = m.f(d.wi, d.wo);
-    out += fmt::format("{} {} {} {}\n", num(f.x), num(f.y), num(f.z), num(m.pdf(d.wi, d.wo)));
-    write_stdout(out);
-    flush_stdout();
-    out.clear();
+// The output of piped `aniso eval` while the input is still being checked: in memory, then, past
+// kEvalMemory bytes, in a temporary file in $TMPDIR (or /tmp), unlinked at once so that nothing is
+// left behind whatever ends the program. A temporary file rather than streaming: a bad line must
+// leave stdout empty (docs/cli.md, "Output streams").
+class EvalSpool {
+ public:
+  ~EvalSpool() {
+    if (file_) std::fclose(file_);
   }
+  void add(std::string& text) {
+    if (!file_ && text.size() <= kEvalMemory) return;
+    if (!file_) open();
+    if (std::fwrite(text.data(), 1, text.size(), file_) != text.size())
+      throw std::runtime_error(fmt::format("eval: temporary file in {}: write error: {}", dir_, std::strerror(errno)));
+    text.clear();
+  }
+  // Everything to stdout: the temporary file's contents, then `rest`.
+  void finish(const std::string& rest) {
+    if (file_) {
+      if (std::fflush(file_) != 0 || std::fseek(file_, 0, SEEK_SET) != 0)
+        throw std::runtime_error(fmt::format("eval: temporary file in {}: write error: {}", dir_, std::strerror(errno)));
+      std::vector<char> buf(size_t(1) << 20);
+      size_t n;
+      while ((n = std::fread(buf.data(), 1, buf.size(), file_)) > 0) write_stdout(std::string_view(buf.data(), n));
+      if (std::ferror(file_)) throw std::runtime_error(fmt::format("eval: temporary file in {}: read error: {}", dir_, std::strerror(errno)));
+    }
+    write_stdout(rest);
+  }
+
+ private:
+  void open() {
+    std::error_code ec;
+    dir_ = std::filesystem::temp_directory_path(ec).string();
+    if (ec) dir_ = "/tmp";
+    std::string name = (std::filesystem::path(dir_) / "aniso-eval-XXXXXX").string();
+    const int fd = mkstemp(name.data());
+    if (fd < 0) throw std::runtime_error(fmt::format("eval: cannot create a temporary file in {}: {}", dir_, std::strerror(errno)));
+    unlink(name.c_str());
+    file_ = fdopen(fd, "w+b");
+    if (!file_) {
+      close(fd);
+      throw std::runtime_error(fmt::format("eval: cannot open a temporary file in {}: {}", dir_, std::strerror(errno)));
+    }
+  }
+  std::FILE* file_ = nullptr;
+  std::string dir_;
+};
+
+// Appends the results of one block of piped pairs to `out`.
+void eval_block(const Mat& m, const std::vector<Vec3d>& wis, const std::vector<Vec3d>& wos, std::string& out) {
   const size_t n = wis.size();
   std::vector<RGBT<double>> f(n);
   std::vector<double> pdf(n);
@@ -119,9 +154,38 @@ int cmd_eval(const std::string& material, bool angles) {
   } else {
     for (size_t i = 0; i < n; ++i) f[i] = m.f(wis[i], wos[i]), pdf[i] = m.pdf(wis[i], wos[i]);
   }
-  out.reserve(n * 64);
   for (size_t i = 0; i < n; ++i) out += fmt::format("{} {} {} {}\n", num(f[i].x), num(f[i].y), num(f[i].z), num(pdf[i]));
-  write_stdout(out);
+}
+
+int cmd_eval(const std::string& material, bool angles) {
+  const Mat m = build_material<double>(load_material(material));
+  const bool interactive = isatty(STDIN_FILENO) != 0;
+  std::string out, line;
+  size_t line_no = 0;
+  std::vector<Vec3d> wis, wos;
+  EvalSpool spool;
+  while (read_stdin_line(line, ++line_no)) {
+    if (is_blank_or_comment(line)) continue;
+    const DirectionPair d = parse_direction_line(line, line_no, angles);
+    if (!interactive) {  // evaluated by blocks, printed at the end
+      wis.push_back(d.wi);
+      wos.push_back(d.wo);
+      if (wis.size() == kEvalBlock) {
+        eval_block(m, wis, wos, out);
+        spool.add(out);
+        wis.clear();
+        wos.clear();
+      }
+      continue;
+    }
+    const RGBT<double> f = m.f(d.wi, d.wo);
+    out += fmt::format("{} {} {} {}\n", num(f.x), num(f.y), num(f.z), num(m.pdf(d.wi, d.wo)));
+    write_stdout(out);
+    flush_stdout();
+    out.clear();
+  }
+  eval_block(m, wis, wos, out);
+  spool.finish(out);
   return 0;
 }
 
@@ -193,7 +257,7 @@ int cmd_fresnel(const FresnelArgs& a) {
 }
 
 int cmd_metals() {
-  std::string out = fmt::format("{:<10} {:<4} {:<32} {:<32} {:<32} {}\n", "# name", "", "eta (r g b)", "k (r g b)", "F0 (r g b)", "source");
+  std::string out = fmt::format("{:<10} {:<4} {:<32} {:<32} {:<32} {}\n", "# name", "sym", "eta (r g b)", "k (r g b)", "F0 (r g b)", "source");
   for (const MetalData& md : metal_table()) {
     const RGBT<double> f0 = F_Conductor(1.0, RGBT<double>(md.eta), RGBT<double>(md.k));
     const auto rgb = [](const glm::dvec3& v) { return fmt::format("{:.4f} {:.4f} {:.4f}", v.x, v.y, v.z); };
@@ -322,12 +386,35 @@ struct RenderArgs {
   uint64_t seed = 1;
   double exposure = 0.0, noise_threshold = -1.0, time_s = 0.0;
   bool print_scene = false;
+  bool tone_given = false;  // --exposure or --tonemap given
 };
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
+// The scene document with every file it names (environment and tangent maps, meshes, material
+// files) made absolute, so that the printed scene reads the same files wherever it is saved.
+// Which keys are files: docs/scenes.md (render/scene.cpp resolves them against the scene's folder).
+void resolve_scene_paths(nlohmann::json& doc, const std::string& base_dir) {
+  namespace fs = std::filesystem;
+  const auto resolve = [&](nlohmann::json& v) {
+    if (!v.is_string()) return;
+    const fs::path p = v.get<std::string>();
+    std::error_code ec;
+    const fs::path full = fs::absolute(p.is_absolute() ? p : fs::path(base_dir) / p, ec);
+    if (!ec) v = full.lexically_normal().string();
+  };
+  const auto material = [&](nlohmann::json& m) {
+    if (m.is_string() && !find_preset(m.get<std::string>())) resolve(m);
+    else if (m.is_object() && m.contains("file")) resolve(m["file"]);  // {"model": "measured", "file": ...}
+  };
+  if (!doc.is_object()) return;
+  if (doc.contains("environment") && doc["environment"].is_object() && doc["environment"].contains("file"))
+    resolve(doc["environment"]["file"]);
+  if (!doc.contains("objects") || !doc["objects"].is_array()) return;
+  for (nlohmann::json& o : doc["objects"]) {
+    if (!o.is_object()) continue;
+    if (o.contains("file")) resolve(o["file"]);
+    if (o.contains("material")) material(o["material"]);
+    if (o.contains("tangent") && o["tangent"].is_object() && o["tangent"].contains("map")) resolve(o["tangent"]["map"]);
+  }
 }
 
 // `--backend gl`: the scene's direct light from point and directional lights, rasterised through
@@ -373,6 +460,9 @@ int cmd_render(RenderArgs a) {
   const std::string ext_out = a.output.empty() ? ".png" : lower_extension(a.output);
   if (ext_out != ".png" && ext_out != ".exr" && ext_out != ".pfm")
     throw InputError(fmt::format("-o {}: expected a .png, .exr or .pfm file name", a.output));
+  if (a.tone_given && ext_out != ".png")
+    throw InputError(fmt::format("--exposure and --tonemap apply to PNG output only; -o {} holds linear radiance, "
+                                 "written as rendered", a.output));
   ToneMapOptions tm;
   tm.exposure_stops = float(a.exposure);
   tm.curve = a.tonemap == "clamp" ? ToneMap::Clamp : ToneMap::Aces;
@@ -383,7 +473,7 @@ int cmd_render(RenderArgs a) {
 
   if (a.scene.empty() && a.material.empty()) {
     if (a.print_scene) {
-      fmt::print("{}\n", gallery_document().dump(2));
+      write_stdout(fmt::format("{}\n", gallery_document().dump(2)));
       return 0;
     }
     if (a.backend == "gl")
@@ -431,12 +521,18 @@ int cmd_render(RenderArgs a) {
     if (a.output.empty()) a.output = std::filesystem::path(a.scene).stem().string() + ".png";
   }
   if (a.print_scene) {
-    fmt::print("{}\n", doc.dump(2));
+    resolve_scene_paths(doc, base_dir);
+    write_stdout(fmt::format("{}\n", doc.dump(2)));
     return 0;
   }
   Scene scene = parse_scene(doc, source, base_dir);
+  // One of --width and --height alone keeps the scene's aspect ratio (the camera's field of view
+  // spans the film: changing one side alone would crop or stretch the view).
+  const double aspect = double(scene.film.width) / double(scene.film.height);
   if (a.width > 0) scene.film.width = a.width;
   if (a.height > 0) scene.film.height = a.height;
+  if (a.width > 0 && a.height == 0) scene.film.height = std::clamp(int(std::lround(a.width / aspect)), 1, 16384);
+  if (a.height > 0 && a.width == 0) scene.film.width = std::clamp(int(std::lround(a.height * aspect)), 1, 16384);
   if (a.spp > 0) scene.film.spp = a.spp;
   if (a.max_depth > 0) scene.integrator.max_depth = a.max_depth;
   if (a.noise_threshold >= 0.0) scene.film.noise_threshold = float(a.noise_threshold);
@@ -449,6 +545,10 @@ int cmd_render(RenderArgs a) {
   if (!a.strategy.empty())
     scene.integrator.strategy = a.strategy == "bsdf" ? Strategy::Bsdf : (a.strategy == "light" ? Strategy::Light : Strategy::Mis);
   if (a.backend == "gl") return render_gl(scene, a, tm);
+  bool lit = !scene.environment.is_black();
+  for (const Light& l : scene.lights) lit = lit || l.power.x > 0.0f || l.power.y > 0.0f || l.power.z > 0.0f;
+  if (!lit)
+    fmt::print(stderr, "aniso render: warning: {}: no light with power and no environment: the image will be black\n", source);
   ProgressBar bar(fmt::format("aniso render: {}", source));
   ro.progress = [&](double f) { bar.update(f); };
   std::signal(SIGINT, on_sigint);
@@ -499,6 +599,17 @@ CLI::Validator whole_range(int64_t lo, int64_t hi) {
       },
       fmt::format("INT in [{}, {}]", lo, hi));
 }
+// A number option's value, decimal only (CLI11 itself would read "0x1", "nan" and "inf"), range
+// checked by the command.
+CLI::Validator decimal_value() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::string why;
+        if (!aniso::parse_decimal(text, &why)) return fmt::format("expected a finite decimal number, got \"{}\" ({})", text, why);
+        return {};
+      },
+      "FLOAT");
+}
 CLI::Validator seed_value() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
@@ -512,12 +623,73 @@ CLI::Validator seed_value() {
       "UINT64");
 }
 
+namespace aniso {
+namespace {
+
+// Whether everything written to stdout reached it (closed stdout, a full disk, a closed pipe):
+// "" or the message. Help and version text goes through CLI11's std::cout, which shares stdio's
+// buffer (sync_with_stdio), so one flush checks both.
+std::string stdout_error() {
+  errno = 0;
+  const bool failed = std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout.good();
+  if (!failed) return {};
+  // A write that failed before (std::endl's flush of a closed stdout) left no errno: ask the
+  // descriptor itself (fcntl sets EBADF for a closed one).
+  if (errno == 0) (void)fcntl(STDOUT_FILENO, F_GETFD);
+  return fmt::format("stdout: write error: {}", errno ? std::strerror(errno) : "output failed");
+}
+
+// The names a command's options are typed with ("--material", "-m").
+std::vector<std::string> option_names(const CLI::App& cmd) {
+  std::vector<std::string> out;
+  for (const CLI::Option* o : cmd.get_options()) {
+    for (const std::string& l : o->get_lnames()) out.push_back("--" + l);
+    for (const std::string& c : o->get_snames()) out.push_back("-" + c);
+  }
+  return out;
+}
+
+// A mistyped option would otherwise be reported by CLI11 as a missing required one ("--material is
+// required" for --materail) or as an unexpected argument. The first argument from argv[first] on
+// that looks like an option ("--word", "-x") and that `cmd` does not know, named with the nearest
+// spellings; "" when there is none. Values such as "-1" or "-0.5" are not options.
+std::string unknown_option_message(const CLI::App& cmd, const std::string& command, int argc, char** argv, int first) {
+  for (int i = first; i < argc; ++i) {
+    const std::string_view t = argv[i];
+    if (t == "--") break;
+    const bool long_form = t.size() > 2 && t.substr(0, 2) == "--";
+    const bool short_form = t.size() == 2 && t[0] == '-' && std::isalpha(static_cast<unsigned char>(t[1]));
+    if (!long_form && !short_form) continue;
+    const std::string name(t.substr(0, t.find('=')));
+    if (cmd.get_option_no_throw(name)) continue;
+    std::string near = nearest_names(name, option_names(cmd));
+    near.erase(std::remove(near.begin(), near.end(), '"'), near.end());
+    return fmt::format("unknown option {}{}{} (`{} --help` lists the options)", text_escape(name), command.empty() ? "" : " for " + command,
+                       near.empty() ? "" : fmt::format("; did you mean {}?", near), command.empty() ? "aniso" : command);
+  }
+  return {};
+}
+
+// The commands and what they do, for `aniso` alone and an unknown command.
+std::string command_list(const CLI::App& app) {
+  std::string out = "usage: aniso COMMAND [OPTIONS] (aniso COMMAND --help for its options)\ncommands:\n";
+  for (const CLI::App* sub : app.get_subcommands({})) out += fmt::format("  {:<13} {}\n", sub->get_name(), sub->get_description());
+  return out;
+}
+
+}  // namespace
+}  // namespace aniso
+
 int main(int argc, char** argv) {
   using namespace aniso;
+  // A closed pipe (`aniso sample ... | head`) is a write error with a message and exit 1
+  // (docs/cli.md, "Exit status"), not death by SIGPIPE: every write to stdout is checked.
+  std::signal(SIGPIPE, SIG_IGN);
   CLI::App app{"aniso: anisotropic and measured reflectance (models, sampling, metals, rendering)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("aniso ") + ANISO_VERSION);
-  app.option_defaults()->always_capture_default();  // --help shows every option's default
+  // --help shows the defaults that are values (capture_default_str); the others ("the scene's",
+  // "all cores") are said in the option's text.
 
   // Largest counts: 1e9 sample lines is ~60 GB of text (minutes); 1e9 albedo samples ~1 minute.
   constexpr uint64_t kMaxCount = 1'000'000'000, kMaxSamples = 1'000'000'000;
@@ -532,25 +704,26 @@ int main(int argc, char** argv) {
   std::string count_text = "1", seed_text = "1", samples_text = "1048576";
   auto* sample = app.add_subcommand("sample", "write N lines 'wi.x wi.y wi.z weight_r weight_g weight_b pdf'");
   sample->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
-  sample->add_option("--wo", wo, "viewing direction x y z (local frame)")->required()->expected(3);
+  sample->add_option("--wo", wo, "viewing direction x y z (local frame; normalised)")->required()->expected(3)->check(decimal_value());
   // --samples counts the same thing as albedo's --samples (draws of sample()); --count is kept.
-  sample->add_option("--count,-n,--samples", count_text, fmt::format("number of samples (draws of sample(): output lines), 0 to {}", kMaxCount));
-  sample->add_option("--seed", seed_text, "random seed, 0 to 2^64-1");
+  sample->add_option("--count,-n,--samples", count_text, fmt::format("number of samples (draws of sample(): output lines), 0 to {}", kMaxCount))
+      ->type_name("INT")->capture_default_str();
+  sample->add_option("--seed", seed_text, "random seed, 0 to 2^64-1")->type_name("UINT64")->capture_default_str();
 
   double theta = 0.0, phi = 0.0;
   auto* albedo = app.add_subcommand("albedo", "directional albedo 'r g b' for the viewing direction (theta, phi)");
   albedo->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
   albedo->add_option("--theta-deg", theta, "viewing angle from the normal; 90 is the horizon (albedo 0)")->required()->check(finite_range(0.0, 90.0));
-  albedo->add_option("--phi-deg", phi, "azimuth from the tangent")->check(finite_range(-360.0, 360.0));
-  albedo->add_option("--samples", samples_text, fmt::format("importance samples, 1 to {}", kMaxSamples));
-  albedo->add_option("--seed", seed_text, "random seed, 0 to 2^64-1");
+  albedo->add_option("--phi-deg", phi, "azimuth from the tangent")->check(finite_range(-360.0, 360.0))->capture_default_str();
+  albedo->add_option("--samples", samples_text, fmt::format("importance samples, 1 to {}", kMaxSamples))->type_name("INT")->capture_default_str();
+  albedo->add_option("--seed", seed_text, "random seed, 0 to 2^64-1")->type_name("UINT64")->capture_default_str();
 
   FresnelArgs fa;
   auto* fresnel = app.add_subcommand("fresnel", "conductor Fresnel reflectance 'r g b' of a measured metal or of a given eta, k");
   fresnel->add_option("--metal", fa.metal, "metal name (`aniso metals` lists them)");
-  fresnel->add_option("--eta", fa.eta, "real part of the complex index, R G B")->expected(3);
-  fresnel->add_option("--k", fa.k, "extinction coefficient, R G B")->expected(3);
-  fresnel->add_option("--theta-deg", fa.theta, "angle of incidence")->check(finite_range(0.0, 90.0));
+  fresnel->add_option("--eta", fa.eta, "real part of the complex index, R G B, each in (0, 100]")->expected(3)->check(decimal_value());
+  fresnel->add_option("--k", fa.k, "extinction coefficient, R G B, each in [0, 100]")->expected(3)->check(decimal_value());
+  fresnel->add_option("--theta-deg", fa.theta, "angle of incidence")->check(finite_range(0.0, 90.0))->capture_default_str();
   fresnel->add_flag("--schlick", fa.schlick, "Schlick's approximation from the metal's F0 instead of the exact equations");
 
   auto* metals_cmd = app.add_subcommand("metals", "list the measured metals: RGB eta, k, F0 and the data source");
@@ -574,11 +747,11 @@ int main(int argc, char** argv) {
                          "output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance); default aniso-gallery.png, "
                          "aniso-preview.png or <scene>.png");
   render_cmd->add_option("--material,-m", ra.material, "render the preview scene with this material (preset, JSON file or inline JSON)");
-  render_cmd->add_option("--spp", ra.spp, "samples per pixel (default: the scene's)")->transform(whole_range(1, 1 << 20));
-  render_cmd->add_option("--width", ra.width, "image width in pixels")->transform(whole_range(16, 16384));
-  render_cmd->add_option("--height", ra.height, "image height in pixels")->transform(whole_range(16, 16384));
+  render_cmd->add_option("--spp", ra.spp, "samples per pixel (default: the scene's; the gallery's 64)")->transform(whole_range(1, 1 << 20));
+  render_cmd->add_option("--width", ra.width, "image width in pixels (default: the scene's; alone, the height follows the scene's aspect ratio)")->transform(whole_range(16, 16384));
+  render_cmd->add_option("--height", ra.height, "image height in pixels (default: the scene's; alone, the width follows)")->transform(whole_range(16, 16384));
   render_cmd->add_option("--threads", ra.threads, "worker threads (default: all cores)")->transform(whole_range(1, 1024));
-  render_cmd->add_option("--seed", ra.seed, "random seed (same seed, same image, whatever the thread count)")->transform(seed_value());
+  render_cmd->add_option("--seed", ra.seed, "random seed (same seed, same image, whatever the thread count)")->transform(seed_value())->capture_default_str();
   render_cmd->add_option("--strategy", ra.strategy, "mis (default), bsdf or light")->check(CLI::IsMember({"mis", "bsdf", "light"}));
   render_cmd->add_option("--sampler", ra.sampler, "sobol (default: Owen-scrambled Sobol') or independent (PCG32)")
       ->check(CLI::IsMember({"sobol", "independent"}));
@@ -590,8 +763,10 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--time", ra.time_s, "time budget in seconds: passes until it ends (with --spp as a cap)")
       ->check(finite_range(0.001, 1e6));
   render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")->transform(whole_range(1, 1024));
-  render_cmd->add_option("--exposure", ra.exposure, "exposure in stops for PNG output")->check(finite_range(-30.0, 30.0));
-  render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp")->check(CLI::IsMember({"aces", "clamp"}));
+  auto* exposure_opt = render_cmd->add_option("--exposure", ra.exposure, "exposure in stops (PNG output only)")
+      ->check(finite_range(-30.0, 30.0))->capture_default_str();
+  auto* tonemap_opt = render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp (PNG output only)")
+      ->check(CLI::IsMember({"aces", "clamp"}));
   render_cmd->add_option("--backend", ra.backend,
                          "cpu (default: the path tracer) or gl (direct light of point and directional lights through OpenGL, "
                          "headless; docs/scenes.md, \"GL backend\")")
@@ -604,30 +779,54 @@ int main(int argc, char** argv) {
   add_view_command(app);
   add_web_commands(app);
 
-  // An unknown command would otherwise be reported by CLI11 as "A subcommand is required".
-  if (argc > 1 && argv[1][0] != '-') {
-    std::string names;
-    bool known = false;
+  // `aniso` alone: the commands. An unknown command would otherwise be reported by CLI11 as "A
+  // subcommand is required", an unknown option as a missing one.
+  if (argc == 1) {
+    fmt::print(stderr, "aniso: error: no command given\n{}", command_list(app));
+    return 2;
+  }
+  if (argv[1][0] != '-') {
+    std::vector<std::string> names;
+    const CLI::App* cmd = nullptr;
     for (const CLI::App* sub : app.get_subcommands({})) {
-      names += fmt::format(" {}", sub->get_name());
-      known = known || sub->check_name(argv[1]);
+      names.push_back(sub->get_name());
+      if (sub->check_name(argv[1])) cmd = sub;
     }
-    if (!known) {
-      fmt::print(stderr, "aniso: error: unknown command \"{}\"; expected one of{}\n", argv[1], names);
+    if (!cmd) {
+      std::string near = nearest_names(argv[1], names);
+      near.erase(std::remove(near.begin(), near.end(), '"'), near.end());
+      fmt::print(stderr, "aniso: error: unknown command \"{}\"{}\n{}", text_escape(argv[1]),
+                 near.empty() ? "" : fmt::format("; did you mean {}?", near), command_list(app));
       return 2;
     }
+    if (const std::string msg = unknown_option_message(*cmd, fmt::format("aniso {}", cmd->get_name()), argc, argv, 2); !msg.empty()) {
+      fmt::print(stderr, "aniso: error: {}\n", msg);
+      return 2;
+    }
+  } else if (const std::string msg = unknown_option_message(app, "", argc, argv, 1); !msg.empty()) {
+    fmt::print(stderr, "aniso: error: {}\n", msg);
+    return 2;
   }
+  // The exit status once stdout is known to hold everything written to it (exit 1 otherwise,
+  // unless the command already failed with 2).
+  const auto finish = [](int rc) {
+    const std::string err = stdout_error();
+    if (err.empty()) return rc;
+    fmt::print(stderr, "aniso: error: {}\n", err);
+    return rc == 0 ? 1 : rc;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {
     // A command run inside CLI11's callback (export-glsl, export-brdf: cmd_export.cpp) has printed
     // its message and chosen the exit status itself: 2 for bad input, 1 for a write error.
-    return e.get_exit_code();
+    return finish(e.get_exit_code());
   } catch (const CLI::ParseError& e) {
     // CLI11 prints the message (or the help); every command-line error exits 2, like input errors.
     const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    return finish(code == 0 ? 0 : 2);
   }
+  ra.tone_given = exposure_opt->count() > 0 || tonemap_opt->count() > 0;
   try {
     int rc = 1;
     if (eval->parsed()) rc = cmd_eval(material, angles);
@@ -643,7 +842,7 @@ int main(int argc, char** argv) {
     else if (models->parsed()) rc = cmd_models(markdown, only_model, model_opt->count() > 0);
     else if (render_cmd->parsed()) rc = cmd_render(ra);
     flush_stdout();
-    return rc;
+    return finish(rc);
   } catch (const InputError& e) {
     fmt::print(stderr, "aniso: error: {}\n", e.what());
     return 2;

@@ -30,6 +30,7 @@ from ._aniso import (  # noqa: F401  (re-exported)
     presets,
     read_measured,
     render,
+    save_image,
     simd_target,
 )
 
@@ -86,5 +87,5 @@ for _cls in (Material, Frame, FitResult):
 del _cls
 
 __all__ = ["Material", "Frame", "FitResult", "presets", "preset_source", "models", "metals", "fresnel", "render",
-           "fit", "read_measured", "export_glsl", "export_brdf", "simd_target", "direction", "angles",
+           "save_image", "fit", "read_measured", "export_glsl", "export_brdf", "simd_target", "direction", "angles",
            *_MODEL_CONSTRUCTORS]

@@ -27,8 +27,13 @@ RowsView rows_view(const py::handle& obj, const char* name, int columns) {
   RowsView v;
   if (kind == 'f' && (itemsize == 4 || itemsize == 8)) {
     v.f32 = itemsize == 4;
-  } else if (kind == 'f' || kind == 'i' || kind == 'u') {
-    a = a.attr("astype")(np.attr("float64"));  // integers, float16, long double: computed in double
+  } else if ((kind == 'f' && itemsize < 8) || kind == 'i' || kind == 'u') {
+    a = a.attr("astype")(np.attr("float64"));  // integers and float16 (exactly representable): computed in double
+  } else if (kind == 'f') {
+    // long double (float96, float128): rounding it to double would lose its extra digits unasked.
+    throw py::value_error(fmt::format("{}: expected {} of float32 or float64 (or float16, integers), got dtype {}: "
+                                      "convert it with .astype(numpy.float64) if double precision is enough",
+                                      name, expected, std::string(py::str(a.dtype()))));
   } else {
     throw py::value_error(fmt::format("{}: expected {} of float32 or float64 (or integers), got dtype {}", name,
                                       expected, std::string(py::str(a.dtype()))));

@@ -39,9 +39,9 @@ struct RowsView {
 };
 
 // Reads `obj` as an (N, 3) or (3,) real array; `name` is the argument's name for messages.
-// float32 and float64 are used as they are (any strides); integer and other floating dtypes are
-// converted to float64; anything else (complex, bool, object, strings) is a ValueError, as is
-// any other shape.
+// float32 and float64 are used as they are (any strides); integers and float16 are converted to
+// float64 (exactly); long double (float96, float128) is a ValueError rather than rounded unasked,
+// as is anything else (complex, bool, object, strings) and any other shape.
 RowsView rows_view(const py::handle& obj, const char* name, int columns = 3);
 
 // The common row count of the inputs: equal, or 1 for a (3,) input that broadcasts. ValueError

@@ -41,6 +41,7 @@
 #include "io/materials.h"
 #include "io/params.h"
 #include "io/presets.h"
+#include "io/text_input.h"
 #include "render/gallery.h"
 #include "render/integrator.h"
 #include "render/scene.h"
@@ -77,47 +78,84 @@ py::object to_py(const json& j) {
 
 // A dict as the JSON a material or scene file would hold. NumPy arrays and scalars are read as
 // their lists and numbers; `where` and `path` name the value in messages ("inline material: ks[1]").
-json from_py(const py::handle& h, const std::string& where, const std::string& path) {
-  const auto fail = [&](const std::string& what) -> json {
-    throw py::value_error(fmt::format("{}: {}: {}", where, path.empty() ? "(top level)" : path, what));
-  };
-  if (h.is_none()) return nullptr;
-  if (py::isinstance<py::bool_>(h)) return h.cast<bool>();
-  if (py::isinstance<py::int_>(h)) {
-    int overflow = 0;
-    const long long v = PyLong_AsLongLongAndOverflow(h.ptr(), &overflow);
-    if (overflow == 0) return int64_t(v);
-    return PyLong_AsDouble(h.ptr());  // beyond int64: a (huge) number, which the range check rejects
-  }
-  if (py::isinstance<py::float_>(h)) {
-    // JSON has no NaN or infinity (RFC 8259 Sec. 6): the same error as any value no file can hold.
-    const double v = h.cast<double>();
-    if (!std::isfinite(v)) fail(fmt::format("expected a finite number, got {}", v));
-    return v;
-  }
-  if (py::isinstance<py::str>(h)) return h.cast<std::string>();
-  if (py::isinstance<py::dict>(h)) {
-    json obj = json::object();
-    for (const auto& [k, v] : h.cast<py::dict>()) {
-      if (!py::isinstance<py::str>(k))
-        fail(fmt::format("expected string keys, got the key {}", std::string(py::repr(k))));
-      const std::string key = k.cast<std::string>();
-      obj[key] = from_py(v, where, path.empty() ? key : path + "." + key);
+// As parse_json_text (io/json_read.h): nesting deeper than kMaxJsonDepth is an error with the CLI's
+// message, which also bounds the recursion here; a dict or list that contains itself is an error of
+// its own (it would otherwise be reported as too deep).
+class FromPy {
+ public:
+  explicit FromPy(std::string where) : where_(std::move(where)) {}
+
+  json convert(const py::handle& h, const std::string& path) {
+    if (h.is_none()) return nullptr;
+    if (py::isinstance<py::bool_>(h)) return h.cast<bool>();
+    if (py::isinstance<py::int_>(h)) {
+      int overflow = 0;
+      const long long v = PyLong_AsLongLongAndOverflow(h.ptr(), &overflow);
+      if (overflow == 0) return int64_t(v);
+      const double d = PyLong_AsDouble(h.ptr());  // beyond int64: a (huge) number, which the range check rejects
+      if (d == -1.0 && PyErr_Occurred()) {  // beyond double (10**400): OverflowError, cleared
+        PyErr_Clear();
+        fail(path, fmt::format("expected a number, got an integer of {} decimal digits, beyond the range of a double (1.8e308)",
+                               py::len(py::str(py::reinterpret_steal<py::object>(PyNumber_Absolute(h.ptr()))))));
+      }
+      return d;
     }
-    return obj;
+    if (py::isinstance<py::float_>(h)) {
+      // JSON has no NaN or infinity (RFC 8259 Sec. 6): the same error as any value no file can hold.
+      const double v = h.cast<double>();
+      if (!std::isfinite(v)) fail(path, fmt::format("expected a finite number, got {}", v));
+      return v;
+    }
+    if (py::isinstance<py::str>(h)) return text(h, path, "a string");
+    const bool is_dict = py::isinstance<py::dict>(h), is_list = py::isinstance<py::list>(h) || py::isinstance<py::tuple>(h);
+    if (is_dict || is_list) {
+      if (std::find(open_.begin(), open_.end(), h.ptr()) != open_.end())
+        fail(path, fmt::format("the {} contains itself (a cycle), which JSON cannot hold", is_dict ? "dict" : "list"));
+      if (open_.size() >= size_t(kMaxJsonDepth)) throw py::value_error(json_too_deep_message(where_, path));
+      open_.push_back(h.ptr());
+      json out = is_dict ? json::object() : json::array();
+      if (is_dict) {
+        for (const auto& [k, v] : h.cast<py::dict>()) {
+          if (!py::isinstance<py::str>(k)) fail(path, fmt::format("expected string keys, got the key {}", std::string(py::repr(k))));
+          const std::string key = text(k, path, "a key");
+          out[key] = convert(v, path.empty() ? key : path + "." + key);
+        }
+      } else {
+        size_t i = 0;
+        for (const py::handle item : h) out.push_back(convert(item, fmt::format("{}[{}]", path, i++)));
+      }
+      open_.pop_back();
+      return out;
+    }
+    const py::module_ np = py::module_::import("numpy");
+    if (py::isinstance(h, np.attr("ndarray"))) return convert(h.attr("tolist")(), path);
+    if (py::isinstance(h, np.attr("generic"))) return convert(h.attr("item")(), path);
+    fail(path, fmt::format("expected a number, string, bool, list or dict, got {}", std::string(py::str(py::type::of(h).attr("__name__")))));
+    return nullptr;
   }
-  if (py::isinstance<py::list>(h) || py::isinstance<py::tuple>(h)) {
-    json arr = json::array();
-    size_t i = 0;
-    for (const py::handle item : h) arr.push_back(from_py(item, where, fmt::format("{}[{}]", path, i++)));
-    return arr;
+
+ private:
+  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
+    throw py::value_error(fmt::format("{}: {}: {}", where_, path.empty() ? "(top level)" : path, what));
   }
-  const py::module_ np = py::module_::import("numpy");
-  if (py::isinstance(h, np.attr("ndarray"))) return from_py(h.attr("tolist")(), where, path);
-  if (py::isinstance(h, np.attr("generic"))) return from_py(h.attr("item")(), where, path);
-  return fail(fmt::format("expected a number, string, bool, list or dict, got {}",
-                          std::string(py::str(py::type::of(h).attr("__name__")))));
-}
+  // A str as UTF-8; one that cannot be written as UTF-8 (an unpaired surrogate, "\ud800") is an
+  // error naming it, not pybind11's RuntimeError.
+  std::string text(const py::handle& s, const std::string& path, const char* what) const {
+    Py_ssize_t size = 0;
+    const char* utf8 = PyUnicode_AsUTF8AndSize(s.ptr(), &size);
+    if (!utf8) {
+      PyErr_Clear();
+      fail(path, fmt::format("{} {} is not valid Unicode text (an unpaired surrogate?): JSON text is UTF-8", what,
+                             std::string(py::repr(s))));
+    }
+    return std::string(utf8, size_t(size));
+  }
+
+  std::string where_;
+  std::vector<PyObject*> open_;  // the dicts and lists being converted, outermost first
+};
+
+json from_py(const py::handle& h, const std::string& where, const std::string& path) { return FromPy(where).convert(h, path); }
 
 // --- materials ---------------------------------------------------------------------------------
 
@@ -397,17 +435,68 @@ py::array_t<T> pdf_typed(const MaterialT<T>& m, const RowsView& wi, const RowsVi
   return out;
 }
 
+// Directions as the CLI reads them (io/text_input.h, normalized_direction): normalised, a zero one
+// an error naming its row. Rows of unit length already (|w|^2 within kUnitSlack of 1, a few
+// roundings of the input's float type) are read as they are, so that the usual input is used in
+// place; otherwise a normalised copy (same dtype, C order) replaces the input. Rows with NaN or
+// Inf stay as they are (their results are NaN, docs/python.md).
+void normalize_rows(RowsView& v, const char* name) {
+  const double slack = v.f32 ? 4e-7 : 1e-15;  // ~4 float / ~5 double roundings of |w|^2
+  bool unit = true;
+  {
+    py::gil_scoped_release release;
+    for (size_t r = 0; r < v.rows && unit; ++r) {
+      const double x = v.at<double>(r, 0), y = v.at<double>(r, 1), z = v.at<double>(r, 2);
+      const bool finite = std::isfinite(x) && std::isfinite(y) && std::isfinite(z);  // NaN, Inf: as they are
+      unit = !finite || std::abs(x * x + y * y + z * z - 1.0) <= slack;
+    }
+  }
+  if (unit) return;
+  const py::ssize_t rows = py::ssize_t(v.rows);
+  py::array copy = v.f32 ? py::array(py::array_t<float>({rows, py::ssize_t(3)})) : py::array(py::array_t<double>({rows, py::ssize_t(3)}));
+  char* base = static_cast<char*>(copy.mutable_data());
+  size_t zero_row = SIZE_MAX;
+  {
+    py::gil_scoped_release release;
+    for (size_t r = 0; r < v.rows; ++r) {
+      const Vec3d w(v.at<double>(r, 0), v.at<double>(r, 1), v.at<double>(r, 2));
+      Vec3d u = w;
+      if (std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z)) {
+        const auto nw = normalized_direction(w);
+        if (!nw) {
+          zero_row = r;
+          break;
+        }
+        u = *nw;
+      }
+      for (int c = 0; c < 3; ++c) {
+        if (v.f32) reinterpret_cast<float*>(base)[3 * r + size_t(c)] = float(u[c]);
+        else reinterpret_cast<double*>(base)[3 * r + size_t(c)] = u[c];
+      }
+    }
+  }
+  if (zero_row != SIZE_MAX)
+    throw py::value_error(v.single ? fmt::format("{}: expected a non-zero direction, got (0, 0, 0)", name)
+                                   : fmt::format("{}[{}]: expected a non-zero direction, got (0, 0, 0)", name, zero_row));
+  const bool single = v.single;
+  v = rows_view(single ? copy.attr("reshape")(3) : py::object(copy), name);
+}
+
 py::object material_eval(const PyMaterial& m, const py::object& wi_in, const py::object& wo_in, const py::object& out) {
-  const RowsView wi = rows_view(wi_in, "wi"), wo = rows_view(wo_in, "wo");
+  RowsView wi = rows_view(wi_in, "wi"), wo = rows_view(wo_in, "wo");
   const size_t n = common_rows({{"wi", &wi}, {"wo", &wo}});
+  normalize_rows(wi, "wi");
+  normalize_rows(wo, "wo");
   const bool single = wi.single && wo.single;
   if (all_f32({&wi, &wo})) return eval_typed<float>(m.mf, wi, wo, n, single, out);
   return eval_typed<double>(m.md, wi, wo, n, single, out);
 }
 
 py::object material_pdf(const PyMaterial& m, const py::object& wi_in, const py::object& wo_in, const py::object& out) {
-  const RowsView wi = rows_view(wi_in, "wi"), wo = rows_view(wo_in, "wo");
+  RowsView wi = rows_view(wi_in, "wi"), wo = rows_view(wo_in, "wo");
   const size_t n = common_rows({{"wi", &wi}, {"wo", &wo}});
+  normalize_rows(wi, "wi");
+  normalize_rows(wo, "wo");
   const bool single = wi.single && wo.single;
   if (!out.is_none()) {  // the caller's array, as given (0-d for one pair)
     if (all_f32({&wi, &wo})) pdf_typed<float>(m.mf, wi, wo, n, single, out);
@@ -509,8 +598,10 @@ py::tuple sample_typed(const MaterialT<T>& m, const RowsView& wo, const RowsView
 }
 
 py::tuple material_sample(const PyMaterial& m, const py::object& wo_in, const py::object& u_in, const py::object& out) {
-  const RowsView wo = rows_view(wo_in, "wo"), u = rows_view(u_in, "u");
+  RowsView wo = rows_view(wo_in, "wo");
+  const RowsView u = rows_view(u_in, "u");
   const size_t n = common_rows({{"wo", &wo}, {"u", &u}});
+  normalize_rows(wo, "wo");
   const bool single = wo.single && u.single;
   if (all_f32({&wo, &u})) return sample_typed<float>(m.mf, wo, u, n, single, out);
   return sample_typed<double>(m.md, wo, u, n, single, out);
@@ -525,7 +616,14 @@ py::object material_albedo(const PyMaterial& m, const py::object& theta_in, doub
     throw py::value_error(fmt::format("samples: expected a whole number in [1, {}], got {}", kMaxAlbedoSamples, samples));
   if (!std::isfinite(phi)) throw py::value_error(fmt::format("phi: expected a finite angle in radians, got {}", phi));
   const py::module_ np = py::module_::import("numpy");
-  const py::array_t<double, py::array::c_style | py::array::forcecast> theta = np.attr("asarray")(theta_in, "float64");
+  // Numbers only: NumPy would read the text "0.3" as 0.3 (the CLI's --theta-deg takes text; a
+  // Python argument is a number). Real dtypes as rows_view reads them (arrays.h).
+  const py::array given = np.attr("asarray")(theta_in);
+  const char kind = given.dtype().kind();
+  if (!(kind == 'f' || kind == 'i' || kind == 'u') || (kind == 'f' && given.dtype().itemsize() > 8))
+    throw py::value_error(fmt::format("theta: expected a number or an array of float16, float32, float64 or integers (radians), got {} of dtype {}",
+                                      std::string(py::str(py::type::of(theta_in).attr("__name__"))), std::string(py::str(given.dtype()))));
+  const py::array_t<double, py::array::c_style | py::array::forcecast> theta = np.attr("asarray")(given, "float64");
   if (theta.ndim() > 1) throw py::value_error(fmt::format("theta: expected a number or an array of shape (N,), got shape {}", shape_text(theta)));
   const size_t n = size_t(theta.size());
   const double* t = theta.data();
@@ -812,6 +910,55 @@ py::array_t<float> render_py(const py::object& scene_in, const py::object& mater
   auto* owned = new std::vector<float>(std::move(img.rgb));
   py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<float>*>(p); });
   return py::array_t<float>({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)}, owned->data(), free_when_done);
+}
+
+// render()'s image (or any (H, W, 3) linear RGB array) to a file, by the CLI's writer
+// (render/image.h, write_image): .png tone-mapped as `aniso render` does (exposure in stops, the
+// aces or clamp curve, sRGB), .exr and .pfm linear as they are; written atomically. exposure and
+// tonemap apply to PNG only, as the CLI's --exposure and --tonemap.
+void save_image_py(const py::object& img_in, const py::object& path_in, std::optional<double> exposure,
+                   std::optional<std::string> tonemap) {
+  const py::module_ np = py::module_::import("numpy");
+  const std::string path = py::str(py::module_::import("os").attr("fspath")(path_in));
+  const py::array given = np.attr("asarray")(img_in);
+  const char kind = given.dtype().kind();
+  if (!((kind == 'f' && given.dtype().itemsize() <= 8) || kind == 'i' || kind == 'u'))
+    throw py::value_error(fmt::format("img: expected a (height, width, 3) array of float32 or float64 (linear RGB), got dtype {}",
+                                      std::string(py::str(given.dtype()))));
+  if (given.ndim() != 3 || given.shape(2) != 3 || given.shape(0) < 1 || given.shape(1) < 1)
+    throw py::value_error(fmt::format("img: expected a (height, width, 3) array (linear RGB), got shape {}", shape_text(given)));
+  if (given.shape(0) > 65536 || given.shape(1) > 65536)
+    throw py::value_error(fmt::format("img: expected at most 65536 x 65536 pixels, got shape {}", shape_text(given)));
+  const std::string ext = lower_extension(path);
+  if (ext != ".png" && ext != ".exr" && ext != ".pfm")
+    throw py::value_error(fmt::format("path {}: expected a .png, .exr or .pfm file name", path));
+  if ((exposure || tonemap) && ext != ".png")
+    throw py::value_error(fmt::format("exposure and tonemap apply to PNG output only; {} holds linear radiance, written as given", path));
+  render::ToneMapOptions tm;
+  if (exposure) {
+    if (!(std::isfinite(*exposure) && *exposure >= -30.0 && *exposure <= 30.0))
+      throw py::value_error(fmt::format("exposure: expected a finite number of stops in [-30, 30], got {}", *exposure));
+    tm.exposure_stops = float(*exposure);
+  }
+  if (tonemap) {
+    if (*tonemap != "aces" && *tonemap != "clamp") throw py::value_error(fmt::format("tonemap: expected \"aces\" or \"clamp\", got \"{}\"", *tonemap));
+    tm.curve = *tonemap == "clamp" ? render::ToneMap::Clamp : render::ToneMap::Aces;
+  }
+  const py::array_t<float, py::array::c_style | py::array::forcecast> a = np.attr("ascontiguousarray")(given, "float32");
+  render::Image img(int(a.shape(1)), int(a.shape(0)));
+  std::copy(a.data(), a.data() + img.rgb.size(), img.rgb.begin());
+  for (size_t i = 0; i < img.rgb.size(); ++i)
+    if (!std::isfinite(img.rgb[i]))
+      throw py::value_error(fmt::format("img[{}, {}, {}]: expected finite radiance, got {}", i / 3 / size_t(img.width),
+                                        i / 3 % size_t(img.width), i % 3, img.rgb[i]));
+  try {
+    py::gil_scoped_release release;
+    render::write_image(path, img, tm);
+  } catch (const std::runtime_error& e) {
+    if (dynamic_cast<const InputError*>(&e)) throw;
+    PyErr_SetString(PyExc_OSError, e.what());
+    throw py::error_already_set();
+  }
 }
 
 // --- fit ---------------------------------------------------------------------------------------
@@ -1133,10 +1280,18 @@ PYBIND11_MODULE(_aniso, m) {
   py::class_<FrameT<double>>(m, "Frame",
                              "An orthonormal tangent frame (t, b = n x t, n) that orients anisotropy (aniso/core/frame.h).\n\n"
                              "Frame(n, t=None): from a normal and an approximate tangent (Gram-Schmidt), or any frame\n"
-                             "about n without t (Duff et al. 2017). n and t need not be unit.")
+                             "about n without t (Duff et al. 2017). n and t need not be unit; t parallel to n is a ValueError.")
       .def(py::init([](const py::object& n, const py::object& t) {
              const Vec3d nn = unit_arg(n, "n");
-             return t.is_none() ? FrameT<double>::from_normal(nn) : FrameT<double>::from_normal_tangent(nn, vec3_arg(t, "t"));
+             if (t.is_none()) return FrameT<double>::from_normal(nn);
+             // from_normal_tangent falls back to an arbitrary frame when t is (nearly) parallel to n:
+             // here that is an error, as the caller asked for a tangent direction.
+             const Vec3d tu = unit_arg(t, "t"), t_perp = tu - glm::dot(tu, nn) * nn;
+             if (!(glm::dot(t_perp, t_perp) > 1e-12))
+               throw py::value_error(fmt::format("t: ({:.6g}, {:.6g}, {:.6g}) is parallel to n, so it gives no tangent direction "
+                                                 "(its part perpendicular to n is below 1e-6 of its length); give a t "
+                                                 "across n, or no t for any frame about n", tu.x, tu.y, tu.z));
+             return FrameT<double>::from_normal_tangent(nn, tu);
            }),
            py::arg("n") = py::make_tuple(0.0, 0.0, 1.0), py::arg("t") = py::none())
       .def_property_readonly("t", [](const FrameT<double>& f) { return vec3_py(f.t); }, "tangent (x of the local frame)")
@@ -1168,11 +1323,19 @@ PYBIND11_MODULE(_aniso, m) {
         "(height, width, 3) float32, row 0 at the top. spp, width, height, max_depth, strategy override\n"
         "the scene's; the same seed gives the same image. Progress on stderr when it is a terminal;\n"
         "Ctrl-C stops it (KeyboardInterrupt).");
-  m.def("export_glsl", [](const py::object& x) {
+  m.def("save_image", &save_image_py, py::arg("img"), py::arg("path"), py::kw_only(), py::arg("exposure") = py::none(),
+        py::arg("tonemap") = py::none(),
+        "Writes an image such as render()'s ((height, width, 3) linear RGB) as `aniso render -o` does:\n"
+        ".png tone-mapped (exposure in stops, tonemap \"aces\" (default) or \"clamp\", sRGB 8-bit), .exr (32-bit\n"
+        "float) or .pfm linear as given. Written to a temporary file renamed into place. exposure and\n"
+        "tonemap apply to PNG only (ValueError otherwise); a write failure is an OSError.");
+  m.def("export_glsl", [](const py::object& x, bool full) {
         const PyMaterial mat = as_material(x);
-        return gl::export_glsl(mat.desc, mat.what);
+        return gl::export_glsl(mat.desc, mat.what, full);
       },
-      py::arg("material"), "The material as one self-contained GLSL source, as `aniso export-glsl` (docs/glsl.md).");
+      py::arg("material"), py::kw_only(), py::arg("full") = false,
+      "The material as one self-contained GLSL source, as `aniso export-glsl` (docs/glsl.md): the library\n"
+      "functions it uses, or with full=True the whole library (and aniso_material()), as `--full`.");
   m.def("export_brdf", [](const py::object& x) {
         const PyMaterial mat = as_material(x);
         return gl::export_brdf(mat.desc, mat.what);

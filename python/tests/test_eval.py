@@ -1,5 +1,6 @@
 """eval / pdf / sample / albedo: equal to the CLI's numbers and to the C++ batch path's, for any
 layout and dtype of the input; errors name the argument and the expected shape."""
+import json
 import subprocess
 import threading
 import time
@@ -341,3 +342,58 @@ def test_concurrent_calls_from_threads_give_the_same_results():
     for r in results:
         for a, b in zip(r, ref):
             np.testing.assert_array_equal(a, b)
+
+
+def test_directions_are_normalised_and_checked_as_the_cli():
+    brushed = {"model": "ward", "kd": 0.05, "ks": [0.6, 0.5, 0.4], "alpha_x": 0.05, "alpha_y": 0.3,
+               "normalization": "balanced"}
+    m = aniso.Material(brushed)
+    rc, out, err = run_cli("eval", "--material", json.dumps(brushed), stdin="6 0 8 -6 0 8\n0.6 0 0.8 -0.6 0 0.8\n")
+    assert rc == 0, err
+    cli = np.array([[float(x) for x in line.split()] for line in out.splitlines()])
+    np.testing.assert_allclose(m.eval([6, 0, 8], [-6, 0, 8]), cli[0, :3], rtol=5e-9)
+    np.testing.assert_allclose(m.pdf([6, 0, 8], [-6, 0, 8]), cli[0, 3], rtol=5e-9)
+    assert abs(m.eval([6, 0, 8], [-6, 0, 8])[0] - 4.98950747) < 1e-7
+    # Scaled rows among unit ones, float32 too; unit rows are read as they are.
+    wi, wo = random_pairs(1000, seed=11)
+    scale = np.random.default_rng(2).uniform(0.01, 100.0, (1000, 1))
+    np.testing.assert_allclose(m.eval(wi * scale, wo), m.eval(wi, wo), rtol=1e-12)
+    np.testing.assert_allclose(m.pdf(wi, wo / scale), m.pdf(wi, wo), rtol=1e-12)
+    np.testing.assert_allclose(m.eval((wi * scale).astype(np.float32), wo.astype(np.float32)),
+                               m.eval(wi.astype(np.float32), wo.astype(np.float32)), rtol=1e-4, atol=1e-6)
+    ws, weight, pdf = m.sample([0, 0, 5], [0.3, 0.4, 0.5])
+    np.testing.assert_array_equal(ws, m.sample([0, 0, 1], [0.3, 0.4, 0.5])[0])
+    # A zero direction is an error naming its row, as the CLI's names its line.
+    wi[5] = 0.0
+    with pytest.raises(ValueError, match=r"wi\[5\]: expected a non-zero direction, got \(0, 0, 0\)"):
+        m.eval(wi, wo)
+    with pytest.raises(ValueError, match=r"^wo: expected a non-zero direction"):
+        m.pdf(wo, [0, 0, 0])
+    with pytest.raises(ValueError, match=r"wo: expected a non-zero direction"):
+        m.sample([0.0, 0.0, 0.0], [0.3, 0.4, 0.5])
+    # NaN rows stay NaN rows (not an error) even when other rows are normalised.
+    wi[5] = [np.nan, 0, 1]
+    wi[6] *= 3.0
+    f = m.eval(wi, wo)
+    assert np.isnan(f[5]).all() and np.isfinite(f[6]).all()
+
+
+def test_float16_is_converted_and_long_double_refused():
+    m = aniso.Material("brushed-gold")
+    wi, wo = random_pairs(50, seed=5)
+    h = wi.astype(np.float16)
+    np.testing.assert_array_equal(m.eval(h, wo), m.eval(h.astype(np.float64), wo))
+    if np.dtype(np.longdouble).itemsize > 8:
+        with pytest.raises(ValueError, match=r"wi: .* got dtype float(96|128): convert it with .astype\(numpy.float64\)"):
+            m.eval(wi.astype(np.longdouble), wo)
+        with pytest.raises(ValueError, match=r"theta: .* dtype float(96|128)"):
+            m.albedo(np.array([0.3], np.longdouble))
+
+
+def test_albedo_takes_numbers_not_text():
+    m = aniso.Material("clay")
+    with pytest.raises(ValueError, match=r"theta: expected a number .* got str of dtype <U3"):
+        m.albedo("0.3")
+    with pytest.raises(ValueError, match=r"theta: expected a number"):
+        m.albedo(["0.3"])
+    np.testing.assert_array_equal(m.albedo(np.float16(0.25), samples=1000), m.albedo(float(np.float16(0.25)), samples=1000))

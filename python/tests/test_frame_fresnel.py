@@ -87,3 +87,12 @@ def test_fresnel_errors():
         aniso.fresnel(1.0, "gold", eta=1, k=1)
     with pytest.raises(ValueError, match="give metal=NAME"):
         aniso.fresnel(1.0)
+
+
+def test_a_tangent_parallel_to_the_normal_is_an_error():
+    for n, t in [([0, 0, 1], [0, 0, 3]), ([0, 0, 1], [0, 0, -1]), ([1, 1, 0], [2, 2, 1e-9]), ([0, 1, 0], [0, 0, 0])]:
+        with pytest.raises(ValueError, match=r"^t: "):
+            aniso.Frame(n, t)
+    # Not parallel: Gram-Schmidt, t need not be unit nor perpendicular.
+    f = aniso.Frame([0, 0, 2], [3, 0, 1])
+    np.testing.assert_allclose(f.t, [1, 0, 0], atol=1e-15)

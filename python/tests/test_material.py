@@ -126,6 +126,61 @@ def test_bad_python_values_are_value_errors():
         aniso.ward(kd=10**30)  # beyond int64: a number out of range
 
 
+def _nested(depth, leaf):
+    """A dict nested `depth` levels under "x" keys, the innermost holding `leaf`."""
+    d = leaf
+    for _ in range(depth):
+        d = {"x": d}
+    return d
+
+
+def test_deep_dicts_get_the_clis_depth_limit_and_message():
+    # 64 levels are read (the model then rejects the unknown key); 65 are refused with the CLI's
+    # message for the same document.
+    with pytest.raises(ValueError, match="unknown key"):
+        aniso.Material({"model": "lambert", **_nested(63, {})})
+    for depth in [64, 65, 30000]:
+        doc = {"model": "lambert", **_nested(depth, {})}
+        with pytest.raises(ValueError, match="nested deeper than 64 levels") as e:
+            aniso.Material(doc)
+        if depth < 1000:  # nlohmann's parser itself recurses; the CLI's text for a short one
+            assert str(e.value) == cli_error("eval", "--material", json.dumps(doc), stdin="0 0 1 0 0 1\n")
+        with pytest.raises(ValueError, match="nested deeper than 64 levels"):
+            aniso.render({"camera": _nested(depth, {})})
+    deep_list = []
+    for _ in range(30000):
+        deep_list = [deep_list]
+    with pytest.raises(ValueError, match="nested deeper than 64 levels"):
+        aniso.Material({"model": "ward", "ks": deep_list})
+
+
+def test_self_referencing_dicts_and_lists_are_value_errors():
+    d = {"model": "lambert"}
+    d["fit"] = d
+    with pytest.raises(ValueError, match=r"inline material: fit: the dict contains itself \(a cycle\)"):
+        aniso.Material(d)
+    with pytest.raises(ValueError, match="contains itself"):
+        aniso.render(d)
+    lst = [0.1, 0.2]
+    lst.append(lst)
+    with pytest.raises(ValueError, match=r"inline material: ks\[2\]: the list contains itself"):
+        aniso.Material({"model": "ward", "ks": lst})
+    # The same dict twice side by side is no cycle.
+    shared = {"cxy": -1.0, "cz": 1.0, "n": 10.0}
+    assert aniso.Material({"model": "lafortune", "lobes": [shared, shared]}).to_dict()["lobes"][1]["n"] == 10.0
+
+
+def test_huge_integers_and_bad_text_are_clear_value_errors():
+    with pytest.raises(ValueError, match=r"inline material: kd: expected a number, got an integer of 401 decimal digits"):
+        aniso.Material({"model": "lambert", "kd": 10**400})
+    with pytest.raises(ValueError, match=r"inline material: kd: expected a number, got an integer of 401 decimal digits"):
+        aniso.Material({"model": "lambert", "kd": -10**400})
+    with pytest.raises(ValueError, match=r"inline material: \(top level\): a key '\\ud800' is not valid Unicode text"):
+        aniso.Material({"model": "lambert", "\ud800": 1})
+    with pytest.raises(ValueError, match=r"inline material: model: a string '\\udfff' is not valid Unicode text"):
+        aniso.Material({"model": "\udfff"})
+
+
 def test_models_are_the_parameter_tables():
     tables = aniso.models()
     rc, out, _ = run_cli("models")

@@ -60,6 +60,9 @@ def test_export_glsl_and_brdf_equal_the_cli():
         rc, out, _ = run_cli("export-glsl", "--material", name)
         assert rc == 0
         assert aniso.export_glsl(name) == out
+        rc, out, _ = run_cli("export-glsl", "--material", name, "--full")
+        assert rc == 0
+        assert aniso.export_glsl(name, full=True) == out
         rc, out, _ = run_cli("export-brdf", "--material", name)
         assert aniso.export_brdf(name) == out
     src = aniso.export_glsl(aniso.Material("gold"))
@@ -89,3 +92,38 @@ def test_ctrl_c_stops_a_render_with_keyboard_interrupt():
     p.send_signal(signal.SIGINT)
     out, _ = p.communicate(timeout=120)
     assert out.strip() == "interrupted"
+
+
+def test_save_image_writes_what_the_cli_writes(tmp):
+    args = ["--material", "brushed-gold", "--spp", "2", "--width", "48", "--height", "24"]
+    for ext, extra in [(".png", []), (".png", ["--exposure", "1.5", "--tonemap", "clamp"]), (".exr", []), (".pfm", [])]:
+        out = tmp / f"cli{ext}"
+        rc, _, err = run_cli("render", *args, *extra, "-o", str(out))
+        assert rc == 0, err
+        img = aniso.render(material="brushed-gold", spp=2, width=48, height=24, progress=False)
+        mine = tmp / f"py{ext}"
+        keys = {"exposure": 1.5, "tonemap": "clamp"} if extra else {}
+        assert aniso.save_image(img, mine, **keys) is None
+        assert mine.read_bytes() == out.read_bytes(), (ext, extra)
+    # float64 and lists of rows are read as float32 radiance.
+    aniso.save_image(img.astype(np.float64), str(tmp / "d.pfm"))
+    np.testing.assert_array_equal(read_pfm(tmp / "d.pfm"), img)
+
+
+def test_save_image_errors(tmp):
+    img = np.zeros((4, 5, 3), np.float32)
+    with pytest.raises(ValueError, match=r"exposure and tonemap apply to PNG output only"):
+        aniso.save_image(img, tmp / "x.exr", exposure=1.0)
+    with pytest.raises(ValueError, match=r"expected a \.png, \.exr or \.pfm file name"):
+        aniso.save_image(img, tmp / "x.bmp")
+    with pytest.raises(ValueError, match=r"expected a \(height, width, 3\) array .* got shape \(4, 5\)"):
+        aniso.save_image(img[..., 0], tmp / "x.png")
+    bad = img.copy()
+    bad[1, 2, 0] = np.nan
+    with pytest.raises(ValueError, match=r"img\[1, 2, 0\]: expected finite radiance, got nan"):
+        aniso.save_image(bad, tmp / "x.png")
+    with pytest.raises(ValueError, match=r"exposure: expected a finite number of stops"):
+        aniso.save_image(img, tmp / "x.png", exposure=float("inf"))
+    with pytest.raises(OSError, match=r"cannot write .*x.png"):
+        aniso.save_image(img, tmp / "no" / "such" / "x.png")
+    assert not (tmp / "x.png").exists() and not (tmp / "x.exr").exists()

@@ -11,6 +11,10 @@
 #include <optional>
 #include <thread>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <ceres/ceres.h>
 #include <fmt/format.h>
 #include <glog/logging.h>
@@ -185,6 +189,80 @@ template <class Model, int N> class PenaltyCost final : public ceres::CostFuncti
  private:
   const Model& model_;
   int size_;
+};
+
+// The blocks' residuals and Jacobians, computed before each of Ceres' evaluations on `threads`
+// threads. Ceres' own multi-threaded evaluation sums the blocks' costs and gradients per thread
+// and then over threads (ceres 2.1, internal/ceres/program_evaluator.h, Evaluate: one
+// EvaluateScratch per thread, filled by a dynamically scheduled ParallelFor), so the sum's order,
+// and with it the fit's last bits, would depend on the thread count and on scheduling. Ceres
+// therefore runs on one thread and sums the blocks in their order; the expensive part, each
+// block's values, runs here in parallel: every block depends on its own samples only, so its
+// values are the same whatever thread computes it. CachedBlock hands them to Ceres.
+class BlockCache final : public ceres::EvaluationCallback {
+ public:
+  BlockCache(std::vector<const ceres::CostFunction*> blocks, const double* x, int size, int threads)
+      : blocks_(std::move(blocks)), x_(x), size_(size), threads_(threads), offset_(blocks_.size() + 1, 0) {
+    for (size_t b = 0; b < blocks_.size(); ++b) offset_[b + 1] = offset_[b] + size_t(blocks_[b]->num_residuals());
+    residuals_.resize(offset_.back());
+    ok_.resize(blocks_.size());
+  }
+  // Ceres has written the point into the parameter array (x_) before this call (problem.h,
+  // Problem::Options::evaluation_callback); CachedBlock still checks it.
+  void PrepareForEvaluation(bool evaluate_jacobians, bool new_evaluation_point) override {
+    if (!new_evaluation_point && (has_jacobians_ || !evaluate_jacobians) && point_.size() == size_t(size_)) return;
+    point_.assign(x_, x_ + size_);
+    has_jacobians_ = evaluate_jacobians;
+    if (evaluate_jacobians) jacobians_.resize(offset_.back() * size_t(size_));
+    tbb::task_arena arena(threads_);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks_.size()), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t b = r.begin(); b < r.end(); ++b) {
+          const double* params[1] = {point_.data()};
+          double* jac[1] = {evaluate_jacobians ? jacobians_.data() + offset_[b] * size_t(size_) : nullptr};
+          ok_[b] = blocks_[b]->Evaluate(params, residuals_.data() + offset_[b], evaluate_jacobians ? jac : nullptr);
+        }
+      });
+    });
+  }
+  // Block b's values at x, from the cache when they were computed at x (false: not cached).
+  bool lookup(size_t b, const double* x, double* residuals, double* jacobian, bool& ok) const {
+    if (point_.size() != size_t(size_) || (jacobian && !has_jacobians_) || !std::equal(point_.begin(), point_.end(), x)) return false;
+    ok = ok_[b] != 0;
+    std::copy(residuals_.begin() + long(offset_[b]), residuals_.begin() + long(offset_[b + 1]), residuals);
+    if (jacobian)
+      std::copy(jacobians_.begin() + long(offset_[b] * size_t(size_)), jacobians_.begin() + long(offset_[b + 1] * size_t(size_)), jacobian);
+    return true;
+  }
+
+ private:
+  std::vector<const ceres::CostFunction*> blocks_;
+  const double* x_;
+  int size_, threads_;
+  std::vector<size_t> offset_;  // first residual of each block
+  std::vector<double> point_, residuals_, jacobians_;
+  std::vector<char> ok_;
+  bool has_jacobians_ = false;
+};
+
+// Block b as Ceres sees it: its values from the cache (computed here when the point differs,
+// which Ceres' documented order of calls never asks: no fit of krylon_blue.brdf did).
+class CachedBlock final : public ceres::CostFunction {
+ public:
+  CachedBlock(const BlockCache& cache, size_t b, const ceres::CostFunction& block) : cache_(cache), b_(b), block_(block) {
+    set_num_residuals(block.num_residuals());
+    *mutable_parameter_block_sizes() = block.parameter_block_sizes();
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    bool ok = false;
+    if (cache_.lookup(b_, parameters[0], residuals, jacobians ? jacobians[0] : nullptr, ok)) return ok;
+    return block_.Evaluate(parameters, residuals, jacobians);
+  }
+
+ private:
+  const BlockCache& cache_;
+  size_t b_;
+  const ceres::CostFunction& block_;
 };
 
 // Reports each iteration to the progress function.
@@ -369,13 +447,19 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   const int P = int(model.defs.size());
   const auto solve = [&](std::vector<double> x, int max_iterations, const std::string& stage, int iterations_after,
                          bool rank_only) {
+    const auto& blocks = rank_only && !ranking_costs.empty() ? ranking_costs : costs;
+    const size_t rows = rank_only && !ranking.empty() ? ranking.size() : used.size();
+    std::vector<const ceres::CostFunction*> block_ptrs;
+    for (const auto& c : blocks) block_ptrs.push_back(c.get());
+    BlockCache cache(std::move(block_ptrs), x.data(), P, threads);
+    std::vector<std::unique_ptr<CachedBlock>> cached;
+    for (size_t b = 0; b < blocks.size(); ++b) cached.push_back(std::make_unique<CachedBlock>(cache, b, *blocks[b]));
     ceres::Problem::Options popt;
     popt.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     popt.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    popt.evaluation_callback = &cache;
     ceres::Problem problem(popt);
-    const auto& blocks = rank_only && !ranking_costs.empty() ? ranking_costs : costs;
-    const size_t rows = rank_only && !ranking.empty() ? ranking.size() : used.size();
-    for (auto& c : blocks) problem.AddResidualBlock(c.get(), loss.get(), x.data());
+    for (auto& c : cached) problem.AddResidualBlock(c.get(), loss.get(), x.data());
     if (penalty) problem.AddResidualBlock(penalty.get(), nullptr, x.data());
     for (int i = 0; i < P; ++i) {
       problem.SetParameterLowerBound(x.data(), i, model.defs[size_t(i)].lo);
@@ -387,7 +471,7 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     // Tall, thin problems (thousands of rows, tens of columns): the normal equations are small and
     // cheap; QR for the small ones, where its better conditioning costs nothing.
     so.linear_solver_type = rows * 3 * size_t(P) < 2000000 ? ceres::DENSE_QR : ceres::DENSE_NORMAL_CHOLESKY;
-    so.num_threads = threads;
+    so.num_threads = 1;  // the blocks' values in parallel, summed in order: BlockCache
     so.max_num_iterations = max_iterations;
     so.function_tolerance = o.function_tolerance;
     so.gradient_tolerance = 1e-14;
@@ -581,6 +665,12 @@ std::vector<std::string_view> fittable_models() {
 FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
   if (o.starts < 1 || o.starts > 1000) throw InputError(fmt::format("--starts: expected 1 to 1000, got {}", o.starts));
   if (o.max_iterations < 1) throw InputError("--max-iterations: expected at least 1");
+  // Every sample 0: any black material fits exactly, and the relative error (error / data norm)
+  // is 0 / 0. Nothing to fit.
+  if (!data.samples.empty() && std::all_of(data.samples.begin(), data.samples.end(),
+                                           [](const MeasuredSample& s) { return s.value == Vec3d(0.0); }))
+    throw InputError(fmt::format("{}: every sample is 0: there is nothing to fit (any black material matches, and the "
+                                 "relative error is undefined)", data.source));
   std::string names;
   for (size_t i = 0; i < std::size(kFittable); ++i) {
     if (kFittable[i].model == o.model) return kFittable[i].fit(data, o);

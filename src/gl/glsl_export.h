@@ -10,7 +10,8 @@ namespace aniso::gl {
 
 // GLSL without #version and main: the library and the material with its parameters baked in as
 // constants; every name it defines starts with "aniso_". `what` names the material in the header.
-std::string export_glsl(const MaterialDesc& m, const std::string& what);
+// Only the library functions the material needs (glsl_library_subset), unless `full`.
+std::string export_glsl(const MaterialDesc& m, const std::string& what, bool full = false);
 
 // A BRDF Explorer file: "analytic", ::begin parameters (one line per table entry: float sliders,
 // [0, 1] colours, bools; defaults from m), ::begin shader with vec3 BRDF(L, V, N, X, Y).

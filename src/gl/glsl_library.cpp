@@ -98,6 +98,91 @@ std::string glsl_library_source() {
   return out;
 }
 
+namespace {
+
+// The identifiers of a line of GLSL outside its // comment (the library has no /* */ comments).
+void identifiers(std::string_view code, std::set<std::string>& out) {
+  size_t i = 0;
+  while (i < code.size()) {
+    const unsigned char c = static_cast<unsigned char>(code[i]);
+    if (std::isalpha(c) || c == '_') {
+      size_t j = i;
+      while (j < code.size() && (std::isalnum(static_cast<unsigned char>(code[j])) || code[j] == '_')) ++j;
+      out.emplace(code.substr(i, j - i));
+      i = j;
+    } else if (std::isdigit(c)) {  // a number and its suffix (1e-6, 0x80000000u): no identifier
+      while (i < code.size() && (std::isalnum(static_cast<unsigned char>(code[i])) || code[i] == '.')) ++i;
+    } else {
+      ++i;
+    }
+  }
+}
+
+std::string_view code_part(std::string_view line) {
+  const size_t c = line.find("//");
+  return c == std::string_view::npos ? line : line.substr(0, c);
+}
+
+}  // namespace
+
+std::string glsl_library_subset(std::string_view used) {
+  // The library as file-scope items, each with the comment lines before it: a declaration starts
+  // in column 0 (as glsl_declared_names reads them) and ends where its braces and parentheses
+  // close on a line ending in '}' or ';'.
+  struct Item {
+    std::string text;
+    std::set<std::string> names, uses;
+  };
+  std::vector<Item> items;
+  std::string pending;  // comment and blank lines before the next item
+  const std::string lib = glsl_library_source();
+  std::istringstream in(lib);
+  std::string line;
+  Item* open = nullptr;
+  int depth = 0;
+  while (std::getline(in, line)) {
+    const std::string_view code = code_part(line);
+    if (!open) {
+      if (code.find_first_not_of(" \t\r") == std::string_view::npos) {
+        pending += line + "\n";
+        continue;
+      }
+      items.push_back(Item{std::move(pending), glsl_declared_names(line), {}});
+      pending.clear();
+      open = &items.back();
+      depth = 0;
+    }
+    open->text += line + "\n";
+    identifiers(code, open->uses);
+    for (char c : code) depth += (c == '{' || c == '(') ? 1 : (c == '}' || c == ')') ? -1 : 0;
+    const size_t last = code.find_last_not_of(" \t\r");
+    if (depth == 0 && last != std::string_view::npos && (code[last] == ';' || code[last] == '}')) open = nullptr;
+  }
+  // What `used` needs, transitively: every item declaring a name it mentions (all overloads).
+  std::set<std::string> wanted;
+  std::vector<std::string> todo;
+  std::set<std::string> first;
+  std::istringstream uin{std::string(used)};
+  while (std::getline(uin, line)) identifiers(code_part(line), first);
+  todo.assign(first.begin(), first.end());
+  std::vector<bool> keep(items.size(), false);
+  while (!todo.empty()) {
+    const std::string name = todo.back();
+    todo.pop_back();
+    if (!wanted.insert(name).second) continue;
+    for (size_t i = 0; i < items.size(); ++i) {
+      if (keep[i] || !items[i].names.count(name)) continue;
+      keep[i] = true;
+      todo.insert(todo.end(), items[i].uses.begin(), items[i].uses.end());
+    }
+  }
+  std::string out;
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (keep[i] || items[i].names.empty()) out += items[i].text;  // an item without a name: kept
+  }
+  return out;
+}
+
 std::string glsl_preamble(GlslDialect dialect) {
   switch (dialect) {
     case GlslDialect::Core330: return "#version 330 core\n";

@@ -26,6 +26,11 @@ std::span<const GlslFile> glsl_library_files();
 // The concatenation of every library file (no #version, no main).
 std::string glsl_library_source();
 
+// The library items (functions, structs, constants, each with the comment above it) that the
+// GLSL `used` refers to, and everything they refer to, in library order: what a shader using only
+// those names needs. Overloads are kept together.
+std::string glsl_library_subset(std::string_view used);
+
 enum class GlslDialect { Core330, Es300, Core450Compute };
 
 // The #version line (and for ES, the precision statements) a shader puts in front of the library.

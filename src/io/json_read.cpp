@@ -54,6 +54,11 @@ std::string path_of(const std::vector<Frame>& stack) {
 
 }  // namespace
 
+std::string json_too_deep_message(const std::string& where, const std::string& path) {
+  return fmt::format("{}: {}: nested deeper than {} levels (no material or scene needs more)", where,
+                     path.empty() ? "top level" : path, kMaxJsonDepth);
+}
+
 nlohmann::json parse_json_text(std::string_view text, const std::string& where) {
   using json = nlohmann::json;
   std::vector<Frame> stack;
@@ -67,8 +72,7 @@ nlohmann::json parse_json_text(std::string_view text, const std::string& where) 
       case json::parse_event_t::array_start:
         element();
         if (depth >= kMaxJsonDepth)
-          throw InputError(fmt::format("{}: {}: nested deeper than {} levels (no material or scene needs more)", where,
-                                       path_of(stack).empty() ? "top level" : path_of(stack), kMaxJsonDepth));
+          throw InputError(json_too_deep_message(where, path_of(stack)));
         stack.push_back(Frame{event == json::parse_event_t::object_start, {}, {}, -1});
         break;
       case json::parse_event_t::object_end:

@@ -20,6 +20,10 @@ namespace aniso {
 // No material or scene nests more than 6 levels; 64 leaves room and keeps recursion shallow.
 inline constexpr int kMaxJsonDepth = 64;
 
+// The message for a value nested deeper than kMaxJsonDepth at JSON path `path` ("" for the top
+// level); the Python bindings' dict conversion gives the same one.
+std::string json_too_deep_message(const std::string& where, const std::string& path);
+
 // Parses `text`; `where` names the source in messages ("gold.json", "inline material").
 nlohmann::json parse_json_text(std::string_view text, const std::string& where);
 

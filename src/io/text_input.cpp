@@ -2,10 +2,12 @@
 #include "io/text_input.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <vector>
 
 #include <fmt/format.h>
@@ -90,6 +92,12 @@ std::optional<Vec3d> normalized_direction(const Vec3d& v) {
   if (!(m > 0.0) || !std::isfinite(m)) return std::nullopt;
   const Vec3d s = v / m;  // largest component +-1: the length is in [1, sqrt 3]
   return s / std::sqrt(glm::dot(s, s));
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
 }
 
 Vec3d direction_from_degrees(double theta_deg, double phi_deg) {

@@ -33,6 +33,9 @@ std::optional<Vec3d> normalized_direction(const Vec3d& v);
 // Unit direction from spherical angles in degrees: theta from the normal, phi from the tangent.
 Vec3d direction_from_degrees(double theta_deg, double phi_deg);
 
+// A file name's extension in lower case, with its dot (".png"); "" without one.
+std::string lower_extension(const std::string& path);
+
 struct DirectionPair {
   Vec3d wi, wo;
 };

@@ -24,6 +24,11 @@ Vec3d direction_from_angles(double theta, double phi) {
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
+// The largest BRDF value a sample may hold: the bound the material reader puts on a Lafortune
+// lobe's peak (docs/models/lafortune.md), the largest value any fitted model can take. Measured
+// BRDFs stay far below (MERL's largest values are about 1e4); far larger ones (1e300) would
+// overflow the fit's squared residuals.
+constexpr double kMaxSampleValue = 1e30;
 
 std::string_view trim(std::string_view s) {
   const size_t b = s.find_first_not_of(" \t\r");
@@ -170,6 +175,8 @@ SampleSet read_samples_csv(const std::string& path) {
     for (int k = 0; k < 3; ++k) {
       const double v = number_at(fields[size_t(colour_col[k])], path, lines.number, fmt::format("column {}", kColour[k]));
       if (!(v >= 0.0)) fail_at(path, lines.number, fmt::format("column {} = {:g}: a BRDF value cannot be negative", kColour[k], v));
+      if (v > kMaxSampleValue)
+        fail_at(path, lines.number, fmt::format("column {} = {:g}: expected a BRDF value of at most {:g} (1/sr)", kColour[k], v, kMaxSampleValue));
       s.value[k] = v + 0.0;
     }
     if (weight_col >= 0) {

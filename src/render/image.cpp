@@ -28,6 +28,7 @@
 
 #include "io/atomic_file.h"
 #include "io/params.h"
+#include "io/text_input.h"
 
 // Third-party single-header libraries: their own code is not held to the project's warning flags.
 #pragma GCC diagnostic push
@@ -77,12 +78,6 @@ namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------------------------------------
 // Small helpers
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
 
 // "<where>: <path>: <problem>", or "<path>: <problem>" when there is no `where`.
 [[noreturn]] void input_error(const std::string& where, const std::string& path, const std::string& problem) {

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -52,6 +53,26 @@ bool all_digits(const std::string& s) {
   return !s.empty() && s.size() < 4 && std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
 }
 
+// The paths ("lobe.alpha_x", "lobes[1].n") of the objects nested in `j` that hold `key`.
+std::vector<std::string> nested_key_paths(const json& j, const std::string& key, const std::string& prefix) {
+  std::vector<std::string> out;
+  const auto add = [&](const std::vector<std::string>& more) { out.insert(out.end(), more.begin(), more.end()); };
+  if (j.is_object()) {
+    for (const auto& [k, v] : j.items()) {
+      const std::string path = prefix.empty() ? k : prefix + "." + k;
+      if (v.is_object() && v.contains(key)) out.push_back(path + "." + key);
+      add(nested_key_paths(v, key, path));
+    }
+  } else if (j.is_array()) {
+    for (size_t i = 0; i < j.size(); ++i) {
+      const std::string path = fmt::format("{}[{}]", prefix, i);
+      if (j[i].is_object() && j[i].contains(key)) out.push_back(path + "." + key);
+      add(nested_key_paths(j[i], key, path));
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 void set_key(MaterialSlot& slot, std::string_view key, const json& value) {
@@ -90,10 +111,21 @@ void set_key(MaterialSlot& slot, std::string_view key, const json& value) {
   }
   // parse_material checks the key (unknown keys are an error naming the key and the table) and
   // the value's type and range.
-  MaterialSlot next = slot_from_json(edited, fmt::format("{} (edited)", slot.source));
-  next.source = slot.source;
-  next.edited = true;
-  slot = std::move(next);
+  std::optional<MaterialSlot> next;
+  try {
+    next.emplace(slot_from_json(edited, fmt::format("{} (edited)", slot.source)));
+  } catch (const InputError& e) {
+    // A key of a nested object given at the top level (alpha_x on a metal, whose alpha_x is the
+    // lobe's): name the nested keys it could mean.
+    const std::vector<std::string> near = parts.size() == 1 ? nested_key_paths(slot.edit, parts[0], "") : std::vector<std::string>{};
+    if (near.empty()) throw;
+    std::string list;
+    for (const std::string& n : near) list += fmt::format("{}{}", list.empty() ? "" : " or ", n);
+    throw InputError(fmt::format("{}; did you mean {}?", e.what(), list));
+  }
+  next->source = slot.source;
+  next->edited = true;
+  slot = std::move(*next);
 }
 
 json parse_value_text(std::string_view text) {
