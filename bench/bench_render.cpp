@@ -346,9 +346,7 @@ void bench_light_selection(const Args& a) {
 // RMSE.
 void bench_adaptive(const Args& a) {
   const int threads = thread_count(a);
-  fmt::print("## 6. Adaptive sampling at equal RMSE (MIS, Sobol')
-
-");
+  fmt::print("## 6. Adaptive sampling at equal RMSE (MIS, Sobol')\n\n");
   fmt::print("| scene | noise threshold | mean spp | RMSE | CPU time | uniform spp CPU time at that RMSE | gain |\n");
   fmt::print("|---|---:|---:|---:|---:|---:|---:|\n");
   const auto rows = [&](const std::string& name, Scene scene) {
