@@ -108,7 +108,7 @@ TEST(MaterialPresets, NamesAreUniqueAndFindPresetReturnsTheListedJson) {
 
 TEST(MaterialPresets, FamilySizes) {
   std::map<std::string, int> ngan;
-  int matte_steel = 0, pbrt_v1 = 0, metals = 0, brushed = 0;
+  int matte_steel = 0, pbrt_v1 = 0, metals = 0, brushed = 0, principled = 0;
   const std::set<std::string> pbrt_names = {"bluepaint", "clay", "felt", "primer", "skin", "brushedmetal"};
   std::set<std::string> metal_names;
   for (const MetalData& md : metal_table()) metal_names.insert(std::string(md.name));
@@ -130,6 +130,9 @@ TEST(MaterialPresets, FamilySizes) {
       const size_t slash = p.name.find('/', 5);
       ASSERT_NE(slash, std::string::npos) << p.name;
       ++ngan[p.name.substr(5, slash - 5)];
+    } else if (starts_with(p.name, "principled/")) {
+      ++principled;
+      EXPECT_EQ(p.json.at("model"), "principled") << p.name;
     } else {
       ADD_FAILURE() << "preset " << p.name << " belongs to no known family";
     }
@@ -138,6 +141,7 @@ TEST(MaterialPresets, FamilySizes) {
   EXPECT_EQ(pbrt_v1, 6);
   EXPECT_EQ(metals, 12);
   EXPECT_EQ(brushed, 12);
+  EXPECT_EQ(principled, 4);
   // Ngan et al. 2005 fitted 86 MERL materials per model; cooktorrance and he are not provided.
   const std::map<std::string, int> expected_ngan = {
       {"ward", 86}, {"wardduer", 86}, {"blinnphong", 86}, {"lafortune", 86}, {"ashikhminshirley", 86}};
@@ -299,8 +303,8 @@ TEST(MaterialParamTables, EveryModelIsListedAndFound) {
     names.emplace_back(m->name);
     EXPECT_EQ(find_model_spec(m->name), m);
   }
-  const std::vector<std::string> expected = {"lambert", "phong", "ward", "ashikhmin-shirley", "lafortune", "ggx", "metal",
-                                            "measured"};
+  const std::vector<std::string> expected = {"lambert", "phong",  "ward",       "ashikhmin-shirley", "lafortune",
+                                            "ggx",     "metal", "principled", "measured"};
   EXPECT_EQ(names, expected);
   EXPECT_EQ(find_model_spec("cooktorrance"), nullptr);
 }
