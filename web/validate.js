@@ -203,6 +203,14 @@
           return v;
         }
       if (i >= text.length) syntax("unexpected end of input");
+      // The position nlohmann's lexer reports: the first character that leaves the literal.
+      for (const lit of ["true", "false", "null"])
+        if (text[i] === lit[0]) {
+          let j = i;
+          while (j - i < lit.length && text[j] === lit[j - i]) ++j;
+          i = j;
+          break;
+        }
       syntax("invalid literal");
     }
     function string() {

@@ -35,6 +35,7 @@ const g9 = (x) => Number(x).toPrecision(9);
 
 // ---- the server ----------------------------------------------------------------------------------
 const server = spawn(aniso, ["serve", "--port", "0", "--root", webDir], { stdio: ["ignore", "pipe", "inherit"] });
+process.on("exit", () => server.kill("SIGTERM"));  // also when a check throws
 const url = await new Promise((resolve, reject) => {
   let buf = "";
   server.stdout.on("data", (d) => {

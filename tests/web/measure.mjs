@@ -9,6 +9,7 @@ import { chromium } from "playwright-core";
 
 const [aniso, webDir, ...sizes] = process.argv.slice(2);
 const server = spawn(path.resolve(aniso), ["serve", "--port", "0", "--root", webDir], { stdio: ["ignore", "pipe", "inherit"] });
+process.on("exit", () => server.kill("SIGTERM"));  // also when a check throws
 const url = await new Promise((resolve) => server.stdout.on("data", (d) => resolve(/http:\/\/127\.0\.0\.1:\d+\//.exec(String(d))[0])));
 const browser = await chromium.launch({
   executablePath: process.env.ANISO_CHROMIUM || "/usr/bin/chromium",
