@@ -92,18 +92,17 @@
     shapeParts(modelSpec(desc.model), desc.params, "", parts);
     return [desc.model].concat(parts).join("|");
   }
-  // The value of a slot ("metal.lobe.alpha_x", "lafortune.lobes[0].cx") in the material; a named
-  // metal's eta and k come from the metal table, as gl::glsl_material() does.
-  function slotValue(desc, slot) {
+  // The table entry and value of a slot ("metal.lobe.alpha_x", "lafortune.lobes[0].cx") in the
+  // material; a named metal's eta and k come from the metal table, as gl::glsl_material() does.
+  function slotEntry(desc, slot) {
     let pv = desc.params;
     let spec = modelSpec(desc.model);
     if (desc.model === "metal" && pv.metal) {
       const md = D.metals.find((m) => m.name === pv.metal);
       pv = Object.assign({}, pv, { eta: md.eta, k: md.k });
     }
-    const segs = slot.key.slice(desc.model.length + 1).split(".");
     let p = null;
-    for (const seg of segs) {
+    for (const seg of slot.key.slice(desc.model.length + 1).split(".")) {
       const m = /^(.*)\[(\d+)\]$/.exec(seg);
       const name = m ? m[1] : seg;
       p = spec.params.find((q) => q.name === name);
@@ -113,9 +112,14 @@
       else if (p.kind === "tagged") spec = p.subs[v.model];
       pv = v;
     }
-    if (slot.type === "int") return p.choices.indexOf(pv);
-    if (slot.type === "bool") return pv ? 1 : 0;
-    return pv;
+    return { p, v: pv };
+  }
+  // The value a uniform gets: a choice's index, a bool as 0 / 1.
+  function slotValue(desc, slot) {
+    const { p, v } = slotEntry(desc, slot);
+    if (slot.type === "int") return p.choices.indexOf(v);
+    if (slot.type === "bool") return v ? 1 : 0;
+    return v;
   }
 
   // ---- WebGL2 ----------------------------------------------------------------------------------
@@ -1011,18 +1015,8 @@ void main() {
   function materialText(m) {
     return JSON.stringify(V.resolvedJson(m.desc), null, 2) + "\n";
   }
-  // C++ "{:.9g}" of a float, and glsl_float_literal (src/gl/glsl_material.cpp).
-  function g9(x) {
-    if (x === 0) return Object.is(x, -0) ? "-0" : "0";
-    const e = Number(x.toExponential(8).split("e")[1]);
-    const strip = (s) => (s.includes(".") ? s.replace(/0+$/, "").replace(/\.$/, "") : s);
-    if (e < -4 || e >= 9) {
-      const [m, ex] = x.toExponential(8).split("e");
-      const n = Number(ex);
-      return strip(m) + "e" + (n < 0 ? "-" : "+") + String(Math.abs(n)).padStart(2, "0");
-    }
-    return strip(x.toFixed(8 - e));
-  }
+  // C++ "{:.9g}", and glsl_float_literal (src/gl/glsl_material.cpp).
+  const g9 = (x) => V.fmtG(x, 9);
   function floatLiteral(x) {
     let s = g9(Math.fround(x));
     if (!/[.eEn]/.test(s)) s += ".0";
@@ -1321,7 +1315,7 @@ void main() {
       "# (ranges) and from the material (defaults). Choices are sliders over their index.\n\n::begin parameters\n";
     for (const s of shape.slots) {
       const v = slotValue(m.desc, s);
-      const p = paramOfSlot(m.desc, s);
+      const p = slotEntry(m.desc, s).p;
       if (s.type === "float") out += `float ${s.name} ${g9(p.min)} ${g9(p.max)} ${g9(v)}\n`;
       else if (s.type === "bool") out += `bool ${s.name} ${v ? 1 : 0}\n`;
       else if (s.type === "int") out += `float ${s.name} 0 ${p.choices.length - 1} ${v}\n`;
@@ -1332,21 +1326,6 @@ void main() {
     out += D.glsl.library_prefixed + D.shapes[key].brdf_code + "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return aniso_f_world(L, V, N, X, Y); }\n::end shader\n";
     return out;
   }
-  function paramOfSlot(desc, slot) {
-    let spec = modelSpec(desc.model), pv = desc.params, p = null;
-    for (const seg of slot.key.slice(desc.model.length + 1).split(".")) {
-      const m = /^(.*)\[(\d+)\]$/.exec(seg);
-      const name = m ? m[1] : seg;
-      p = spec.params.find((q) => q.name === name);
-      let v = pv[name];
-      if (m) v = v[Number(m[2])];
-      if (p.kind === "object" || p.kind === "list") spec = p.sub;
-      else if (p.kind === "tagged") spec = p.subs[v.model];
-      pv = v;
-    }
-    return p;
-  }
-
   // ---- start ----------------------------------------------------------------------------------
   function start() {
     const first = (names) => names.find((n) => presetJson(n)) || D.presets[0].name;

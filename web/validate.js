@@ -27,18 +27,18 @@
     return out;
   }
 
-  // C++ fmt "{:g}" (printf %g, precision 6).
-  function fmtG(x) {
+  // C++ fmt "{:g}" (printf %g, precision 6), or "{:.Pg}" with another precision P.
+  function fmtG(x, precision = 6) {
     if (!Number.isFinite(x)) return Number.isNaN(x) ? "nan" : x > 0 ? "inf" : "-inf";
     if (x === 0) return Object.is(x, -0) ? "-0" : "0";
-    const e = Number(x.toExponential(5).split("e")[1]);
+    const e = Number(x.toExponential(precision - 1).split("e")[1]);
     const strip = (s) => (s.includes(".") ? s.replace(/0+$/, "").replace(/\.$/, "") : s);
-    if (e < -4 || e >= 6) {
-      const [m, ex] = x.toExponential(5).split("e");
+    if (e < -4 || e >= precision) {
+      const [m, ex] = x.toExponential(precision - 1).split("e");
       const n = Number(ex);
       return strip(m) + "e" + (n < 0 ? "-" : "+") + String(Math.abs(n)).padStart(2, "0");
     }
-    return strip(x.toFixed(5 - e));
+    return strip(x.toFixed(precision - 1 - e));
   }
 
   // Which numbers were written as floating-point literals ("5.0", "1e10"): nlohmann keeps them
@@ -203,6 +203,14 @@
           return v;
         }
       if (i >= text.length) syntax("unexpected end of input");
+      // The position nlohmann's lexer reports: the first character that leaves the literal.
+      for (const lit of ["true", "false", "null"])
+        if (text[i] === lit[0]) {
+          let j = i;
+          while (j - i < lit.length && text[j] === lit[j - i]) ++j;
+          i = j;
+          break;
+        }
       syntax("invalid literal");
     }
     function string() {

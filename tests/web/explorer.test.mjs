@@ -4,7 +4,7 @@
 //   node explorer.test.mjs <aniso binary> <built page folder> <output folder> [check ...]
 // Exit 0: every check passed; 1: a check failed; 77: skipped (no Chromium, no playwright-core),
 // with the reason on stdout. Screenshots of every view go to the output folder.
-import { spawn, spawnSync } from "node:child_process";
+import { spawnSync } from "node:child_process";
 import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
@@ -12,15 +12,15 @@ import { fileURLToPath } from "node:url";
 
 const [anisoArg, webDir, outDir, ...only] = process.argv.slice(2);
 const aniso = path.resolve(anisoArg);
-const CHROMIUM = process.env.ANISO_CHROMIUM || "/usr/bin/chromium";
 const skip = (why) => {
   console.log(`SKIPPED: ${why}`);
   process.exit(77);
 };
+const CHROMIUM = process.env.ANISO_CHROMIUM || "/usr/bin/chromium";  // as harness.mjs
 if (!fs.existsSync(CHROMIUM)) skip(`${CHROMIUM} not found (install Debian's chromium: scripts/install-deps.sh)`);
-let chromium;
+let serve, launch;
 try {
-  ({ chromium } = await import("playwright-core"));
+  ({ serve, launch } = await import("./harness.mjs"));  // imports playwright-core
 } catch {
   skip(`playwright-core not installed (cd ${path.dirname(fileURLToPath(import.meta.url))} && npm ci)`);
 }
@@ -33,24 +33,8 @@ function run(args, input, cwd) {
 }
 const g9 = (x) => Number(x).toPrecision(9);
 
-// ---- the server ----------------------------------------------------------------------------------
-const server = spawn(aniso, ["serve", "--port", "0", "--root", webDir], { stdio: ["ignore", "pipe", "inherit"] });
-const url = await new Promise((resolve, reject) => {
-  let buf = "";
-  server.stdout.on("data", (d) => {
-    buf += d;
-    const m = /http:\/\/127\.0\.0\.1:(\d+)\//.exec(buf);
-    if (m) resolve(m[0]);
-  });
-  server.on("exit", (c) => reject(new Error(`aniso serve exited with ${c}`)));
-  setTimeout(() => reject(new Error("aniso serve did not start")), 10000);
-});
-
-const browser = await chromium.launch({
-  executablePath: CHROMIUM,
-  args: ["--headless=new", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-gpu-sandbox",
-    "--disable-background-networking", "--disable-component-update", "--no-first-run"],
-});
+const url = await serve(aniso, webDir);
+const browser = await launch();
 const failures = [];
 let checks = 0;
 function check(ok, what) {
@@ -379,6 +363,5 @@ if (want("sphere")) {
 }
 
 await browser.close();
-server.kill("SIGTERM");
 console.log(`${checks - failures.length} of ${checks} checks passed in ${((Date.now() - t0) / 1000).toFixed(1)} s; screenshots in ${outDir}`);
 process.exit(failures.length ? 1 : 0);

@@ -3,18 +3,11 @@
 // For each size of the lit views' canvas: the mean time of a redraw (JavaScript + WebGL, gl.finish()
 // at the end) when the light moves (every view recomputed) and when only the exposure changes (the
 // lit views alone), 8 changes each after 2 warm-up ones (the shader compiles).
-import { spawn } from "node:child_process";
-import path from "node:path";
-import { chromium } from "playwright-core";
+import { launch, serve } from "./harness.mjs";
 
 const [aniso, webDir, ...sizes] = process.argv.slice(2);
-const server = spawn(path.resolve(aniso), ["serve", "--port", "0", "--root", webDir], { stdio: ["ignore", "pipe", "inherit"] });
-const url = await new Promise((resolve) => server.stdout.on("data", (d) => resolve(/http:\/\/127\.0\.0\.1:\d+\//.exec(String(d))[0])));
-const browser = await chromium.launch({
-  executablePath: process.env.ANISO_CHROMIUM || "/usr/bin/chromium",
-  args: ["--headless=new", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-gpu-sandbox",
-    "--disable-background-networking", "--disable-component-update", "--no-first-run"],
-});
+const url = await serve(aniso, webDir);
+const browser = await launch();
 for (const size of sizes.length ? sizes : ["512x384", "1024x768"]) {
   const page = await browser.newPage({ viewport: { width: 1600, height: 1100 } });
   await page.goto(`${url}#size=${size}`);
@@ -40,4 +33,3 @@ for (const size of sizes.length ? sizes : ["512x384", "1024x768"]) {
   await page.close();
 }
 await browser.close();
-server.kill("SIGTERM");
