@@ -1025,8 +1025,9 @@ void main() {
   function oneLine(s) {
     return s.replace(/[\r\n]/g, " ");
   }
-  // export-glsl (src/gl/glsl_export.cpp export_glsl): header, prefixed library, the slots as
-  // constants, the prefixed builder; every piece but the constants' values is generated text.
+  // export-glsl --full (src/gl/glsl_export.cpp export_glsl): header, the whole prefixed library,
+  // the slots as constants, the prefixed builder; every piece but the constants' values is
+  // generated text. (The CLI's default keeps only the library functions the material uses.)
   function exportGlsl(m) {
     const shape = D.shapes[shapeKey(m.desc)];
     let out =
@@ -1305,6 +1306,12 @@ void main() {
     });
     window.addEventListener("hashchange", () => applyHash(location.hash));
   }
+  // The upper end of a BRDF Explorer `float` slider: src/gl/glsl_export.cpp slider_max (an
+  // open-ended range ends at the power of ten at or above 10 times the value, at least 10).
+  function sliderMax(p, value) {
+    if (!(p.max / Math.max(Math.abs(p.min), 1e-3) > 1e3 && p.min >= 0)) return p.max;
+    return Math.min(p.max, Math.pow(10, Math.ceil(Math.log10(Math.max(10 * value, 10)))));
+  }
   // export-brdf (src/gl/glsl_export.cpp export_brdf): BRDF Explorer's parameter lines from the
   // table's ranges and the material's values, the shader from the generated text.
   function exportBrdf(m) {
@@ -1316,11 +1323,11 @@ void main() {
     for (const s of shape.slots) {
       const v = slotValue(m.desc, s);
       const p = slotEntry(m.desc, s).p;
-      if (s.type === "float") out += `float ${s.name} ${g9(p.min)} ${g9(p.max)} ${g9(v)}\n`;
+      if (s.type === "float") out += `float ${s.name} ${g9(p.min)} ${g9(sliderMax(p, v))} ${g9(v)}\n`;
       else if (s.type === "bool") out += `bool ${s.name} ${v ? 1 : 0}\n`;
       else if (s.type === "int") out += `float ${s.name} 0 ${p.choices.length - 1} ${v}\n`;
       else if (p.min >= 0 && p.max <= 1) out += `color ${s.name} ${v.map(g9).join(" ")}\n`;
-      else ["r", "g", "b"].forEach((ch, c) => (out += `float ${s.name}_${ch} ${g9(p.min)} ${g9(p.max)} ${g9(v[c])}\n`));
+      else ["r", "g", "b"].forEach((ch, c) => (out += `float ${s.name}_${ch} ${g9(p.min)} ${g9(sliderMax(p, Math.max(...v)))} ${g9(v[c])}\n`));
     }
     out += "::end parameters\n\n::begin shader\n";
     out += D.glsl.library_prefixed + D.shapes[key].brdf_code + "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return aniso_f_world(L, V, N, X, Y); }\n::end shader\n";

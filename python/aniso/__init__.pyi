@@ -116,5 +116,7 @@ def ggx(*, kd: Color = 0.0, f0: Color = 0.04, alpha_x: float = 0.2, alpha_y: flo
     """Anisotropic GGX (Walter et al. 2007; Heitz 2014 (Smith G2); Heitz 2018 (visible normals))."""
 def metal(*, metal: str = ..., eta: Color = ..., k: Color = ..., lobe: dict[str, Any], directional_diffuse: dict[str, Any] = ...) -> Material:
     """Metal (Cook & Torrance 1982; Born & Wolf (conductor Fresnel))."""
+def principled(*, base_color: Color = 0.5, metallic: float = 0.0, subsurface: float = 0.0, specular: float = 0.5, roughness: float = 0.5, specular_tint: float = 0.0, anisotropic: float = 0.0, sheen: float = 0.0, sheen_tint: float = 0.5, clearcoat: float = 0.0, clearcoat_gloss: float = 1.0) -> Material:
+    """Disney principled (Burley 2012, Physically-Based Shading at Disney (BRDF Explorer's disney.brdf))."""
 def measured(*, file: str) -> Material:
     """Measured (MERL table) (Matusik et al. 2003, A Data-Driven Reflectance Model (MERL BRDF database))."""
