@@ -170,7 +170,7 @@ TEST_F(CliHabits, WidthAloneKeepsTheAspectRatioAndUnlitScenesWarn) {
 
 TEST_F(CliHabits, AnUnwritableOutputSaysWhy) {
   expect_input_error(run({"export-brdf", "-m", "gold", "-o", "/no/such/dir/x.brdf"}),
-                     {"-o /no/such/dir/x.brdf: cannot open for writing: No such file or directory"});
+                     {"-o /no/such/dir/x.brdf: cannot open for writing: ", "(No such file or directory)"});
   expect_input_error(run({"export-glsl", "-m", "gold", "-o", "/no/such/dir/x.glsl"}), {"No such file or directory"});
 }
 
