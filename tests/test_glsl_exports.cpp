@@ -191,8 +191,14 @@ TEST_P(GlslExport, ExportGlslCompilesAndMatchesEval) {
         ok = false;
       }
     }
-    if (!close(local[i].pdf, ref[i][3], tol)) {
-      ADD_FAILURE() << m.name << ": aniso_pdf = " << local[i].pdf << ", aniso eval " << ref[i][3] << " at pair " << i;
+    // `aniso eval` normalises its input in double, so it evaluates a direction up to 6e-8 away from
+    // the float pair the GPU sees. Where the pdf is that ill-conditioned (both directions grazing
+    // and nearly opposite: |wi + wo| ~ 0.03, the half vector amplifies the difference; principled's
+    // clearcoat at pair 190 moves by 1.8e-4), the reference is the double kernel at the float pair.
+    const double pdf_at_pair = cpu_d.pdf(Vec3d(p.wi[i]), Vec3d(p.wo[i]));
+    const double pdf_ref = close(pdf_at_pair, ref[i][3], tol) ? ref[i][3] : pdf_at_pair;
+    if (!close(local[i].pdf, pdf_ref, tol)) {
+      ADD_FAILURE() << m.name << ": aniso_pdf = " << local[i].pdf << ", aniso eval " << ref[i][3] << ", double kernel at the float pair " << pdf_at_pair << " at pair " << i;
       ok = false;
     }
     // aniso_sample: the C++ float sampler fed the same u (u.x picks the lobe, u.yz the direction).
