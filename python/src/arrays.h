@@ -11,6 +11,8 @@
 // the batch API's (each element depends only on its own inputs, batch.h).
 #pragma once
 
+#include <cstring>
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -32,9 +34,17 @@ struct RowsView {
   bool f32 = false;     // float32 (else float64: other real dtypes are converted first)
   py::array keep;       // owns the (possibly converted) buffer
 
+  // memcpy: a NumPy buffer need not be aligned to its dtype (a view at a byte offset).
   template <typename T> T at(size_t row, int col) const {
     const char* p = data + py::ssize_t(single ? 0 : row) * row_stride + col * col_stride;
-    return f32 ? T(*reinterpret_cast<const float*>(p)) : T(*reinterpret_cast<const double*>(p));
+    if (f32) {
+      float v;
+      std::memcpy(&v, p, sizeof v);
+      return T(v);
+    }
+    double v;
+    std::memcpy(&v, p, sizeof v);
+    return T(v);
   }
 };
 
