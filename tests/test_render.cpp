@@ -264,6 +264,36 @@ TEST(RenderTangents, Rotation90EqualsSwappingAlphas) {
   EXPECT_GT(diff_c, 0.1 * max_val);
 }
 
+// A material's rotation_deg is the object's tangent.angle_deg (material.h, FrameRotationT): the
+// same picture, sample for sample; and the two add (20 + 10 = 30).
+TEST(RenderTangents, MaterialRotationEqualsTangentAngle) {
+  const json ward = {{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};
+  json turned_material = ward;
+  turned_material["rotation_deg"] = 30.0;
+  json a = lit_by_directional(sphere_scene(turned_material, 32, 4));
+  json b = lit_by_directional(sphere_scene(ward, 32, 4));
+  b["objects"][0]["tangent"] = {{"angle_deg", 30}};
+  json c = turned_material;
+  c["rotation_deg"] = 10.0;
+  json both = lit_by_directional(sphere_scene(c, 32, 4));
+  both["objects"][0]["tangent"] = {{"angle_deg", 20}};
+  const Image ia = render_json(a, 5), ib = render_json(b, 5), ic = render_json(both, 5);
+  double max_diff = 0, max_diff_c = 0, max_val = 0;
+  for (size_t i = 0; i < ia.rgb.size(); ++i) {
+    max_diff = std::max(max_diff, double(std::fabs(ia.rgb[i] - ib.rgb[i])));
+    max_diff_c = std::max(max_diff_c, double(std::fabs(ic.rgb[i] - ib.rgb[i])));
+    max_val = std::max(max_val, double(ia.rgb[i]));
+  }
+  EXPECT_GT(max_val, 0.1);
+  EXPECT_LT(max_diff, 1e-4 * max_val);
+  EXPECT_LT(max_diff_c, 1e-4 * max_val);
+  // Not the unturned picture.
+  const Image plain = render_json(lit_by_directional(sphere_scene(ward, 32, 4)), 5);
+  double diff_plain = 0;
+  for (size_t i = 0; i < ia.rgb.size(); ++i) diff_plain = std::max(diff_plain, double(std::fabs(ia.rgb[i] - plain.rgb[i])));
+  EXPECT_GT(diff_plain, 0.1 * max_val);
+}
+
 // A concentrically brushed disc seen along its axis, lit along its axis: the picture is the same
 // after a quarter turn.
 TEST(RenderTangents, ConcentricDiscIsRotationallySymmetric) {

@@ -82,6 +82,17 @@ inline std::vector<NamedMaterial> all_model_materials() {
   // double, the same for plain GGX with those alphas, so the sampler is right and the quadrature not.
   v.push_back({"principled_metal_aniso",
                {{"model", "principled"}, {"base_color", {0.9, 0.6, 0.3}}, {"metallic", 1.0}, {"roughness", 0.4}, {"anisotropic", 0.9}}});
+  // The anisotropic models turned by their rotation_deg (material.h, FrameRotationT): the SIMD twins
+  // (ward, ashikhmin-shirley, lafortune), the scalar batch path (principled) and every GLSL twin.
+  v.push_back({"ward_rotated", {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.08}, {"alpha_y", 0.3}, {"rotation_deg", 30.0}}});
+  v.push_back({"as_rotated", {{"model", "ashikhmin-shirley"}, {"rd", 0.3}, {"rs", 0.1}, {"n_u", 180.0}, {"n_v", 25.0},
+                              {"rotation_deg", 130.0}}});
+  v.push_back({"lafortune_rotated",
+               {{"model", "lafortune"}, {"rho_d", 0.1}, {"rotation_deg", -75.0},
+                {"lobes", json::array({{{"cx", -0.8}, {"cy", -1.1}, {"cz", 0.95}, {"n", 20.0}}})}}});
+  v.push_back({"principled_rotated",
+               {{"model", "principled"}, {"base_color", {0.9, 0.6, 0.3}}, {"metallic", 1.0}, {"roughness", 0.5},
+                {"anisotropic", 0.8}, {"rotation_deg", 200.0}}});
   return v;
 }
 

@@ -96,6 +96,24 @@ std::string fitted_file(const FitResult& r, const SampleSet& data, const FitOpti
   return out.dump(2) + "\n";
 }
 
+// What the fit decided for the user: anisotropy and why, tied and weak parameters, energy.
+std::string fit_report(const FitResult& r, const FitOptions& o) {
+  std::string s = fmt::format("anisotropy: {}\n", r.anisotropy_reason);
+  for (const std::string& t : r.tied) s += fmt::format("tied: {}\n", t);
+  if (!r.weakly_constrained.empty() && r.tied.empty()) {
+    std::string list;
+    for (const std::string& n : r.weakly_constrained) list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
+    s += fmt::format("warning: the data constrain these entries only weakly (or only in combination): {}\n", list);
+  }
+  s += fmt::format("largest directional albedo: {:.4f} at theta_o {:g} deg, phi_o {:g} deg{}\n", r.largest_albedo,
+                   r.largest_albedo_theta_deg, r.largest_albedo_phi_deg,
+                   o.allow_energy_gain ? " (energy gain allowed: --allow-energy-gain)"
+                   : r.energy_constrained
+                       ? fmt::format(" (constrained to <= 1; relative l2cos {:.4g} without the constraint)", r.unconstrained_l2cos)
+                       : "");
+  return s;
+}
+
 void print_warnings(const SampleSet& data) {
   for (const std::string& w : data.warnings) fmt::print(stderr, "aniso: warning: {}\n", w);
 }
@@ -164,13 +182,17 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
     });
     out += fmt::format("ranked by the {} error (fitted with it); errors over all samples and channels\n",
                        by_log ? "log" : "l2cos");
-    out += fmt::format("{:<4} {:<28} {:>11} {:>11} {:>9} {:>8}  {}\n", "rank", "model", "l2cos", "log", "relative", "time_s", "parameters");
+    out += fmt::format("{:<4} {:<28} {:<6} {:>11} {:>11} {:>9} {:>8}  {}\n", "rank", "model", "aniso", "l2cos", "log", "relative",
+                       "time_s", "parameters");
     for (size_t i = 0; i < order.size(); ++i) {
       const Row& r = rows[order[i]];
-      out += fmt::format("{:<4} {:<28} {:>11.5g} {:>11.5g} {:>9.4f} {:>8.3f}  {}\n", i + 1, r.label, r.result.errors.l2cos_all,
-                         r.result.errors.log_all, r.result.errors.relative_l2cos, r.result.seconds, describe_parameters(r.result));
+      out += fmt::format("{:<4} {:<28} {:<6} {:>11.5g} {:>11.5g} {:>9.4f} {:>8.3f}  {}\n", i + 1, r.label,
+                         r.result.anisotropic ? "yes" : "no", r.result.errors.l2cos_all, r.result.errors.log_all,
+                         r.result.errors.relative_l2cos, r.result.seconds, describe_parameters(r.result));
     }
     const Row& best = rows[order[0]];
+    out += fmt::format("best: {}\n", best.label);
+    out += fit_report(best.result, best.options);
     std::string file;
     if (!a.output.empty()) file = fitted_file(best.result, data, best.options);
     if (!a.plot.empty()) write_slices_plot(a.plot, data, best.result.material, best.label);
@@ -186,6 +208,7 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
                      o.model == "lafortune" ? fmt::format(", {} lobe{}", o.lobes, o.lobes > 1 ? "s" : "") : std::string());
   out += o.model == "lafortune" ? lafortune_table(r.material) : parameter_table(r);
   out += error_table(r.errors);
+  out += fit_report(r, o);
   out += fmt::format("best start: {}; {} iterations; {:.3f} s; {} of {} samples in the solver\n", r.best_start, r.iterations,
                      r.seconds, r.samples_used, r.samples_total);
   if (!a.plot.empty()) write_slices_plot(a.plot, data, r.material, o.model);
@@ -204,7 +227,14 @@ void add_fit_command(CLI::App& app) {
   for (std::string_view m : fittable_models()) models += fmt::format("{}{}", models.empty() ? "" : " | ", m);
   fit->add_option("--model", a->options.model, models)->type_name("MODEL")->capture_default_str();
   fit->add_option("--lobes", a->options.lobes, "Lafortune: number of lobes, 1 to 8")->type_name("INT")->capture_default_str();
-  fit->add_flag("--anisotropic", a->options.anisotropic, "fit C_x != C_y, alpha_x != alpha_y, n_u != n_v");
+  fit->add_option_function<std::string>(
+         "--anisotropic", [a](const std::string& v) { a->options.anisotropic = v.empty() ? "yes" : v; },
+         "auto | yes | no: fit C_x != C_y, alpha_x != alpha_y, n_u != n_v and the orientation rotation_deg; auto "
+         "when the data show anisotropy (docs/fitting.md); the bare flag means yes [default: auto]")
+      ->expected(0, 1)
+      ->type_name("auto|yes|no");
+  fit->add_flag("--allow-energy-gain", a->options.allow_energy_gain,
+                "let the fitted material reflect more than it receives (directional albedo > 1), for data that do");
   fit->add_flag("--shared-exponents", a->options.shared_exponents, "Lafortune: one exponent per lobe for all channels");
   fit->add_option("--normalization", a->options.normalization, "Ward: ward | duer | balanced")->type_name("NAME")->capture_default_str();
   fit->add_option("--metal", a->options.metal, "metal: a measured metal's eta, k (fixed); default: fit eta and k")->type_name("METAL");

@@ -1065,14 +1065,20 @@ std::string option_text(const py::object& v, const char* name) {
 }
 
 PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::object& wo, const py::object& value,
-                   const py::object& weight, const std::string& model, const py::object& lobes, bool anisotropic,
-                   bool shared_exponents, const std::string& normalization, const py::object& metal, const std::string& metal_lobe,
+                   const py::object& weight, const std::string& model, const py::object& lobes, const py::object& anisotropic,
+                   bool allow_energy_gain, bool shared_exponents, const std::string& normalization, const py::object& metal, const std::string& metal_lobe,
                    const std::string& metric, const std::string& loss, const py::object& loss_scale, const py::object& starts,
                    const py::object& seed, const py::object& threads, const py::object& max_iterations, const py::object& progress) {
   FitOptionText t;
   t.model = model;
   t.lobes = option_text(lobes, "lobes");
-  t.anisotropic = anisotropic;
+  // anisotropic: "auto" | "yes" | "no" as the CLI's --anisotropic, or True / False for yes / no.
+  if (py::isinstance<py::bool_>(anisotropic)) t.anisotropic = anisotropic.cast<bool>() ? "yes" : "no";
+  else if (py::isinstance<py::str>(anisotropic)) t.anisotropic = anisotropic.cast<std::string>();
+  else
+    throw py::value_error(fmt::format("anisotropic: expected \"auto\", \"yes\", \"no\", True or False, got {}",
+                                      std::string(py::str(py::type::of(anisotropic).attr("__name__")))));
+  t.allow_energy_gain = allow_energy_gain;
   t.shared_exponents = shared_exponents;
   t.normalization = normalization;
   t.metal = metal.is_none() ? "" : std::string(py::str(metal));
@@ -1361,6 +1367,15 @@ PYBIND11_MODULE(_aniso, m) {
       .def_property_readonly("samples", [](const PyFitResult& r) { return r.result.samples_total; })
       .def_property_readonly("samples_in_solver", [](const PyFitResult& r) { return r.result.samples_used; })
       .def_property_readonly("termination", [](const PyFitResult& r) { return r.result.termination; })
+      .def_property_readonly("anisotropic", [](const PyFitResult& r) { return r.result.anisotropic; },
+                             "whether the fitted model is anisotropic (with its rotation_deg)")
+      .def_property_readonly("anisotropy_reason", [](const PyFitResult& r) { return r.result.anisotropy_reason; },
+                             "why: the auto rule's decision and figures, or the option")
+      .def_property_readonly("tied", [](const PyFitResult& r) { return r.result.tied; },
+                             "parameters the data did not constrain, tied to their isotropic partner (docs/fitting.md)")
+      .def_property_readonly("weakly_constrained", [](const PyFitResult& r) { return r.result.weakly_constrained; })
+      .def_property_readonly("largest_albedo", [](const PyFitResult& r) { return r.result.largest_albedo; },
+                             "the fitted material's largest directional albedo over the grid of docs/fitting.md")
       .def_property_readonly("fit", [](const PyFitResult& r) { return to_py(r.provenance); },
                              "the \"fit\" object of `aniso fit`'s fitted.json (data, options, errors, solver)")
       .def("to_dict", [](const PyFitResult& r) {
@@ -1386,7 +1401,8 @@ PYBIND11_MODULE(_aniso, m) {
 
   m.def("fit", &fit_py, py::arg("data") = py::none(), py::kw_only(), py::arg("wi") = py::none(), py::arg("wo") = py::none(),
         py::arg("value") = py::none(), py::arg("weight") = py::none(), py::arg("model") = "lafortune", py::arg("lobes") = 1,
-        py::arg("anisotropic") = false, py::arg("shared_exponents") = false, py::arg("normalization") = "ward",
+        py::arg("anisotropic") = "auto", py::arg("allow_energy_gain") = false, py::arg("shared_exponents") = false,
+        py::arg("normalization") = "ward",
         py::arg("metal") = py::none(), py::arg("metal_lobe") = "ggx", py::arg("metric") = "l2cos", py::arg("loss") = "none",
         py::arg("loss_scale") = 0.0, py::arg("starts") = 6, py::arg("seed") = 1, py::arg("threads") = 0,
         py::arg("max_iterations") = 200, py::arg("progress") = py::none(),
@@ -1395,8 +1411,9 @@ PYBIND11_MODULE(_aniso, m) {
         "data: a path to a MERL .binary, Cornell .brdf or CSV file of samples (what `aniso fit DATA` reads);\n"
         "or instead wi, wo: (N, 3) unit directions above the horizon (one of them may be (3,)), value: (N, 3)\n"
         "f(wi, wo) in 1/sr (no cosine), weight: (N,) or None. The keywords are `aniso fit`'s options:\n"
-        "model (lafortune | ward | ashikhmin-shirley | ggx | metal), lobes (Lafortune, 1 to 8), anisotropic,\n"
-        "shared_exponents, normalization (Ward: ward | duer | balanced), metal (a named metal; None fits eta\n"
+        "model (lafortune | ward | ashikhmin-shirley | ggx | metal | principled), lobes (Lafortune, 1 to 8),\n"
+        "anisotropic (\"auto\": when the data show it, \"yes\" / True, \"no\" / False; an anisotropic fit fits\n"
+        "rotation_deg too), allow_energy_gain (else every directional albedo stays <= 1), shared_exponents, normalization (Ward: ward | duer | balanced), metal (a named metal; None fits eta\n"
         "and k), metal_lobe (ggx | ward | ashikhmin-shirley), metric (l2cos | log), loss (none | huber |\n"
         "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations.\n"
         "progress: None (a line on stderr when it is a terminal, as the CLI), True, False, or a callable\n"

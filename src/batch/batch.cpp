@@ -177,9 +177,11 @@ void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t 
   const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
+      const FrameRotationT<T>& r = m.rotation;
       m.visit([&](const auto& model) {
         for (size_t i = b; i < e; ++i) {
-          const Vec3T<T> u(wi.x[i], wi.y[i], wi.z[i]), v(wo.x[i], wo.y[i], wo.z[i]);
+          // In the model's own frame (material.h, FrameRotationT: the identity unless rotation_deg).
+          const Vec3T<T> u = r.to_model(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i])), v = r.to_model(Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
           const RGBT<T> c = nan_rows && !(finite(u) && finite(v)) ? RGBT<T>(std::numeric_limits<T>::quiet_NaN()) : model.f(u, v);
           f.r[i] = c.x, f.g[i] = c.y, f.b[i] = c.z;
         }
@@ -199,9 +201,11 @@ void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T*
   const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
+      const FrameRotationT<T>& r = m.rotation;
       m.visit([&](const auto& model) {
         for (size_t i = b; i < e; ++i) {
-          const Vec3T<T> u(wi.x[i], wi.y[i], wi.z[i]), v(wo.x[i], wo.y[i], wo.z[i]);
+          // In the model's own frame (material.h, FrameRotationT: the identity unless rotation_deg).
+          const Vec3T<T> u = r.to_model(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i])), v = r.to_model(Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
           out[i] = nan_rows && !(finite(u) && finite(v)) ? std::numeric_limits<T>::quiet_NaN() : model.pdf(u, v);
         }
       });
@@ -220,9 +224,10 @@ void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<
   const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
+      const FrameRotationT<T>& r = m.rotation;
       m.visit([&](const auto& model) {
         for (size_t i = b; i < e; ++i) {
-          const Vec3T<T> u = row(wi, i), v = row(wo, i);
+          const Vec3T<T> u = r.to_model(row(wi, i)), v = r.to_model(row(wo, i));
           const RGBT<T> c = nan_rows && !(finite(u) && finite(v)) ? RGBT<T>(std::numeric_limits<T>::quiet_NaN()) : model.f(u, v);
           f_rgb[3 * i] = c.x, f_rgb[3 * i + 1] = c.y, f_rgb[3 * i + 2] = c.z;
         }
@@ -242,9 +247,10 @@ void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo
   const bool nan_rows = non_finite == NonFinite::NaN;
   for_blocks(n, threads, [&](size_t b, size_t e) {
     if (kernels == Kernels::Scalar) {
+      const FrameRotationT<T>& r = m.rotation;
       m.visit([&](const auto& model) {
         for (size_t i = b; i < e; ++i) {
-          const Vec3T<T> u = row(wi, i), v = row(wo, i);
+          const Vec3T<T> u = r.to_model(row(wi, i)), v = r.to_model(row(wo, i));
           out[i] = nan_rows && !(finite(u) && finite(v)) ? std::numeric_limits<T>::quiet_NaN() : model.pdf(u, v);
         }
       });
@@ -272,9 +278,11 @@ void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, c
       }
       if (done) return;
     }
+    const FrameRotationT<T>& r = m.rotation;
     m.visit([&](const auto& model) {
       for (size_t i = b; i < e; ++i) {
-        const BSDFSampleT<T> s = model.sample(Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]), uc[i], Vec2T<T>(u0[i], u1[i]));
+        BSDFSampleT<T> s = model.sample(r.to_model(Vec3T<T>(wo.x[i], wo.y[i], wo.z[i])), uc[i], Vec2T<T>(u0[i], u1[i]));
+        s.wi = r.from_model(s.wi);
         out.wi_x[i] = s.wi.x, out.wi_y[i] = s.wi.y, out.wi_z[i] = s.wi.z;
         out.weight_r[i] = s.weight.x, out.weight_g[i] = s.weight.y, out.weight_b[i] = s.weight.z;
         out.pdf[i] = s.pdf;

@@ -52,8 +52,8 @@ template <typename T>
 bool RunMaterial(const MaterialT<T>& m, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const hn::ScalableTag<T> d;
   return WithTwin(m, [&](const auto& kernel) {
-    if (a.non_finite == NonFinite::NaN) RunRange<true>(d, kernel, a, begin, end, want_pdf);
-    else RunRange<false>(d, kernel, a, begin, end, want_pdf);
+    if (a.non_finite == NonFinite::NaN) RunRange<true>(d, kernel, a, begin, end, want_pdf, m.rotation);
+    else RunRange<false>(d, kernel, a, begin, end, want_pdf, m.rotation);
   });
 }
 
@@ -61,14 +61,14 @@ template <typename T>
 bool RunMaterialInterleaved(const MaterialT<T>& m, const InterleavedArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const hn::ScalableTag<T> d;
   return WithTwin(m, [&](const auto& kernel) {
-    if (a.non_finite == NonFinite::NaN) RunRangeInterleaved<true>(d, kernel, a, begin, end, want_pdf);
-    else RunRangeInterleaved<false>(d, kernel, a, begin, end, want_pdf);
+    if (a.non_finite == NonFinite::NaN) RunRangeInterleaved<true>(d, kernel, a, begin, end, want_pdf, m.rotation);
+    else RunRangeInterleaved<false>(d, kernel, a, begin, end, want_pdf, m.rotation);
   });
 }
 
 template <typename T> bool SampleMaterial(const MaterialT<T>& m, const SampleArgs<T>& a, size_t begin, size_t end) {
   const hn::ScalableTag<T> d;
-  return WithTwin(m, [&](const auto& kernel) { SampleRange(d, kernel, a, begin, end); });
+  return WithTwin(m, [&](const auto& kernel) { SampleRange(d, kernel, a, begin, end, m.rotation); });
 }
 
 }  // namespace aniso::batch::HWY_NAMESPACE

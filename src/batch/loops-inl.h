@@ -16,6 +16,18 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 // --- The loops ---------------------------------------------------------------------------------
 
+// The material's orientation (FrameRotationT, aniso/brdf/material.h): directions into the turned
+// frame the model lives in (ToModel) and sampled ones back (FromModel), lane by lane the scalar
+// arithmetic. The loops skip both for the identity, which is then bit for bit the plain loop.
+template <class D, typename T> HWY_INLINE V3<D> ToModel(D d, const FrameRotationT<T>& r, const V3<D>& w) {
+  const V<D> c = hn::Set(d, r.c), s = hn::Set(d, r.s);
+  return {hn::MulAdd(s, w.y, hn::Mul(c, w.x)), hn::NegMulAdd(s, w.x, hn::Mul(c, w.y)), w.z};
+}
+template <class D, typename T> HWY_INLINE V3<D> FromModel(D d, const FrameRotationT<T>& r, const V3<D>& w) {
+  const V<D> c = hn::Set(d, r.c), s = hn::Set(d, r.s);
+  return {hn::NegMulAdd(s, w.y, hn::Mul(c, w.x)), hn::MulAdd(c, w.y, hn::Mul(s, w.x)), w.z};
+}
+
 // The lanes where one of the six input values is NaN or infinite (IsFinite is false for both).
 template <class D> HWY_INLINE M<D> NonFiniteLanes(const V3<D>& wi, const V3<D>& wo) {
   const M<D> fi = hn::And(hn::And(hn::IsFinite(wi.x), hn::IsFinite(wi.y)), hn::IsFinite(wi.z));
@@ -28,14 +40,16 @@ template <class D> HWY_INLINE M<D> NonFiniteLanes(const V3<D>& wi, const V3<D>& 
 // kNanRows (NonFinite::NaN) is a template parameter: without it the loop is exactly the plain one,
 // and a kernel that reads only some coordinates (Lambert: the two z) loads only those.
 template <bool kNanRows, class D, class Kernel, typename T>
-HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
+HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf,
+                         const FrameRotationT<T>& rot) {
   const size_t N = hn::Lanes(d);
   constexpr bool nan_rows = kNanRows;
   const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
   const auto one = [&](const T* wix, const T* wiy, const T* wiz, const T* wox, const T* woy, const T* woz, T* r, T* g,
                        T* b, T* p) {
-    const V3<D> wi{hn::LoadU(d, wix), hn::LoadU(d, wiy), hn::LoadU(d, wiz)};
-    const V3<D> wo{hn::LoadU(d, wox), hn::LoadU(d, woy), hn::LoadU(d, woz)};
+    V3<D> wi{hn::LoadU(d, wix), hn::LoadU(d, wiy), hn::LoadU(d, wiz)};
+    V3<D> wo{hn::LoadU(d, wox), hn::LoadU(d, woy), hn::LoadU(d, woz)};
+    if (!rot.identity()) wi = ToModel(d, rot, wi), wo = ToModel(d, rot, wo);
     // NonFinite::NaN: NaN in every output of a lane with a NaN or infinite input (batch.h).
     if constexpr (nan_rows) {
       const M<D> bad = NonFiniteLanes(wi, wo);
@@ -94,7 +108,7 @@ HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begi
 // finite gets NaN in every output.
 template <bool kNanRows, class D, class Kernel, typename T>
 HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<T>& a, size_t begin, size_t end,
-                                    bool want_pdf) {
+                                    bool want_pdf, const FrameRotationT<T>& rot) {
   const size_t N = hn::Lanes(d);
   const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
   (void)nan;  // used with kNanRows only
@@ -109,6 +123,7 @@ HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<
     V3<D> wi = wi_all, wo = wo_all;
     if (wi_rows) hn::LoadInterleaved3(d, pi, wi.x, wi.y, wi.z);
     if (wo_rows) hn::LoadInterleaved3(d, po, wo.x, wo.y, wo.z);
+    if (!rot.identity()) wi = ToModel(d, rot, wi), wo = ToModel(d, rot, wo);
     if (want_pdf) {
       V<D> p = k.Pdf(d, wi, wo);
       if constexpr (kNanRows) p = hn::IfThenElse(NonFiniteLanes(wi, wo), nan, p);
@@ -168,7 +183,8 @@ template <class D, class Kernel> HWY_INLINE void SampleVec(D d, const Kernel& k,
 }
 
 template <class D, class Kernel, typename T>
-HWY_INLINE void SampleRange(D d, const Kernel& k, const SampleArgs<T>& a, size_t begin, size_t end) {
+HWY_INLINE void SampleRange(D d, const Kernel& k, const SampleArgs<T>& a, size_t begin, size_t end,
+                            const FrameRotationT<T>& rot) {
   const size_t N = hn::Lanes(d);
   constexpr size_t kMax = hn::MaxLanes(D());
   HWY_ALIGN T buf[14][kMax];
@@ -181,12 +197,14 @@ HWY_INLINE void SampleRange(D d, const Kernel& k, const SampleArgs<T>& a, size_t
         src[q] = buf[q];
       }
     }
-    const V3<D> wo{hn::LoadU(d, src[0]), hn::LoadU(d, src[1]), hn::LoadU(d, src[2])};
+    V3<D> wo{hn::LoadU(d, src[0]), hn::LoadU(d, src[1]), hn::LoadU(d, src[2])};
+    if (!rot.identity()) wo = ToModel(d, rot, wo);
     V3<D> wi;
     RGBV<D> w;
     V<D> p;
     M<D> valid;
     SampleVec(d, k, wo, hn::LoadU(d, src[3]), hn::LoadU(d, src[4]), hn::LoadU(d, src[5]), wi, w, p, valid);
+    if (!rot.identity()) wi = FromModel(d, rot, wi);  // an invalid lane's wi is 0 and stays 0
     T* dst[7] = {a.out.wi_x + i, a.out.wi_y + i, a.out.wi_z + i, a.out.weight_r + i, a.out.weight_g + i, a.out.weight_b + i,
                  a.out.pdf + i};
     const V<D> vals[7] = {wi.x, wi.y, wi.z, w.c[0], w.c[1], w.c[2], p};

@@ -4,6 +4,7 @@
 #include "fit/fit.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -19,8 +20,12 @@
 #include <fmt/format.h>
 #include <glog/logging.h>
 
+#include <Eigen/Dense>
+
+#include "aniso/core/sampling.h"
 #include "fit/models.h"
 #include "io/enum_names.h"
+#include "stats/albedo.h"
 #include "io/materials.h"
 #include "io/presets.h"
 #include "io/text_input.h"
@@ -60,6 +65,20 @@ template <typename T> T metric_residual(FitMetric metric, const T& model, double
   return (model * cos_i - target) * sqrt_w;
 }
 
+// A sample's directions in the frame turned by the fit's rotation entry (models.h, Orientation),
+// in T's arithmetic so that a Jet carries d/d(rotation). Always the formula of FrameRotationT
+// (material.h), never its identity shortcut, which would drop the derivative at exactly 0.
+template <typename T> struct Turn {
+  T c, s;
+  Vec3T<T> operator()(const Vec3d& w) const { return Vec3T<T>(c * w.x + s * w.y, c * w.y - s * w.x, T(w.z)); }
+};
+template <typename T, class Model> Turn<T> turn_of(const Model& model, const T* x) {
+  const int r = model.rotation_index();
+  if (r < 0) return {T(1), T(0)};
+  const FrameRotationT<T> f = frame_rotation_deg(x[r]);
+  return {f.c, f.s};
+}
+
 double metric_target(FitMetric metric, double value, double cos_i) {
   return metric == FitMetric::Log ? std::log1p(std::max(value * cos_i, 0.0)) : value * cos_i;
 }
@@ -79,9 +98,10 @@ template <class Model, int N> class ChunkCost final : public ceres::CostFunction
     const double* x = parameters[0];
     if (!jacobians || !jacobians[0]) {
       const auto m = model_.template build<double>(x);
+      const Turn<double> turn = turn_of(model_, x);
       for (int i = 0; i < count_; ++i) {
         const Prepared& s = samples_[i];
-        const RGBT<double> f = m.f(s.wi, s.wo);
+        const RGBT<double> f = m.f(turn(s.wi), turn(s.wo));
         for (int c = 0; c < 3; ++c) residuals[3 * i + c] = metric_residual(metric_, f[c], s.wi.z, s.target[c], s.sqrt_w);
       }
       return all_finite(residuals, 3 * count_);
@@ -93,11 +113,11 @@ template <class Model, int N> class ChunkCost final : public ceres::CostFunction
     J xj[N];
     for (int p = 0; p < size_; ++p) xj[p] = J(x[p], p);
     const auto m = model_.template build<J>(xj);
+    const Turn<J> turn = turn_of(model_, xj);
     double* jac = jacobians[0];
     for (int i = 0; i < count_; ++i) {
       const Prepared& s = samples_[i];
-      const Vec3T<J> wi(J(s.wi.x), J(s.wi.y), J(s.wi.z)), wo(J(s.wo.x), J(s.wo.y), J(s.wo.z));
-      const RGBT<J> f = m.f(wi, wo);
+      const RGBT<J> f = m.f(turn(s.wi), turn(s.wo));
       for (int c = 0; c < 3; ++c) {
         const J r = metric_residual(metric_, f[c], s.wi.z, s.target[c], s.sqrt_w);
         residuals[3 * i + c] = r.a;
@@ -123,10 +143,10 @@ template <class Model, int N> class ChunkCost final : public ceres::CostFunction
       for (int p = 0; p < size_; ++p) full[size_t(p)] = JP(x[p]);
       for (size_t j = 0; j < idx.size(); ++j) full[size_t(idx[j])] = JP(x[idx[j]], int(j));
       const auto m = model_.template build_part<JP>(part, full.data());
+      const Turn<JP> turn = turn_of(model_, full.data());
       for (int i = 0; i < count_; ++i) {
         const Prepared& s = samples_[i];
-        const Vec3T<JP> wi(JP(s.wi.x), JP(s.wi.y), JP(s.wi.z)), wo(JP(s.wo.x), JP(s.wo.y), JP(s.wo.z));
-        const RGBT<JP> fp = m.f(wi, wo);
+        const RGBT<JP> fp = m.f(turn(s.wi), turn(s.wo));
         for (int c = 0; c < 3; ++c) {
           f[size_t(3 * i + c)] += fp[c].a;
           double* row = jac + size_t(3 * i + c) * size_t(size_);
@@ -294,6 +314,165 @@ class ProgressCallback final : public ceres::IterationCallback {
   int after_;
 };
 
+// --- Energy (docs/fitting.md, "Energy") ---------------------------------------------------------
+
+// The grid the largest directional albedo is measured on: theta_o from 0 to 89 degrees, and for an
+// anisotropic material phi_o over the half circle (every anisotropic lobe repeats after a half
+// turn), with kAlbedoSamples importance samples each (stats/albedo.h, the model's own sampler:
+// standard errors of a few 1e-3 for the fitted lobes).
+constexpr double kAlbedoThetaDeg[] = {0, 10, 20, 30, 40, 50, 60, 70, 75, 80, 85, 89};
+constexpr int kAlbedoPhiSteps = 12;  // 0, 15, ..., 165 degrees
+constexpr int64_t kAlbedoSamples = 4096;
+// The constraint: the penalty pushes each watched albedo below kAlbedoTarget (a margin under 1 for
+// the estimators' noise), and the fit is accepted when the measured largest is <= kAlbedoLimit.
+constexpr double kAlbedoTarget = 0.995, kAlbedoLimit = 1.005;
+
+struct AlbedoAt {
+  double value = 0.0;  // the largest channel
+  double theta_deg = 0.0, phi_deg = 0.0;
+  Vec3d wo{0.0, 0.0, 1.0};
+};
+
+Vec3d direction_deg(double theta_deg, double phi_deg) {
+  const double t = theta_deg * M_PI / 180.0, p = phi_deg * M_PI / 180.0;
+  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+}
+
+// Every grid direction's albedo (largest channel), largest first.
+std::vector<AlbedoAt> albedo_grid(const MaterialD& m, bool anisotropic) {
+  std::vector<AlbedoAt> out;
+  uint64_t seed = 0xa1bed0;
+  for (double theta : kAlbedoThetaDeg)
+    for (int k = 0; k < (anisotropic ? kAlbedoPhiSteps : 1); ++k) {
+      AlbedoAt a;
+      a.theta_deg = theta, a.phi_deg = 180.0 * k / kAlbedoPhiSteps, a.wo = direction_deg(a.theta_deg, a.phi_deg);
+      const AlbedoEstimate e = albedo_importance(m, a.wo, kAlbedoSamples, seed++);
+      a.value = std::max({e.mean.x, e.mean.y, e.mean.z});
+      out.push_back(a);
+    }
+  std::sort(out.begin(), out.end(), [](const AlbedoAt& a, const AlbedoAt& b) { return a.value > b.value; });
+  return out;
+}
+
+// One watched direction of the energy penalty: wo and fixed directions wi_j with their proposal
+// density q_j, drawn once from the material being constrained (half from its sampler, half
+// cosine-distributed: a defensive mixture, Hesterberg 1995, so that q stays > 0 wherever the
+// moving lobe may go). A(x) = mean_j f_x(wi_j, wo) cos / q_j is then an unbiased albedo estimate
+// for every x, differentiable through the kernel's Jet like the data residuals.
+struct WatchedDirection {
+  Vec3d wo;
+  std::vector<Vec3d> wi;
+  std::vector<double> inv_q;
+};
+
+WatchedDirection watch(const MaterialD& m, const Vec3d& wo, int count, uint64_t seed) {
+  WatchedDirection w{wo, {}, {}};
+  Rng rng(seed);
+  for (int j = 0; j < count; ++j) {
+    Vec3d wi;
+    const Vec2T<double> u(rng.uniform(), rng.uniform());
+    if (j % 2 == 0) {
+      const BSDFSampleT<double> s = m.sample(wo, rng.uniform(), u);
+      if (!s.valid) continue;  // counts as a zero of the estimator (the denominator stays `count`)
+      wi = s.wi;
+    } else {
+      wi = sample_cosine_hemisphere(u);
+    }
+    const double q = 0.5 * m.pdf(wi, wo) + 0.5 * std::max(wi.z, 0.0) / M_PI;
+    if (!(q > 0.0) || !(wi.z > 0.0)) continue;
+    w.wi.push_back(wi);
+    w.inv_q.push_back(1.0 / (q * count));
+  }
+  return w;
+}
+
+// The penalty residuals: per watched direction and channel, weight max(0, A(x) - kAlbedoTarget).
+template <class Model, int N> class EnergyCost final : public ceres::CostFunction {
+ public:
+  EnergyCost(const Model& model, std::vector<WatchedDirection> dirs, double weight)
+      : model_(model), dirs_(std::move(dirs)), weight_(weight), size_(int(model.defs.size())) {
+    set_num_residuals(3 * int(dirs_.size()));
+    mutable_parameter_block_sizes()->push_back(size_);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const double* x = parameters[0];
+    if (!jacobians || !jacobians[0]) return evaluate<double>(x, residuals, nullptr);
+    using J = ceres::Jet<double, N>;
+    J xj[N];
+    for (int p = 0; p < size_; ++p) xj[p] = J(x[p], p);
+    return evaluate<J>(xj, residuals, jacobians[0]);
+  }
+
+ private:
+  template <typename T> bool evaluate(const T* x, double* residuals, double* jac) const {
+    const auto m = model_.template build<T>(x);
+    const Turn<T> turn = turn_of(model_, x);
+    for (size_t k = 0; k < dirs_.size(); ++k) {
+      const WatchedDirection& d = dirs_[k];
+      const Vec3T<T> wo = turn(d.wo);
+      RGBT<T> a(T(0));
+      for (size_t j = 0; j < d.wi.size(); ++j) a += m.f(turn(d.wi[j]), wo) * T(d.wi[j].z * d.inv_q[j]);
+      for (int c = 0; c < 3; ++c) {
+        const T excess = a[c] - T(kAlbedoTarget);
+        const T r = excess > T(0) ? excess * weight_ : T(0);
+        if constexpr (std::is_same_v<T, double>) {
+          residuals[3 * k + c] = r;
+        } else {
+          residuals[3 * k + c] = r.a;
+          for (int p = 0; p < size_; ++p) jac[(3 * k + size_t(c)) * size_t(size_) + size_t(p)] = r.v[p];
+        }
+      }
+    }
+    for (size_t i = 0; i < 3 * dirs_.size(); ++i)
+      if (!std::isfinite(residuals[i])) return false;
+    return true;
+  }
+  const Model& model_;
+  std::vector<WatchedDirection> dirs_;
+  double weight_;
+  int size_;
+};
+
+// --- Identifiability (docs/fitting.md, "Identifiability") -------------------------------------
+
+// The entries the data do not constrain at x: the eigenvectors of the scaled normal matrix
+// D J^T J D (D: each entry's size, max(|x|, 0.01), or 1 for the rotation in degrees, so that a
+// column's units do not decide) whose eigenvalue is below kWeakEigenvalue times the largest, i.e.
+// singular values of J D below 1e-5 of the largest.
+constexpr double kWeakEigenvalue = 1e-10, kWeakComponent = 0.5;
+
+template <class Model>
+std::vector<int> weak_entries(const Model& model, const std::vector<std::unique_ptr<ceres::CostFunction>>& costs,
+                              const std::vector<double>& x) {
+  const int P = int(model.defs.size());
+  Eigen::VectorXd scale(P);
+  for (int p = 0; p < P; ++p) scale[p] = p == model.rotation_index() ? 1.0 : std::max(std::abs(x[size_t(p)]), 1e-2);
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(P, P);
+  for (const auto& c : costs) {
+    const int rows = c->num_residuals();
+    std::vector<double> r(static_cast<size_t>(rows)), j(static_cast<size_t>(rows) * static_cast<size_t>(P));
+    const double* params[] = {x.data()};
+    double* jac[] = {j.data()};
+    if (!c->Evaluate(params, r.data(), jac)) continue;
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jm(j.data(), rows, P);
+    const Eigen::MatrixXd js = jm * scale.asDiagonal();
+    normal.noalias() += js.transpose() * js;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(normal);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
+  const double largest = lambda[P - 1];
+  std::vector<int> weak;
+  if (!(largest > 0.0)) return weak;
+  // An entry is weak when its unit vector lies mostly in the weak subspace: the squares of its
+  // components over the weak eigenvectors (a basis of that subspace, any basis when several
+  // eigenvalues are 0) sum to more than kWeakComponent^2.
+  Eigen::VectorXd in_weak = Eigen::VectorXd::Zero(P);
+  for (int k = 0; k < P && lambda[k] <= kWeakEigenvalue * largest; ++k) in_weak += eig.eigenvectors().col(k).cwiseAbs2();
+  for (int p = 0; p < P; ++p)
+    if (in_weak[p] > kWeakComponent * kWeakComponent) weak.push_back(p);
+  return weak;
+}
+
 DataMoments data_moments(const SampleSet& data) {
   DataMoments m;
   const size_t n = data.samples.size();
@@ -402,6 +581,31 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     if (auto s = nearest_ngan_start(model, used, dm)) starts.push_back(*s);
   Rng rng(o.seed);
   for (int i = 1; int(starts.size()) < o.starts; ++i) starts.push_back({fmt::format("random {}", i), model.random_start(rng, dm)});
+  // The orientation (models.h, Orientation): each deterministic start at kRotationStarts turns
+  // spread over the lobe's period (the isotropic starts have no preferred direction, and the
+  // solver turns a start by at most about half the spacing), each random start at a random turn
+  // (its own stream: the other entries of the random starts do not change).
+  const int ri = model.rotation_index();
+  if (ri >= 0) {
+    constexpr int kRotationStarts = 4;
+    Rng turn_rng(o.seed ^ 0x7e57a7e5ULL);
+    std::vector<StartPoint> turned;
+    for (const StartPoint& st : starts) {
+      if (st.name.rfind("random", 0) == 0) {
+        StartPoint t = st;
+        t.x[size_t(ri)] = model.rotation_period() * turn_rng.uniform();
+        turned.push_back(std::move(t));
+        continue;
+      }
+      for (int k = 0; k < kRotationStarts; ++k) {
+        StartPoint t = st;
+        t.x[size_t(ri)] = model.rotation_period() * k / kRotationStarts;
+        t.name += fmt::format(", turned {:g} deg", t.x[size_t(ri)]);
+        turned.push_back(std::move(t));
+      }
+    }
+    starts = std::move(turned);
+  }
 
   // Residual blocks: chunks of 64 samples (fewer blocks, less overhead); one sample per block when a
   // robust loss is asked, because the loss acts on a block's squared norm.
@@ -446,7 +650,7 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   const int P = int(model.defs.size());
   const auto solve = [&](std::vector<double> x, int max_iterations, const std::string& stage, int iterations_after,
-                         bool rank_only) {
+                         bool rank_only, const ceres::CostFunction* energy = nullptr) {
     const auto& blocks = rank_only && !ranking_costs.empty() ? ranking_costs : costs;
     const size_t rows = rank_only && !ranking.empty() ? ranking.size() : used.size();
     std::vector<const ceres::CostFunction*> block_ptrs;
@@ -461,6 +665,7 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     ceres::Problem problem(popt);
     for (auto& c : cached) problem.AddResidualBlock(c.get(), loss.get(), x.data());
     if (penalty) problem.AddResidualBlock(penalty.get(), nullptr, x.data());
+    if (energy) problem.AddResidualBlock(const_cast<ceres::CostFunction*>(energy), nullptr, x.data());
     for (int i = 0; i < P; ++i) {
       problem.SetParameterLowerBound(x.data(), i, model.defs[size_t(i)].lo);
       problem.SetParameterUpperBound(x.data(), i, model.defs[size_t(i)].hi);
@@ -513,11 +718,64 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   }
   if (!std::isfinite(final_fit.cost)) throw std::runtime_error(fmt::format("{}: the fit diverged from every start", data.source));
 
+  // The material as every tool reads it (validated and built by the material reader), in its
+  // canonical orientation (models.h, Orientation::canonicalize).
+  const auto material_of = [&](std::vector<double> x) {
+    model.canonicalize(x.data());
+    nlohmann::json j = model.to_json(x.data());
+    if (ri >= 0) j["rotation_deg"] = x[size_t(ri)];
+    return j;
+  };
+  const auto build_fitted = [&](const std::vector<double>& x) {
+    return build_material<double>(parse_material(material_of(x), "fitted material"));
+  };
+
   FitResult r;
-  r.material = model.to_json(final_fit.x.data());
-  // The material as every tool reads it: validated and built by the material reader.
-  const MaterialD built = build_material<double>(parse_material(r.material, "fitted material"));
+  r.anisotropic = ri >= 0;
+  // Identifiability: the entries the solver's samples do not constrain at the solution.
+  for (int p : weak_entries(model, costs, final_fit.x)) {
+    const std::string& name = model.defs[size_t(p)].name;
+    r.weakly_constrained.push_back(name);
+    const auto& an = model.anisotropy_indices();
+    if (std::find(an.begin(), an.end(), p) != an.end()) r.unconstrained_anisotropy.push_back(name);
+  }
+  // Energy: the largest directional albedo on the grid; above kAlbedoLimit (and unless allowed),
+  // refit with the penalty on the offending directions, up to kEnergyRounds times, each round
+  // watching the directions found so far and any new offender.
+  std::vector<AlbedoAt> grid = albedo_grid(build_fitted(final_fit.x), ri >= 0);
+  r.unconstrained_l2cos = fit_errors(build_fitted(final_fit.x), data).relative_l2cos;
+  if (!o.allow_energy_gain && grid.front().value > kAlbedoLimit && r.unconstrained_anisotropy.empty()) {
+    constexpr int kEnergyRounds = 4, kWatchSamples = 512;
+    std::vector<Vec3d> watched;
+    for (int round = 0; round < kEnergyRounds && grid.front().value > kAlbedoLimit; ++round) {
+      for (const AlbedoAt& a : grid)
+        if (a.value > kAlbedoTarget && watched.size() < 24 &&
+            std::find(watched.begin(), watched.end(), a.wo) == watched.end())
+          watched.push_back(a.wo);
+      const MaterialD current = build_fitted(final_fit.x);
+      std::vector<WatchedDirection> dirs;
+      for (size_t k = 0; k < watched.size(); ++k) dirs.push_back(watch(current, watched[k], kWatchSamples, 0xe4e7 + 97 * k + round));
+      // An excess of 0.005 costs ten times the data term: the constraint wins, the data decide
+      // everything it leaves free.
+      const double weight = std::sqrt(20.0 * std::max(final_fit.cost, 1e-12)) / 0.005;
+      EnergyCost<Model, N> energy(model, std::move(dirs), weight);
+      Solved constrained = solve(final_fit.x, o.max_iterations, fmt::format("energy constraint, round {}", round + 1), 0,
+                                 false, &energy);
+      iterations += constrained.iterations;
+      if (!std::isfinite(constrained.cost)) break;
+      final_fit = constrained;
+      r.energy_constrained = true;
+      grid = albedo_grid(build_fitted(final_fit.x), ri >= 0);
+    }
+  }
+  r.largest_albedo = grid.front().value;
+  r.largest_albedo_theta_deg = grid.front().theta_deg;
+  r.largest_albedo_phi_deg = grid.front().phi_deg;
+
+  r.material = material_of(final_fit.x);
+  const MaterialD built = build_fitted(final_fit.x);
   r.errors = fit_errors(built, data);
+  model.canonicalize(final_fit.x.data());
   for (const ParamDef& d : model.defs) r.parameter_names.push_back(d.name);
   r.parameters = final_fit.x;
   r.best_start = starts[best].name;
@@ -605,7 +863,11 @@ FitOptions parse_fit_options(const FitOptionText& a) {
   FitOptions o;
   o.model = a.model;
   o.lobes = int(parse_integer(a.lobes, 1, kLafortuneMaxLobes, "--lobes"));
-  o.anisotropic = a.anisotropic;
+  if (a.anisotropic == "auto") o.anisotropy = Anisotropy::Auto;
+  else if (a.anisotropic == "yes") o.anisotropy = Anisotropy::Yes;
+  else if (a.anisotropic == "no") o.anisotropy = Anisotropy::No;
+  else throw InputError(fmt::format("--anisotropic: expected auto, yes or no, got \"{}\"", a.anisotropic));
+  o.allow_energy_gain = a.allow_energy_gain;
   o.shared_exponents = a.shared_exponents;
   o.normalization = a.normalization;
   o.metal = a.metal;
@@ -627,32 +889,63 @@ FitOptions parse_fit_options(const FitOptionText& a) {
 
 namespace {
 
-// The fittable models, one row each (its class in fit/models.h), in the order `--model` lists them.
+// The fittable models, one row each (its class in fit/models.h), in the order `--model` lists them;
+// `anisotropic` is the decision fit_samples made (FitOptions::anisotropy).
 struct Fittable {
   std::string_view model;
-  FitResult (*fit)(const SampleSet& data, const FitOptions& o);
+  FitResult (*fit)(const SampleSet& data, const FitOptions& o, bool anisotropic);
 };
 constexpr Fittable kFittable[] = {
     {"lafortune",
-     [](const SampleSet& data, const FitOptions& o) {
+     [](const SampleSet& data, const FitOptions& o, bool aniso) {
        if (o.lobes < 1 || o.lobes > kLafortuneMaxLobes)
          throw InputError(fmt::format("--lobes: expected 1 to {}, got {}", kLafortuneMaxLobes, o.lobes));
-       return dispatch(LafortuneFit(o.lobes, o.anisotropic, o.shared_exponents), data, o);
+       return dispatch(LafortuneFit(o.lobes, aniso, o.shared_exponents), data, o);
      }},
     {"ward",
-     [](const SampleSet& data, const FitOptions& o) {
-       return dispatch(WardFit(o.anisotropic, option_enum<WardNormalization>(o.normalization, "--normalization")), data, o);
+     [](const SampleSet& data, const FitOptions& o, bool aniso) {
+       return dispatch(WardFit(aniso, option_enum<WardNormalization>(o.normalization, "--normalization")), data, o);
      }},
     {"ashikhmin-shirley",
-     [](const SampleSet& data, const FitOptions& o) { return dispatch(AshikhminShirleyFit(o.anisotropic), data, o); }},
-    {"ggx", [](const SampleSet& data, const FitOptions& o) { return dispatch(GGXFit(o.anisotropic), data, o); }},
+     [](const SampleSet& data, const FitOptions& o, bool aniso) { return dispatch(AshikhminShirleyFit(aniso), data, o); }},
+    {"ggx", [](const SampleSet& data, const FitOptions& o, bool aniso) { return dispatch(GGXFit(aniso), data, o); }},
     {"metal",
-     [](const SampleSet& data, const FitOptions& o) {
+     [](const SampleSet& data, const FitOptions& o, bool aniso) {
        const SpecularLobeKind lobe = option_enum<SpecularLobeKind>(o.metal_lobe, "--metal-lobe");
-       return dispatch(MetalFit(o.anisotropic, o.metal, lobe), data, o);
+       return dispatch(MetalFit(aniso, o.metal, lobe), data, o);
      }},
-    {"principled", [](const SampleSet& data, const FitOptions& o) { return dispatch(PrincipledFit(o.anisotropic), data, o); }},
+    {"principled",
+     [](const SampleSet& data, const FitOptions& o, bool aniso) { return dispatch(PrincipledFit(aniso), data, o); }},
 };
+
+// Whether the data can show anisotropy at all (docs/fitting.md, "Anisotropy"): the azimuths of
+// their half vectors, modulo the half turn every anisotropic lobe repeats after, in 12 bins of 15
+// degrees. An anisotropic lobe is a function of the half vector's azimuth; data whose half
+// vectors sit at fewer than kCoverageBins bins (a MERL table: one azimuth) cannot tell its
+// directions apart. Half vectors within 1 degree of the normal have no azimuth and are skipped.
+constexpr int kAzimuthBins = 12, kCoverageBins = 4;
+struct Coverage {
+  int bins = 0;
+  bool enough() const { return bins >= kCoverageBins; }
+};
+Coverage azimuth_coverage(const SampleSet& data) {
+  std::array<size_t, kAzimuthBins> count{};
+  size_t total = 0;
+  for (const MeasuredSample& s : data.samples) {
+    const Vec3d h = s.wi + s.wo;
+    const double len = glm::length(h);
+    if (!(len > 0.0) || std::hypot(h.x, h.y) < std::sin(M_PI / 180.0) * len) continue;
+    double phi = std::atan2(h.y, h.x);
+    if (phi < 0.0) phi += M_PI;
+    if (phi >= M_PI) phi -= M_PI;
+    ++count[std::min(size_t(phi / M_PI * kAzimuthBins), size_t(kAzimuthBins - 1))];
+    ++total;
+  }
+  Coverage c;
+  // A bin counts when it holds at least half a percent of the samples (a stray sample does not).
+  for (size_t n : count) c.bins += total > 0 && double(n) >= 0.005 * double(total);
+  return c;
+}
 
 }  // namespace
 
@@ -671,12 +964,64 @@ FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
                                            [](const MeasuredSample& s) { return s.value == Vec3d(0.0); }))
     throw InputError(fmt::format("{}: every sample is 0: there is nothing to fit (any black material matches, and the "
                                  "relative error is undefined)", data.source));
+  const Fittable* row = nullptr;
   std::string names;
   for (size_t i = 0; i < std::size(kFittable); ++i) {
-    if (kFittable[i].model == o.model) return kFittable[i].fit(data, o);
+    if (kFittable[i].model == o.model) row = &kFittable[i];
     names += fmt::format("{}{}", i == 0 ? "" : i + 1 == std::size(kFittable) ? " or " : ", ", kFittable[i].model);
   }
-  throw InputError(fmt::format("--model: expected {}, got \"{}\"", names, o.model));
+  if (!row) throw InputError(fmt::format("--model: expected {}, got \"{}\"", names, o.model));
+
+  // The anisotropic fit, with its ties: entries the data do not constrain (the second halves of
+  // the pairs, the rotation) make the fit isotropic again, which ties each to its partner.
+  const auto anisotropic_fit = [&](std::string why) {
+    FitResult a = row->fit(data, o, true);
+    a.anisotropy_reason = std::move(why);
+    if (a.unconstrained_anisotropy.empty()) return a;
+    std::string list;
+    for (const std::string& n : a.unconstrained_anisotropy) list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
+    FitResult iso = row->fit(data, o, false);
+    iso.tied.push_back(fmt::format("the anisotropic pair to its isotropic partner (alpha_y = alpha_x, n_v = n_u, cy = cx) "
+                                   "and rotation_deg to 0: the data do not constrain {}",
+                                   list));
+    iso.anisotropy_reason = a.anisotropy_reason + "; then isotropic: the data do not constrain the anisotropic entries";
+    return iso;
+  };
+  const auto with_reason = [](FitResult r, std::string why) {
+    r.anisotropy_reason = std::move(why);
+    return r;
+  };
+  switch (o.anisotropy) {
+    case Anisotropy::No: return with_reason(row->fit(data, o, false), "isotropic (--anisotropic no)");
+    case Anisotropy::Yes: return anisotropic_fit("anisotropic (--anisotropic yes)");
+    case Anisotropy::Auto: break;
+  }
+  const Coverage cov = azimuth_coverage(data);
+  if (!cov.enough())
+    return with_reason(row->fit(data, o, false),
+                       fmt::format("isotropic: the data's half vectors lie at {} of {} azimuths (15-degree bins over the "
+                                   "half circle), fewer than the {} that show an anisotropic lobe's directions",
+                                   cov.bins, kAzimuthBins, kCoverageBins));
+  FitResult iso = row->fit(data, o, false);
+  FitResult an = anisotropic_fit("");
+  const double gain = iso.errors.relative_l2cos > 0.0 ? 1.0 - an.errors.relative_l2cos / iso.errors.relative_l2cos : 0.0;
+  const std::string figures = fmt::format("{:.1f}% (relative l2cos {:.4g} -> {:.4g})", 100.0 * gain,
+                                          iso.errors.relative_l2cos, an.errors.relative_l2cos);
+  if (an.anisotropic && gain >= kAutoAnisotropicGain) {
+    an.anisotropy_reason = fmt::format("anisotropic: the anisotropic fit lowers the error by {}, at least the {:g}% the "
+                                       "auto rule asks",
+                                       figures, 100.0 * kAutoAnisotropicGain);
+    an.seconds += iso.seconds;
+    return an;
+  }
+  if (!an.anisotropic) iso.tied = an.tied;
+  iso.anisotropy_reason =
+      an.anisotropic ? fmt::format("isotropic: the anisotropic fit lowers the error by only {}, less than the {:g}% the "
+                                   "auto rule asks",
+                                   figures, 100.0 * kAutoAnisotropicGain)
+                     : "isotropic: the data do not constrain the anisotropic fit's extra entries (tied below)";
+  iso.seconds += an.seconds;
+  return iso;
 }
 
 nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const FitOptions& o) {
@@ -689,7 +1034,23 @@ nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const F
   if (o.model == "lafortune") f["lobes"] = o.lobes, f["shared_exponents"] = o.shared_exponents;
   if (o.model == "ward") f["normalization"] = o.normalization;
   if (o.model == "metal") f["metal"] = o.metal.empty() ? "fitted eta, k" : o.metal, f["lobe"] = o.metal_lobe;
-  f["anisotropic"] = o.anisotropic;
+  f["anisotropic"] = r.anisotropic;
+  f["anisotropy"] = o.anisotropy == Anisotropy::Auto ? "auto" : o.anisotropy == Anisotropy::Yes ? "yes" : "no";
+  f["anisotropy_reason"] = r.anisotropy_reason;
+  f["tied"] = r.tied;
+  f["weakly_constrained"] = r.weakly_constrained;
+  f["largest_albedo"] = {{"value", r.largest_albedo},
+                         {"theta_deg", r.largest_albedo_theta_deg},
+                         {"phi_deg", r.largest_albedo_phi_deg},
+                         {"grid", fmt::format("theta_o 0 to 89 deg ({} values) x phi_o {}, {} importance samples each",
+                                              std::size(kAlbedoThetaDeg),
+                                              r.anisotropic ? "0 to 165 deg in steps of 15" : "0 (isotropic)",
+                                              kAlbedoSamples)}};
+  f["energy"] = o.allow_energy_gain ? "unconstrained (--allow-energy-gain)"
+                : r.energy_constrained
+                    ? fmt::format("constrained: directional albedo <= 1 (relative l2cos {:.4g} before, {:.4g} after)",
+                                  r.unconstrained_l2cos, r.errors.relative_l2cos)
+                    : "directional albedo <= 1 without the constraint acting";
   f["metric"] = o.metric == FitMetric::Log ? "log" : "l2cos";
   f["loss"] = o.loss;
   f["starts"] = o.starts;

@@ -28,6 +28,14 @@ namespace aniso {
 
 enum class FitMetric { L2Cos, Log };
 
+// Whether the fitted model is anisotropic (docs/fitting.md, "Anisotropy"): Auto fits both when
+// the data's half vectors cover the azimuths, and keeps the anisotropic one when it lowers the
+// error by at least kAutoAnisotropicGain; Yes and No force it. An anisotropic fit also fits the
+// orientation (rotation_deg).
+enum class Anisotropy { Auto, Yes, No };
+// Auto's rule: the anisotropic fit must lower the relative l2cos error by at least this fraction.
+inline constexpr double kAutoAnisotropicGain = 0.10;
+
 // What a fit reports while it runs (the CLI draws it on stderr for fits over a second).
 struct FitProgress {
   std::string stage;  // "start 3/8 (random)", "refining the best start"
@@ -40,7 +48,10 @@ struct FitProgress {
 struct FitOptions {
   std::string model = "lafortune";  // lafortune | ward | ashikhmin-shirley | ggx | metal
   int lobes = 1;                    // Lafortune: 1 to 8
-  bool anisotropic = false;         // Cx != Cy, alpha_x != alpha_y, n_u != n_v
+  Anisotropy anisotropy = Anisotropy::Auto;  // Cx != Cy, alpha_x != alpha_y, n_u != n_v, and rotation_deg
+  // Off: every fitted material's directional albedo stays <= 1 (docs/fitting.md, "Energy"); on:
+  // the fit may gain energy (data that do), and says so.
+  bool allow_energy_gain = false;
   bool shared_exponents = false;    // Lafortune: one n per lobe for all channels
   std::string normalization = "ward";  // Ward: ward | duer | balanced
   std::string metal;                // metal: a named metal (fixed eta, k); empty fits eta and k
@@ -75,7 +86,8 @@ struct FitCancelled : std::runtime_error {
 struct FitOptionText {
   std::string model = "lafortune", lobes = "1", normalization = "ward", metal, metal_lobe = "ggx", metric = "l2cos";
   std::string loss = "none", loss_scale = "0", starts = "6", seed = "1", threads = "0", max_iterations = "200";
-  bool anisotropic = false, shared_exponents = false;
+  std::string anisotropic = "auto";  // auto | yes | no
+  bool shared_exponents = false, allow_energy_gain = false;
 };
 // Throws InputError naming the option for a value out of range (the model's own options, such as an
 // unknown --model or --normalization, are checked by fit_samples).
@@ -98,6 +110,19 @@ struct FitResult {
   double seconds = 0.0;
   size_t samples_total = 0, samples_used = 0;
   std::string termination;  // Ceres' message for the final refinement
+  // Anisotropy: what was fitted and why (Anisotropy::Auto's decision, or the option).
+  bool anisotropic = false;
+  std::string anisotropy_reason;
+  // Parameters the data did not constrain, tied to their isotropic partner or a default and
+  // refitted ("cy = cx (every lobe)", "rotation_deg = 0"), each with the reason; and the weak
+  // directions that were left free (combinations, printed as warnings).
+  std::vector<std::string> tied, weakly_constrained;
+  std::vector<std::string> unconstrained_anisotropy;  // the anisotropy entries among the weak ones
+  // The largest directional albedo of the fitted material over the grid of docs/fitting.md
+  // ("Energy"), where it is, and whether the energy constraint acted.
+  double largest_albedo = 0.0, largest_albedo_theta_deg = 0.0, largest_albedo_phi_deg = 0.0;
+  bool energy_constrained = false;
+  double unconstrained_l2cos = 0.0;  // the relative l2cos error before the constraint acted
 };
 
 // Throws InputError for options that do not make a model (unknown model, --lobes out of range).

@@ -96,6 +96,23 @@ LafortuneFit::LafortuneFit(int lobes, bool anisotropic, bool shared_exponents)
     else
       for (int c = 0; c < 3; ++c) defs.push_back(table_def(lobe, "n", fmt::format("lobe{}.n.{}", k, ch[c])));
   }
+  if (anisotropic) {
+    for (int k = 0; k < lobes; ++k)
+      for (int c = 0; c < 3; ++c) aniso_.push_back(cy(k, c));
+    add_rotation(defs);
+  }
+}
+
+void LafortuneFit::canonicalize(double* x) const {
+  if (!anisotropic_) return;
+  double sx = 0.0, sy = 0.0;
+  for (int k = 0; k < lobes_; ++k)
+    for (int c = 0; c < 3; ++c) sx += std::abs(x[cx(k, c)]), sy += std::abs(x[cy(k, c)]);
+  const bool swap = sx < sy;
+  if (swap)
+    for (int k = 0; k < lobes_; ++k)
+      for (int c = 0; c < 3; ++c) std::swap(x[cx(k, c)], x[cy(k, c)]);
+  canonical_angle(x, swap);
 }
 
 Json LafortuneFit::to_json(const double* x) const {
@@ -174,7 +191,18 @@ WardFit::WardFit(bool anisotropic, WardNormalization norm) : anisotropic_(anisot
   for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("ward"), "kd", fmt::format("kd.{}", ch[c])));
   for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("ward"), "ks", fmt::format("ks.{}", ch[c])));
   defs.push_back(table_def(spec("ward"), "alpha_x", anisotropic ? "alpha_x" : "alpha"));
-  if (anisotropic) defs.push_back(table_def(spec("ward"), "alpha_y", "alpha_y"));
+  if (anisotropic) {
+    aniso_.push_back(7);
+    defs.push_back(table_def(spec("ward"), "alpha_y", "alpha_y"));
+    add_rotation(defs);
+  }
+}
+
+void WardFit::canonicalize(double* x) const {
+  if (!anisotropic_) return;
+  const bool swap = x[6] > x[7];
+  if (swap) std::swap(x[6], x[7]);
+  canonical_angle(x, swap);
 }
 
 Json WardFit::to_json(const double* x) const {
@@ -205,7 +233,18 @@ AshikhminShirleyFit::AshikhminShirleyFit(bool anisotropic) : anisotropic_(anisot
   for (int c = 0; c < 3; ++c) defs.push_back(table_def(s, "ks_scale", fmt::format("ks_scale.{}", ch[c])));
   defs.push_back(table_def(s, "rs", "rs"));
   defs.push_back(table_def(s, "n_u", anisotropic ? "n_u" : "n"));
-  if (anisotropic) defs.push_back(table_def(s, "n_v", "n_v"));
+  if (anisotropic) {
+    aniso_.push_back(8);
+    defs.push_back(table_def(s, "n_v", "n_v"));
+    add_rotation(defs);
+  }
+}
+
+void AshikhminShirleyFit::canonicalize(double* x) const {
+  if (!anisotropic_) return;
+  const bool swap = x[7] < x[8];
+  if (swap) std::swap(x[7], x[8]);
+  canonical_angle(x, swap);
 }
 
 Json AshikhminShirleyFit::to_json(const double* x) const {
@@ -256,7 +295,18 @@ GGXFit::GGXFit(bool anisotropic) : anisotropic_(anisotropic) {
   for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("ggx"), "kd", fmt::format("kd.{}", ch[c])));
   for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("ggx"), "f0", fmt::format("f0.{}", ch[c])));
   defs.push_back(table_def(spec("ggx"), "alpha_x", anisotropic ? "alpha_x" : "alpha"));
-  if (anisotropic) defs.push_back(table_def(spec("ggx"), "alpha_y", "alpha_y"));
+  if (anisotropic) {
+    aniso_.push_back(7);
+    defs.push_back(table_def(spec("ggx"), "alpha_y", "alpha_y"));
+    add_rotation(defs);
+  }
+}
+
+void GGXFit::canonicalize(double* x) const {
+  if (!anisotropic_) return;
+  const bool swap = x[6] > x[7];
+  if (swap) std::swap(x[6], x[7]);
+  canonical_angle(x, swap);
 }
 
 Json GGXFit::to_json(const double* x) const {
@@ -286,7 +336,16 @@ PrincipledFit::PrincipledFit(bool anisotropic) : anisotropic_(anisotropic) {
   // roughness below 0.0316 clamps alpha = roughness^2 at 0.001 (principled.h): a flat direction
   // for the solver, so the fit stays above it.
   defs.back().lo = 0.04;
-  if (anisotropic) defs.push_back(table_def(spec("principled"), "anisotropic", "anisotropic"));
+  if (anisotropic) {
+    aniso_.push_back(6);
+    defs.push_back(table_def(spec("principled"), "anisotropic", "anisotropic"));
+    add_rotation(defs);
+    period_ = 180.0;
+  }
+}
+
+void PrincipledFit::canonicalize(double* x) const {
+  if (anisotropic_) canonical_angle(x, false);
 }
 
 Json PrincipledFit::to_json(const double* x) const {
@@ -338,7 +397,20 @@ MetalFit::MetalFit(bool anisotropic, const std::string& metal, SpecularLobeKind 
   const ModelSpec& ls = metal_lobe_spec(enum_name(lobe));
   const bool as = lobe == SpecularLobeKind::AshikhminShirley;
   defs.push_back(table_def(ls, as ? "n_u" : "alpha_x", anisotropic ? (as ? "n_u" : "alpha_x") : (as ? "n" : "alpha")));
-  if (anisotropic) defs.push_back(table_def(ls, as ? "n_v" : "alpha_y", as ? "n_v" : "alpha_y"));
+  if (anisotropic) {
+    aniso_.push_back(int(defs.size()));
+    defs.push_back(table_def(ls, as ? "n_v" : "alpha_y", as ? "n_v" : "alpha_y"));
+    add_rotation(defs);
+  }
+}
+
+void MetalFit::canonicalize(double* x) const {
+  if (!anisotropic_) return;
+  const int i = named_ ? 0 : 6;
+  // The narrower direction along the tangent: the smaller alpha, or the larger AS exponent.
+  const bool swap = lobe_ == SpecularLobeKind::AshikhminShirley ? x[i] < x[i + 1] : x[i] > x[i + 1];
+  if (swap) std::swap(x[i], x[i + 1]);
+  canonical_angle(x, swap);
 }
 
 Json MetalFit::to_json(const double* x) const {

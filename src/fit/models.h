@@ -8,6 +8,7 @@
 //   random_start    a random start, drawn from documented ranges (docs/fitting.md)
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,8 +39,47 @@ using Json = nlohmann::json;
 // Bounds of a key of a table (min_exclusive: see each use).
 ParamDef table_def(const ModelSpec& spec, std::string_view key, std::string name);
 
-class LafortuneFit {
+// The orientation of an anisotropic fit (docs/fitting.md, "Orientation"): rotation_deg, the last
+// entry of the vector. The model's kernel never sees it: the residuals turn the directions by it
+// (fit.cpp, as MaterialT does with FrameRotationT), so the derivative comes through the same Jet.
+// Every anisotropic lobe is symmetric under a half turn, and the Gaussian / GGX / AS / Lafortune
+// lobes under a quarter turn with their pair swapped: canonicalize() writes the one form with the
+// rotation in [0, 180) and the lobe narrower along the tangent (alpha_x <= alpha_y, n_u >= n_v,
+// |C_x| >= |C_y| summed over lobes and channels); principled has no swap (its anisotropic >= 0
+// always makes alpha_x >= alpha_y).
+class Orientation {
  public:
+  int rotation_index() const { return rotation_; }
+  // The entries that exist only because the fit is anisotropic: the second half of each pair and
+  // the rotation (what the identifiability check ties when the data do not constrain them).
+  const std::vector<int>& anisotropy_indices() const { return aniso_; }
+  // The turn after which the lobe repeats itself with its pair swapped (90 degrees), or repeats
+  // only itself (180: principled). The orientation starts spread over it.
+  double rotation_period() const { return period_; }
+
+ protected:
+  void add_rotation(std::vector<ParamDef>& defs) {
+    rotation_ = int(defs.size());
+    aniso_.push_back(rotation_);
+    defs.push_back({"rotation_deg", -360.0, 360.0});  // the table's range (params.cpp, kOrientation)
+  }
+  // Adds a quarter turn when the caller swapped the pair, then wraps the angle into [0, 180).
+  void canonical_angle(double* x, bool quarter_turn) const {
+    if (rotation_ < 0) return;
+    double a = x[rotation_] + (quarter_turn ? 90.0 : 0.0);
+    a = std::fmod(a, 180.0);
+    if (a < 0.0) a += 180.0;
+    if (a >= 180.0) a -= 180.0;  // fmod of a value just below 0 rounds up to 180
+    x[rotation_] = a;
+  }
+  int rotation_ = -1;
+  double period_ = 90.0;
+  std::vector<int> aniso_;
+};
+
+class LafortuneFit : public Orientation {
+ public:
+  void canonicalize(double* x) const;
   LafortuneFit(int lobes, bool anisotropic, bool shared_exponents);
   std::vector<ParamDef> defs;
   int rho(int c) const { return c; }
@@ -83,17 +123,19 @@ class LafortuneFit {
         out[3 * k + c] = excess > T(0) ? excess : T(0);
       }
   }
-  // f is a sum of parts that share no parameter: the diffuse term (part 0, rho_d) and each lobe
-  // (part k + 1). The Jacobian is assembled part by part (fit.cpp, ChunkCost), each part the same
+  // f is a sum of parts that share no parameter but the rotation: the diffuse term (part 0, rho_d)
+  // and each lobe (part k + 1). The Jacobian is assembled part by part (fit.cpp, ChunkCost), each part the same
   // kernel with only that term, on a Jet as wide as the part's parameters (at most 12) instead of
   // all of them (up to 99): the derivatives are the same, the Jet arithmetic a fraction.
   static constexpr bool kHasParts = true;
-  static constexpr int kMaxPartSize = 12;
+  static constexpr int kMaxPartSize = 13;  // an anisotropic lobe (12) and the rotation
   int part_count() const { return lobes_ + 1; }
   std::vector<int> part_indices(int part) const {
     std::vector<int> out;
     const int first = part == 0 ? 0 : base(part - 1), size = part == 0 ? 3 : stride_;
     for (int i = 0; i < size; ++i) out.push_back(first + i);
+    // Every lobe turns with the rotation: each lobe's part adds its share of df/d(rotation).
+    if (part > 0 && rotation_ >= 0) out.push_back(rotation_);
     return out;
   }
   template <typename T> LafortuneT<T> build_part(int part, const T* x) const {
@@ -121,8 +163,9 @@ class LafortuneFit {
 };
 
 // f = kd / pi + ks N E (ward.h), vector form, the chosen normalisation.
-class WardFit {
+class WardFit : public Orientation {
  public:
+  void canonicalize(double* x) const;
   int penalty_count() const { return 0; }
   template <typename T> void penalties(const T*, T*) const {}
   WardFit(bool anisotropic, WardNormalization norm);
@@ -149,8 +192,9 @@ class WardFit {
 };
 
 // Ngan 2005's form of Ashikhmin-Shirley: kd / pi + ks_scale F(rs) f_s, no coupled diffuse (rd = 0).
-class AshikhminShirleyFit {
+class AshikhminShirleyFit : public Orientation {
  public:
+  void canonicalize(double* x) const;
   int penalty_count() const { return 0; }
   template <typename T> void penalties(const T*, T*) const {}
   explicit AshikhminShirleyFit(bool anisotropic);
@@ -175,8 +219,9 @@ class AshikhminShirleyFit {
   bool anisotropic_;
 };
 
-class GGXFit {
+class GGXFit : public Orientation {
  public:
+  void canonicalize(double* x) const;
   int penalty_count() const { return 0; }
   template <typename T> void penalties(const T*, T*) const {}
   explicit GGXFit(bool anisotropic);
@@ -200,8 +245,9 @@ class GGXFit {
 };
 
 // A conductor (metal.h): named eta, k (fixed) or fitted ones, and a Ward, AS or GGX lobe.
-class MetalFit {
+class MetalFit : public Orientation {
  public:
+  void canonicalize(double* x) const;
   int penalty_count() const { return 0; }
   template <typename T> void penalties(const T*, T*) const {}
   MetalFit(bool anisotropic, const std::string& metal, SpecularLobeKind lobe);
@@ -241,8 +287,9 @@ class MetalFit {
 
 // The Disney principled BRDF (principled.h): base_color (3), metallic, specular, roughness and,
 // when anisotropic, anisotropic; subsurface, sheen and clearcoat stay 0 (their keys' defaults).
-class PrincipledFit {
+class PrincipledFit : public Orientation {
  public:
+  void canonicalize(double* x) const;
   int penalty_count() const { return 0; }
   template <typename T> void penalties(const T*, T*) const {}
   explicit PrincipledFit(bool anisotropic);

@@ -52,11 +52,27 @@ std::string glsl_material_dispatch() {
       "\n"
       "// enum class ModelKind (enumerator values as in registry.h).\n"
       "{}\n"
-      "struct Material {{\n  int kind;  // ModelKind_*\n{}}};\n\n"
-      "vec3 Material_f(Material self, vec3 wi, vec3 wo) {{\n{}  return Lambert_f(self.lambert, wi, wo);\n}}\n"
-      "float Material_pdf(Material self, vec3 wi, vec3 wo) {{\n{}  return Lambert_pdf(self.lambert, wi, wo);\n}}\n"
-      "BSDFSample Material_sample(Material self, vec3 wo, float uc, vec2 u) {{\n{}"
-      "  return Lambert_sample(self.lambert, wo, uc, u);\n}}\n",
+      "// The orientation (material.h, FrameRotationT): r = (cos a, sin a) of the material's rotation_deg,\n"
+      "// the tangent turned about the normal, t' = cos a t + sin a b. Directions into the turned frame\n"
+      "// the model lives in, and sampled ones back.\n"
+      "vec3 FrameRotation_to_model(vec2 r, vec3 w) {{ return vec3(r.x * w.x + r.y * w.y, r.x * w.y - r.y * w.x, w.z); }}\n"
+      "vec3 FrameRotation_from_model(vec2 r, vec3 w) {{ return vec3(r.x * w.x - r.y * w.y, r.y * w.x + r.x * w.y, w.z); }}\n"
+      "\n"
+      "struct Material {{\n  int kind;  // ModelKind_*\n  vec2 rotation;  // FrameRotation: (1, 0) unless rotation_deg\n{}}};\n\n"
+      "// The model of `kind` in its own (turned) frame.\n"
+      "vec3 Material_model_f(Material self, vec3 wi, vec3 wo) {{\n{}  return Lambert_f(self.lambert, wi, wo);\n}}\n"
+      "float Material_model_pdf(Material self, vec3 wi, vec3 wo) {{\n{}  return Lambert_pdf(self.lambert, wi, wo);\n}}\n"
+      "BSDFSample Material_model_sample(Material self, vec3 wo, float uc, vec2 u) {{\n{}"
+      "  return Lambert_sample(self.lambert, wo, uc, u);\n}}\n"
+      "\n"
+      "vec3 Material_f(Material self, vec3 wi, vec3 wo) {{\n"
+      "  return Material_model_f(self, FrameRotation_to_model(self.rotation, wi), FrameRotation_to_model(self.rotation, wo));\n}}\n"
+      "float Material_pdf(Material self, vec3 wi, vec3 wo) {{\n"
+      "  return Material_model_pdf(self, FrameRotation_to_model(self.rotation, wi), FrameRotation_to_model(self.rotation, wo));\n}}\n"
+      "BSDFSample Material_sample(Material self, vec3 wo, float uc, vec2 u) {{\n"
+      "  BSDFSample s = Material_model_sample(self, FrameRotation_to_model(self.rotation, wo), uc, u);\n"
+      "  s.wi = FrameRotation_from_model(self.rotation, s.wi);\n"
+      "  return s;\n}}\n",
       kinds, members, f, pdf, sample);
 }
 

@@ -320,6 +320,11 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
   Slots P(out.slots, storage, prefix);
   Build c{m, w, P};
   const std::string b = visit_kind<float>(*kind, [&](auto type) { return body(type, c); });  // the body of aniso_model()
+  // The orientation of the anisotropic models (rotation_deg; material.h, FrameRotationT), around the
+  // model as MaterialT applies it. The isotropic models have none and their functions call the
+  // model directly.
+  const bool oriented = spec.find("rotation_deg") != nullptr;
+  const std::string rotation_slot = oriented ? P("rotation_deg") : std::string();
   P.check_all_used();
 
   out.model_struct = info.tag;
@@ -340,11 +345,36 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
       out.declarations += fmt::format("const {} {}{} = {};  // {}\n", glsl_type(s.type), prefix, s.name, glsl_value(s), s.table_key);
   }
   const std::string& M = out.model_struct;
+  if (oriented) {
+    out.code = fmt::format(
+        "// The material's kernel struct, built from its parameters as build_material() does.\n"
+        "{0} aniso_model() {{\n  {0} m;\n{1}  return m;\n}}\n"
+        "// rotation_deg as (cos a, sin a): the model's tangent is t' = cos a t + sin a b.\n"
+        "vec2 aniso_rotation() {{\n  float a = radians({4});\n  return vec2(cos(a), sin(a));\n}}\n"
+        "// The same behind the Material dispatch (material.glsl).\n"
+        "Material aniso_material() {{\n  Material mm;\n  mm.kind = {2};\n  mm.rotation = aniso_rotation();\n"
+        "  mm.{3} = aniso_model();\n  return mm;\n}}\n"
+        "// The BRDF without the cosine; local frame (z = normal, x = tangent), both unit; 0 below the horizon.\n"
+        "vec3 aniso_f(vec3 wi, vec3 wo) {{\n  vec2 r = aniso_rotation();\n"
+        "  return {0}_f(aniso_model(), FrameRotation_to_model(r, wi), FrameRotation_to_model(r, wo));\n}}\n"
+        "float aniso_pdf(vec3 wi, vec3 wo) {{\n  vec2 r = aniso_rotation();\n"
+        "  return {0}_pdf(aniso_model(), FrameRotation_to_model(r, wi), FrameRotation_to_model(r, wo));\n}}\n"
+        "// u uniform in [0, 1)^3: u.x picks the lobe, u.yz place the direction. Returns wi; pdf 0 is \"no sample\".\n"
+        "vec3 aniso_sample(vec3 wo, vec3 u, out vec3 weight, out float pdf) {{\n  vec2 r = aniso_rotation();\n"
+        "  BSDFSample s = {0}_sample(aniso_model(), FrameRotation_to_model(r, wo), u.x, u.yz);\n"
+        "  weight = s.weight;\n  pdf = s.pdf;\n  return FrameRotation_from_model(r, s.wi);\n}}\n"
+        "// World-space directions and frame (BRDF Explorer's BRDF(L, V, N, X, Y)): L to the light, V to the viewer.\n"
+        "vec3 aniso_f_world(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {{\n"
+        "  return aniso_f(vec3(dot(L, X), dot(L, Y), dot(L, N)), vec3(dot(V, X), dot(V, Y), dot(V, N)));\n}}\n",
+        M, b, out.model_kind, member, rotation_slot);
+    return out;
+  }
   out.code = fmt::format(
       "// The material's kernel struct, built from its parameters as build_material() does.\n"
       "{0} aniso_model() {{\n  {0} m;\n{1}  return m;\n}}\n"
       "// The same behind the Material dispatch (material.glsl).\n"
-      "Material aniso_material() {{\n  Material mm;\n  mm.kind = {2};\n  mm.{3} = aniso_model();\n  return mm;\n}}\n"
+      "Material aniso_material() {{\n  Material mm;\n  mm.kind = {2};\n  mm.rotation = vec2(1.0, 0.0);\n  mm.{3} = aniso_model();\n"
+      "  return mm;\n}}\n"
       "// The BRDF without the cosine; local frame (z = normal, x = tangent), both unit; 0 below the horizon.\n"
       "vec3 aniso_f(vec3 wi, vec3 wo) {{ return {0}_f(aniso_model(), wi, wo); }}\n"
       "float aniso_pdf(vec3 wi, vec3 wo) {{ return {0}_pdf(aniso_model(), wi, wo); }}\n"

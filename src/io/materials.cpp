@@ -137,6 +137,15 @@ ParamValues read_params(const json& obj, const ModelSpec& spec, const std::strin
   if (!obj.is_object()) throw InputError(fmt::format("{}: expected a JSON object, got {}", where, json_type_name(obj)));
   for (const auto& [key, value] : obj.items()) {
     if (key == tag_key) continue;  // "model": read by the caller
+    // rotation_deg on a model without it: an isotropic model, where turning the tangent changes nothing.
+    if (!spec.find(key) && key == "rotation_deg" && tag_key == "model") {
+      std::string oriented;
+      for (const ModelSpec* m : model_specs())
+        if (m->find("rotation_deg")) oriented += fmt::format("{}{}", oriented.empty() ? "" : ", ", m->name);
+      throw InputError(fmt::format("{}: key \"rotation_deg\": {} is isotropic, so turning its tangent has no effect; remove "
+                                   "the key (the anisotropic models take it: {})",
+                                   where, spec.name, oriented));
+    }
     if (!spec.find(key))
       throw InputError(fmt::format("{}: unknown key \"{}\" for {}; allowed keys: {}", where, text_escape(key), spec.name,
                                    allowed_keys(spec)));
@@ -440,7 +449,13 @@ template <typename T> MeasuredT<T> build(ModelType<MeasuredT<T>>, const Material
 template <typename T> MaterialT<T> build_material(const MaterialDesc& d) {
   const std::optional<ModelKind> kind = find_model_kind(d.model);
   if (!kind) throw InputError(fmt::format("{}: model \"{}\" is not a registered model", d.params.where, d.model));
-  return visit_kind<T>(*kind, [&](auto type) { return MaterialT<T>(build(type, d)); });
+  MaterialT<T> m = visit_kind<T>(*kind, [&](auto type) { return MaterialT<T>(build(type, d)); });
+  // The anisotropic models' orientation (kOrientation in params.cpp), computed in double.
+  if (d.params.has("rotation_deg")) {
+    const FrameRotationT<double> r = frame_rotation_deg(d.params.scalar("rotation_deg"));
+    m.rotation = FrameRotationT<T>{T(r.c), T(r.s)};
+  }
+  return m;
 }
 
 template MaterialT<float> build_material<float>(const MaterialDesc&);

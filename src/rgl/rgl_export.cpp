@@ -72,6 +72,9 @@ glm::dmat3 rgb_to_box_coefficients() {
 BrdfSource brdf_source(const MaterialD& m) {
   BrdfSource s;
   s.f = [m](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(m.f(wi, wo)); };
+  // The closed-form GGX distribution is the lobe's in its own frame: a turned material
+  // (rotation_deg) takes the general path, like every other model.
+  if (!m.rotation.identity()) return s;
   if (m.kind == ModelKind::GGX) {
     s.ggx_alpha = glm::dvec2(m.ggx.lobe.alpha_x, m.ggx.lobe.alpha_y);
     // The diffuse term kd / pi gets a uniform share of the distribution, in proportion to its

@@ -8,6 +8,12 @@
 //   pdf(wi, wo)          the solid-angle density of sample() producing wi for this wo
 //   sample(wo, uc, u)    {wi, weight = f cos / pdf, pdf} or "no sample"; uc picks the lobe,
 //                        u (2D) the direction; all uniform in [0, 1)
+//
+// Orientation (the anisotropic models' `rotation_deg`, docs/conventions.md): the model's tangent
+// is the frame's tangent turned about the normal by a, t' = cos a t + sin a b, exactly as a
+// scene's tangent.angle_deg turns it (aniso/tangent/fields.h), and composed with it. MaterialT
+// applies it around every model: directions enter the model in the turned frame and sampled
+// directions leave it turned back, so no kernel (C++, SIMD twin or GLSL) carries its own angle.
 #pragma once
 
 #include "aniso/brdf/registry.h"
@@ -16,8 +22,34 @@ namespace aniso {
 
 // Every model of the registry (aniso/brdf/registry.h); Measured's tables are host-owned arrays
 // the kernel only points to (lifetime: src/measured/measured.h).
+// The turn of the frame by a about the normal: (cos a, sin a). Directions of the frame have the
+// coordinates x' = c x + s y, y' = -s x + c y in the turned one (to_model), and back (from_model).
+// The identity (s = 0, the default) returns the direction unchanged, bit for bit.
+template <typename T> struct FrameRotationT {
+  T c = T(1), s = T(0);
+  ANISO_HD bool identity() const { return s == T(0) && c == T(1); }
+  ANISO_HD Vec3T<T> to_model(const Vec3T<T>& w) const {
+    if (identity()) return w;
+    return Vec3T<T>(c * w.x + s * w.y, c * w.y - s * w.x, w.z);
+  }
+  ANISO_HD Vec3T<T> from_model(const Vec3T<T>& w) const {
+    if (identity()) return w;
+    return Vec3T<T>(c * w.x - s * w.y, s * w.x + c * w.y, w.z);
+  }
+};
+
+// The turn by `degrees` (a material's rotation_deg): cos and sin of the angle in radians, in T's
+// arithmetic (a ceres::Jet for the fitter's derivatives); 0 gives the identity exactly.
+template <typename T> ANISO_HD FrameRotationT<T> frame_rotation_deg(const T& degrees) {
+  using std::cos;
+  using std::sin;
+  const T a = degrees * T(0.017453292519943295769);  // pi / 180
+  return FrameRotationT<T>{cos(a), sin(a)};
+}
+
 template <typename T> struct MaterialT {
   ModelKind kind = ModelKind::Lambert;
+  FrameRotationT<T> rotation;  // rotation_deg (identity for the isotropic models)
   union {
 #define ANISO_X(Tag, Type, member, name, batch, glsl) Type<T> member;
     ANISO_MODELS(ANISO_X)
@@ -44,13 +76,18 @@ template <typename T> struct MaterialT {
   }
 
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
-    return visit([&](const auto& m) { return m.f(wi, wo); });
+    const Vec3T<T> i = rotation.to_model(wi), o = rotation.to_model(wo);
+    return visit([&](const auto& m) { return m.f(i, o); });
   }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
-    return visit([&](const auto& m) { return m.pdf(wi, wo); });
+    const Vec3T<T> i = rotation.to_model(wi), o = rotation.to_model(wo);
+    return visit([&](const auto& m) { return m.pdf(i, o); });
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
-    return visit([&](const auto& m) { return m.sample(wo, uc, u); });
+    const Vec3T<T> o = rotation.to_model(wo);
+    BSDFSampleT<T> s = visit([&](const auto& m) { return m.sample(o, uc, u); });
+    s.wi = rotation.from_model(s.wi);
+    return s;
   }
 };
 
