@@ -282,13 +282,23 @@ TEST_P(BatchTest, SampleMatchesScalar) {
     // The record at its own wi: pdf and weight from the scalar kernels.
     const float p = m.pdf(got.wi, wo.get(i));
     const double pd = md.pdf(Vec3d(got.wi), Vec3d(wo.get(i)));
-    EXPECT_TRUE(close_to_scalar(got.pdf, p, pd, p, worst)) << i << ": pdf " << got.pdf << " scalar " << p;
+    // A turned material (rotation_deg) computes its record in its own frame and turns wi back in
+    // float: the wi it returns is the record's direction rounded (a few 1e-8), and turned forward
+    // again for the scalar check; near the horizon a sharp lobe (Ashikhmin-Shirley n_u = 180, pdf
+    // ~700) moves by up to 2.3e-3 relative over that (measured, AVX2). The kernels are checked to
+    // 1e-5 by the unturned materials; for the turned ones this checks the turning (an error there
+    // is of order 1), so 1e-2.
+    const double turned = m.rotation.identity() ? 0.0 : 1e-2;
+    const auto near = [&](double got_v, float scalar, double scalar_d) {
+      return close_to_scalar(float(got_v), scalar, scalar_d, scalar, worst) || std::abs(got_v - scalar_d) <= turned * std::abs(scalar_d);
+    };
+    EXPECT_TRUE(near(got.pdf, p, pd)) << i << ": pdf " << got.pdf << " scalar " << p;
     const RGB f = m.f(got.wi, wo.get(i));
     const glm::dvec3 fd = md.f(Vec3d(got.wi), Vec3d(wo.get(i)));
     for (int c = 0; c < 3; ++c) {
       const float w = f[c] * (got.wi.z / p);
       const double wd = fd[c] * (double(got.wi.z) / pd);
-      EXPECT_TRUE(close_to_scalar(got.weight[c], w, wd, w, worst)) << i << ": weight " << got.weight[c] << " scalar " << w;
+      EXPECT_TRUE(near(got.weight[c], w, wd)) << i << ": weight " << got.weight[c] << " scalar " << w;
     }
   }
   EXPECT_LE(branch_differs, n / 1000) << GetParam().name;

@@ -619,5 +619,41 @@ TEST_F(FitCli, AnisotropyIsReportedAndTheOptionIsChecked) {
   EXPECT_TRUE(contains(bad.err, "--anisotropic: expected auto, yes or no, got \"maybe\"")) << bad.err;
 }
 
+// Phong (the mirror lobe of Ngan 2005's "Blinn-Phong" presets) and Lambert are fittable; the
+// presets' model names are read as aliases with a note; an isotropic model refuses --anisotropic yes.
+TEST(FitModels, PhongAndLambertRecoverAndPresetNamesAreAliases) {
+  const json phong = {{"model", "phong"}, {"kd", {0.2, 0.1, 0.05}}, {"ks", 0.3}, {"exponent", 60.0}, {"normalized", true}};
+  FitOptionText t;
+  t.model = "blinnphong";
+  t.threads = "2";
+  t.starts = "3";
+  const FitOptions o = parse_fit_options(t);
+  EXPECT_EQ(o.model, "phong");
+  ASSERT_EQ(o.notes.size(), 1u);
+  EXPECT_TRUE(contains(o.notes[0], "--model blinnphong is read as --model phong")) << o.notes[0];
+  const FitResult r = fit_samples(synthetic(phong, 1500, 700, 0.02, 51), o);
+  expect_material_near(phong, r.material, 0.05, 0.01);
+  EXPECT_FALSE(r.anisotropic);
+  EXPECT_TRUE(contains(r.anisotropy_reason, "phong has no anisotropic form")) << r.anisotropy_reason;
+
+  const json lambert = {{"model", "lambert"}, {"kd", {0.6, 0.4, 0.2}}};
+  FitOptions lo;
+  lo.model = "lambert";
+  lo.threads = 2;
+  expect_material_near(lambert, fit_samples(synthetic(lambert, 800, 0, 0.02, 52), lo).material, 0.02, 0.01);
+  lo.anisotropy = Anisotropy::Yes;
+  EXPECT_THROW((void)fit_samples(synthetic(lambert, 100, 0, 0.0, 53), lo), InputError);
+
+  t.model = "wardduer";
+  const FitOptions w = parse_fit_options(t);
+  EXPECT_EQ(w.model, "ward");
+  EXPECT_EQ(w.normalization, "duer");
+  t.model = "ashikhminshirley";
+  EXPECT_EQ(parse_fit_options(t).model, "ashikhmin-shirley");
+  const std::vector<std::string_view> models = fittable_models();
+  for (const char* m : {"phong", "lambert", "principled"})
+    EXPECT_NE(std::find(models.begin(), models.end(), m), models.end()) << m;
+}
+
 }  // namespace
 }  // namespace aniso

@@ -401,7 +401,7 @@ TEST(GlslExportInline, MultiLineInlineMaterial) {
   const CliRun b = run_cli("export-brdf -m " + quote(inline_json));
   ASSERT_EQ(b.code, 0) << b.err;
   const BrdfFile f = parse_brdf(b.out);
-  EXPECT_EQ(f.params.size(), 6u);  // kd, ks, alpha_x, alpha_y, form, normalization
+  EXPECT_EQ(f.params.size(), 7u);  // kd, ks, alpha_x, alpha_y, form, normalization, rotation_deg
 }
 
 }  // namespace

@@ -123,11 +123,13 @@ void print_warnings(const SampleSet& data) {
 void check_options_apply(const FitArgs& a, const CLI::App& fit) {
   const auto given = [&](const char* name) { return fit.get_option(name)->count() > 0; };
   if (a.compare) {
+    std::string labels;
+    for (const auto& [label, options] : compare_models(FitOptions{}))
+      labels += fmt::format("{}{}", labels.empty() ? "" : ", ", label);
     for (const char* name : {"--model", "--lobes", "--normalization", "--metal", "--metal-lobe"})
       if (given(name))
-        throw InputError(fmt::format("{} does not apply with --compare, which fits every model with its own settings "
-                                     "(lafortune 1 and 3 lobes, ward in its three normalizations, ashikhmin-shirley, ggx, metal)",
-                                     name));
+        throw InputError(
+            fmt::format("{} does not apply with --compare, which fits every model with its own settings ({})", name, labels));
     return;
   }
   const std::string& m = a.options.model;
@@ -146,6 +148,7 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
   if (!a.plot.empty() && lower_extension(a.plot) != ".png")
     throw InputError(fmt::format("--plot {}: expected a .png file name (the plot is written as PNG)", a.plot));
   FitOptions o = parse_fit_options(a.options);
+  for (const std::string& note : o.notes) fmt::print(stderr, "aniso: note: {}\n", note);
   if (!a.compare && a.output.empty()) throw InputError("-o: required: the file to write the fitted material to (fitted.json)");
   const SampleSet data = read_measured(a.data);
   print_warnings(data);

@@ -87,7 +87,10 @@ def synthetic(truth, n, seed):
 def test_fit_recovers_parameters_from_arrays():
     truth = aniso.ggx(kd=[0.3, 0.2, 0.1], f0=[0.9, 0.6, 0.3], alpha_x=0.08, alpha_y=0.3)
     wi, wo, f = synthetic(truth, 2000, seed=2)
-    r = aniso.fit(wi=wi, wo=wo, value=f, model="ggx", anisotropic=True, starts=3, progress=False)
+    # kd 0.3 + f0 0.9 reflect more than they receive near the horizon (GGX's kd is not coupled):
+    # data that gain energy, fitted as they are.
+    r = aniso.fit(wi=wi, wo=wo, value=f, model="ggx", anisotropic=True, allow_energy_gain=True, starts=3,
+                  progress=False)
     got, want = r.material.to_dict(), truth.to_dict()
     for key in ["kd", "f0", "alpha_x", "alpha_y"]:
         np.testing.assert_allclose(got[key], want[key], rtol=1e-4, err_msg=key)
@@ -114,7 +117,7 @@ def test_bad_data_and_options_raise_the_clis_messages(tmp):
         (["/nonexistent/x.brdf"], {}),
         ([KRYLON, "--lobes", "0"], {"lobes": 0}),
         ([KRYLON, "--lobes", "9"], {"lobes": 9}),
-        ([KRYLON, "--model", "phong"], {"model": "phong"}),
+        ([KRYLON, "--model", "phongg"], {"model": "phongg"}),
         ([KRYLON, "--metric", "l3"], {"metric": "l3"}),
         ([KRYLON, "--loss", "tukey"], {"loss": "tukey"}),
         ([KRYLON, "--loss-scale", "-1"], {"loss_scale": -1}),
@@ -169,7 +172,7 @@ def test_bad_arrays_raise_value_errors_naming_the_argument():
 
 def test_progress_callback_and_its_exceptions():
     seen = []
-    r = aniso.fit(KRYLON, model="ggx", starts=2, progress=seen.append)
+    r = aniso.fit(KRYLON, model="ggx", anisotropic="no", starts=2, progress=seen.append)
     assert seen and {"stage", "iteration", "cost", "elapsed_s", "remaining_s"} == set(seen[0])
     stages = [p["stage"] for p in seen]
     assert stages[0].startswith("start 1/2") and any(s.startswith("start 2/2") for s in stages)

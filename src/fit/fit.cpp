@@ -859,9 +859,40 @@ FitErrors fit_errors(const MaterialD& m, const SampleSet& data) {
   return e;
 }
 
+namespace {
+
+// The model names of the presets and of Ngan 2005 / bbm, accepted by --model with a note
+// (docs/presets.md: each maps onto an aniso model exactly).
+struct ModelAlias {
+  std::string_view alias, model, normalization, note;
+};
+constexpr ModelAlias kModelAliases[] = {
+    {"blinnphong", "phong", "", "Ngan 2005's \"Blinn-Phong\" (bbm's NganBlinnPhong) is the mirror lobe of aniso's phong"},
+    {"ashikhminshirley", "ashikhmin-shirley", "", "the Ngan 2005 preset name"},
+    {"as", "ashikhmin-shirley", "", "short name"},
+    {"wardduer", "ward", "duer", "Ngan 2005's Ward-Duer is ward with --normalization duer"},
+    {"disney", "principled", "", "Disney's BRDF Explorer model is aniso's principled"},
+};
+
+}  // namespace
+
 FitOptions parse_fit_options(const FitOptionText& a) {
   FitOptions o;
   o.model = a.model;
+  o.normalization = a.normalization;
+  for (const ModelAlias& alias : kModelAliases)
+    if (alias.alias == a.model) {
+      o.model = alias.model;
+      std::string note = fmt::format("--model {} is read as --model {}", alias.alias, alias.model);
+      if (!alias.normalization.empty()) {
+        if (a.normalization != "ward" && a.normalization != alias.normalization)
+          throw InputError(fmt::format("--model {} sets --normalization {}, not {}", alias.alias, alias.normalization,
+                                       a.normalization));
+        o.normalization = alias.normalization;
+        note += fmt::format(" --normalization {}", alias.normalization);
+      }
+      o.notes.push_back(fmt::format("{}: {}", note, alias.note));
+    }
   o.lobes = int(parse_integer(a.lobes, 1, kLafortuneMaxLobes, "--lobes"));
   if (a.anisotropic == "auto") o.anisotropy = Anisotropy::Auto;
   else if (a.anisotropic == "yes") o.anisotropy = Anisotropy::Yes;
@@ -869,7 +900,6 @@ FitOptions parse_fit_options(const FitOptionText& a) {
   else throw InputError(fmt::format("--anisotropic: expected auto, yes or no, got \"{}\"", a.anisotropic));
   o.allow_energy_gain = a.allow_energy_gain;
   o.shared_exponents = a.shared_exponents;
-  o.normalization = a.normalization;
   o.metal = a.metal;
   o.metal_lobe = a.metal_lobe;
   if (a.metric == "l2cos") o.metric = FitMetric::L2Cos;
@@ -894,6 +924,7 @@ namespace {
 struct Fittable {
   std::string_view model;
   FitResult (*fit)(const SampleSet& data, const FitOptions& o, bool anisotropic);
+  bool anisotropic = true;  // has an anisotropic form (with rotation_deg)
 };
 constexpr Fittable kFittable[] = {
     {"lafortune",
@@ -916,7 +947,10 @@ constexpr Fittable kFittable[] = {
      }},
     {"principled",
      [](const SampleSet& data, const FitOptions& o, bool aniso) { return dispatch(PrincipledFit(aniso), data, o); }},
+    {"phong", [](const SampleSet& data, const FitOptions& o, bool) { return dispatch(PhongFit(), data, o); }, false},
+    {"lambert", [](const SampleSet& data, const FitOptions& o, bool) { return dispatch(LambertFit(), data, o); }, false},
 };
+
 
 // Whether the data can show anisotropy at all (docs/fitting.md, "Anisotropy"): the azimuths of
 // their half vectors, modulo the half turn every anisotropic lobe repeats after, in 12 bins of 15
@@ -971,6 +1005,13 @@ FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
     names += fmt::format("{}{}", i == 0 ? "" : i + 1 == std::size(kFittable) ? " or " : ", ", kFittable[i].model);
   }
   if (!row) throw InputError(fmt::format("--model: expected {}, got \"{}\"", names, o.model));
+  if (!row->anisotropic) {
+    if (o.anisotropy == Anisotropy::Yes)
+      throw InputError(fmt::format("--anisotropic yes: {} is isotropic (it has no anisotropic form to fit)", o.model));
+    FitResult r = row->fit(data, o, false);
+    r.anisotropy_reason = fmt::format("isotropic: {} has no anisotropic form", o.model);
+    return r;
+  }
 
   // The anisotropic fit, with its ties: entries the data do not constrain (the second halves of
   // the pairs, the rotation) make the fit isotropic again, which ties each to its partner.
@@ -1081,6 +1122,7 @@ std::vector<std::pair<std::string, FitOptions>> compare_models(const FitOptions&
   add("ashikhmin-shirley", [](FitOptions& o) { o.model = "ashikhmin-shirley"; });
   add("ggx", [](FitOptions& o) { o.model = "ggx"; });
   add("metal (ggx, fitted eta, k)", [](FitOptions& o) { o.model = "metal", o.metal.clear(), o.metal_lobe = "ggx"; });
+  add("phong", [](FitOptions& o) { o.model = "phong"; });
   return out;
 }
 

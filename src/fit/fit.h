@@ -46,7 +46,7 @@ struct FitProgress {
 };
 
 struct FitOptions {
-  std::string model = "lafortune";  // lafortune | ward | ashikhmin-shirley | ggx | metal
+  std::string model = "lafortune";  // a row of fittable_models()
   int lobes = 1;                    // Lafortune: 1 to 8
   Anisotropy anisotropy = Anisotropy::Auto;  // Cx != Cy, alpha_x != alpha_y, n_u != n_v, and rotation_deg
   // Off: every fitted material's directional albedo stays <= 1 (docs/fitting.md, "Energy"); on:
@@ -70,6 +70,9 @@ struct FitOptions {
   // down far below any measurement's noise (docs/fitting.md). The errors are always reported on
   // all samples.
   size_t max_solver_samples = size_t(1) << 15;
+  // What parse_fit_options read differently from the text (a model alias: "blinnphong" is phong);
+  // the CLI prints each as a note.
+  std::vector<std::string> notes;
   std::function<void(const FitProgress&)> progress;
   // When set, the fit stops at the solver's next iteration once *cancel is true and throws
   // FitCancelled (the Python binding's Ctrl-C).

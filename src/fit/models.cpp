@@ -471,4 +471,69 @@ std::vector<double> MetalFit::random_start(Rng& rng, const DataMoments&) const {
   return x;
 }
 
+// --- Phong ---------------------------------------------------------------------------------------
+
+PhongFit::PhongFit() {
+  const char* ch = "rgb";
+  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("phong"), "kd", fmt::format("kd.{}", ch[c])));
+  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("phong"), "ks", fmt::format("ks.{}", ch[c])));
+  defs.push_back(table_def(spec("phong"), "exponent", "exponent"));
+}
+
+Json PhongFit::to_json(const double* x) const {
+  return {{"model", "phong"}, {"kd", rgb_json(x)}, {"ks", rgb_json(x + 3)}, {"exponent", x[6]}, {"normalized", true}};
+}
+
+// The data's mirror exponent; ks from the peak: at the mirror direction the lobe is ks (s + 2) / (2 pi).
+std::vector<double> PhongFit::moment_start(const DataMoments& d) const {
+  std::vector<double> x(defs.size());
+  const double s = d.mirror_exponent;
+  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c], x[3 + c] = d.peak[c] * 2.0 * kPiD / (s + 2.0);
+  x[6] = s;
+  clamp_into(x, defs);
+  return x;
+}
+
+std::optional<std::vector<double>> PhongFit::from_preset(const MaterialDesc& desc, const DataMoments&) const {
+  std::vector<double> x(defs.size());
+  const ParamValues& p = desc.params;
+  for (int c = 0; c < 3; ++c) x[c] = p.color("kd")[c], x[3 + c] = p.color("ks")[c];
+  x[6] = p.scalar("exponent");
+  clamp_into(x, defs);
+  return x;
+}
+
+std::vector<double> PhongFit::random_start(Rng& rng, const DataMoments& d) const {
+  std::vector<double> x = moment_start(d);
+  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+  x[6] = log_uniform(rng, 1.0, 5000.0);
+  for (int c = 0; c < 3; ++c) x[3 + c] = d.peak[c] * 2.0 * kPiD / (x[6] + 2.0) * log_uniform(rng, 0.3, 3.0);
+  clamp_into(x, defs);
+  return x;
+}
+
+// --- Lambert -------------------------------------------------------------------------------------
+
+LambertFit::LambertFit() {
+  const char* ch = "rgb";
+  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("lambert"), "kd", fmt::format("kd.{}", ch[c])));
+}
+
+Json LambertFit::to_json(const double* x) const { return {{"model", "lambert"}, {"kd", rgb_json(x)}}; }
+
+// The floor albedo plus a share of the peak (a Lambertian surface has no peak: the floor is it).
+std::vector<double> LambertFit::moment_start(const DataMoments& d) const {
+  std::vector<double> x(defs.size());
+  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c];
+  clamp_into(x, defs);
+  return x;
+}
+
+std::vector<double> LambertFit::random_start(Rng& rng, const DataMoments& d) const {
+  std::vector<double> x(defs.size());
+  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+  clamp_into(x, defs);
+  return x;
+}
+
 }  // namespace aniso::fit_detail

@@ -315,6 +315,51 @@ class PrincipledFit : public Orientation {
   bool anisotropic_;
 };
 
+// Phong's lobe about the mirror direction (phong.h), normalised (Lewis 1994), as Ngan 2005's
+// "Blinn-Phong" fits are (docs/presets.md: bbm's NganBlinnPhong is this mirror lobe): kd (3),
+// ks (3), exponent. Isotropic: no orientation.
+class PhongFit : public Orientation {
+ public:
+  void canonicalize(double*) const {}
+  int penalty_count() const { return 0; }
+  template <typename T> void penalties(const T*, T*) const {}
+  PhongFit();
+  std::vector<ParamDef> defs;
+  template <typename T> PhongT<T> build(const T* x) const {
+    PhongT<T> m;
+    m.kd = RGBT<T>(x[0], x[1], x[2]);
+    m.ks = RGBT<T>(x[3], x[4], x[5]);
+    m.lobe.exponent = x[6];
+    m.lobe.normalized = true;
+    return m;
+  }
+  Json to_json(const double* x) const;
+  std::vector<double> moment_start(const DataMoments& d) const;
+  std::optional<std::vector<double>> from_preset(const MaterialDesc& d, const DataMoments& m) const;
+  std::vector<double> random_start(Rng& rng, const DataMoments& d) const;
+  std::string ngan_model() const { return "blinnphong"; }
+};
+
+// f = kd / pi: kd (3). The start is the data's albedo over the hemisphere's samples.
+class LambertFit : public Orientation {
+ public:
+  void canonicalize(double*) const {}
+  int penalty_count() const { return 0; }
+  template <typename T> void penalties(const T*, T*) const {}
+  LambertFit();
+  std::vector<ParamDef> defs;
+  template <typename T> LambertT<T> build(const T* x) const {
+    LambertT<T> m;
+    m.kd = RGBT<T>(x[0], x[1], x[2]);
+    return m;
+  }
+  Json to_json(const double* x) const;
+  std::vector<double> moment_start(const DataMoments& d) const;
+  std::optional<std::vector<double>> from_preset(const MaterialDesc&, const DataMoments&) const { return std::nullopt; }
+  std::vector<double> random_start(Rng& rng, const DataMoments& d) const;
+  std::string ngan_model() const { return "ward"; }  // unused: no preset start
+};
+
 // For tests: the largest relative difference between the Lafortune Jacobian assembled by parts
 // and the one from a single Jet over every parameter (fit.cpp), residuals included, at x.
 double lafortune_parts_jacobian_difference(int lobes, bool anisotropic, bool shared, FitMetric metric, const SampleSet& data,
