@@ -12,6 +12,7 @@
 #include "cli_fixture.h"
 #include "fit/fit.h"
 #include "fit/models.h"
+#include "fit/plot.h"
 #include "io/materials.h"
 #include "measured/merl.h"
 #include "stats/albedo.h"
@@ -501,6 +502,16 @@ TEST_F(FitOrientation, RecoversParametersAndRotationWithDefaultOptions) {
     EXPECT_LT(got, 180.0);
     EXPECT_LT(half_turn_distance(got, c.rotation), 2.0) << o.model << " " << got;
     EXPECT_TRUE(r.tied.empty());
+    // --plot of an anisotropic fit: three rows of panels (in the plane, across it, the mirror cone).
+    const fs::path png = dir_ / "slices.png";
+    write_slices_plot(png.string(), data, {{r.material, o.model}});
+    const std::string bytes = read_file(png.string());
+    ASSERT_GT(bytes.size(), 24u);
+    const auto be32 = [&](size_t at) {
+      return (uint32_t(uint8_t(bytes[at])) << 24) | (uint32_t(uint8_t(bytes[at + 1])) << 16) | (uint32_t(uint8_t(bytes[at + 2])) << 8) |
+             uint32_t(uint8_t(bytes[at + 3]));
+    };
+    EXPECT_GT(be32(20), 3u * 260u);  // PNG IHDR height: three rows of 260-pixel panels
     // The data turned by a half turn about the normal: the same rotation.
     SampleSet half = data;
     for (MeasuredSample& x : half.samples) x.wi = Vec3d(-x.wi.x, -x.wi.y, x.wi.z), x.wo = Vec3d(-x.wo.x, -x.wo.y, x.wo.z);

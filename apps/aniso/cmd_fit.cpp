@@ -198,7 +198,11 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
     out += fit_report(best.result, best.options);
     std::string file;
     if (!a.output.empty()) file = fitted_file(best.result, data, best.options);
-    if (!a.plot.empty()) write_slices_plot(a.plot, data, best.result.material, best.label);
+    if (!a.plot.empty()) {
+      std::vector<PlotMaterial> all;  // every model, in the ranking's order
+      for (size_t i : order) all.push_back({rows[i].result.material, rows[i].label});
+      write_slices_plot(a.plot, data, all);
+    }
     if (!a.output.empty()) write_atomically(a.output, file);
     std::fwrite(out.data(), 1, out.size(), stdout);
     return;
@@ -214,7 +218,7 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
   out += fit_report(r, o);
   out += fmt::format("best start: {}; {} iterations; {:.3f} s; {} of {} samples in the solver\n", r.best_start, r.iterations,
                      r.seconds, r.samples_used, r.samples_total);
-  if (!a.plot.empty()) write_slices_plot(a.plot, data, r.material, o.model);
+  if (!a.plot.empty()) write_slices_plot(a.plot, data, {{r.material, o.model}});
   write_atomically(a.output, file);
   std::fwrite(out.data(), 1, out.size(), stdout);
 }
