@@ -387,5 +387,50 @@ TEST_F(RglCli, ExportShowAndBadFile) {
   EXPECT_TRUE(contains(res.err, "--resolution")) << res.err;
 }
 
+// A tensor file as a material (the registry row `rgl`, docs/models/rgl.md): a path ending in .bsdf
+// and {"model": "rgl", "file": ...} (relative to the naming file's folder) evaluate the file's
+// kernel; the CLI evaluates and renders it; GLSL and rotation_deg are refused with the way out.
+class RglMaterial : public Cli {};
+
+TEST_F(RglMaterial, ABsdfFileIsAMaterial) {
+  const std::vector<uint8_t> bytes = rgl::serialize_tensor(export_json(kGGXAniso, small_options()));
+  const std::string path = write("ggx.bsdf", std::string(bytes.begin(), bytes.end()));
+  const MaterialDesc d = load_material(path);
+  EXPECT_EQ(d.model, "rgl");
+  const MaterialD m = build_material<double>(d);
+  EXPECT_EQ(m.kind, ModelKind::Rgl);
+  const auto tables = rgl::rgl_from_tensor(rgl::parse_tensor(bytes, "ggx.bsdf"));
+  const RglT<double> kernel = rgl::rgl_kernel<double>(*tables);
+  const MaterialD relative = build_material<double>(parse_material({{"model", "rgl"}, {"file", "ggx.bsdf"}}, "scene.json", dir_.string()));
+  Rng rng(8);
+  int nonzero = 0;
+  for (int i = 0; i < 500; ++i) {
+    const Vec3d wi = random_upper<double>(rng), wo = random_upper<double>(rng);
+    const RGBT<double> a = m.f(wi, wo), b = kernel.f(wi, wo), c = relative.f(wi, wo);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(a[k], b[k]);
+      EXPECT_EQ(c[k], b[k]);
+    }
+    EXPECT_EQ(m.pdf(wi, wo), kernel.pdf(wi, wo));
+    nonzero += a[0] > 0.0;
+  }
+  EXPECT_GT(nonzero, 400);
+
+  const Result e = run({"eval", "-m", path}, "0.3 0.1 0.9 -0.3 -0.1 0.9\n");
+  ASSERT_EQ(e.code, 0) << e.err;
+  EXPECT_NEAR(std::stod(e.out), m.f(glm::normalize(Vec3d(0.3, 0.1, 0.9)), glm::normalize(Vec3d(-0.3, -0.1, 0.9)))[0], 1e-6);
+  const Result r = run({"render", "--material", path, "--spp", "1", "--width", "16", "--height", "16", "-o", (dir_ / "r.png").string()});
+  EXPECT_EQ(r.code, 0) << r.err;
+  const Result g = run({"export-glsl", "-m", path});
+  EXPECT_EQ(g.code, 2);
+  EXPECT_TRUE(contains(g.err, "an RGL tensor file has no GLSL form")) << g.err;
+  try {
+    (void)parse_material({{"model", "rgl"}, {"file", path}, {"rotation_deg", 10.0}}, "m.json");
+    ADD_FAILURE() << "rotation_deg accepted";
+  } catch (const InputError& err) {
+    EXPECT_TRUE(contains(err.what(), "tangent.angle_deg")) << err.what();
+  }
+}
+
 }  // namespace
 }  // namespace aniso::test

@@ -131,3 +131,5 @@ def principled(*, base_color: Color = 0.5, metallic: float = 0.0, subsurface: fl
     """Disney principled (Burley 2012, Physically-Based Shading at Disney (BRDF Explorer's disney.brdf))."""
 def measured(*, file: str) -> Material:
     """Measured (MERL table) (Matusik et al. 2003, A Data-Driven Reflectance Model (MERL BRDF database))."""
+def rgl(*, file: str) -> Material:
+    """Measured (RGL tensor file) (Dupuy & Jakob 2018, An Adaptive Parameterization for Efficient Material Acquisition and Rendering (pbrt-v4 MeasuredBxDF))."""

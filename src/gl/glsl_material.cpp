@@ -280,6 +280,15 @@ std::string body(ModelType<PrincipledT<float>>, Build& c) {
   return b;
 }
 
+// A tensor file (interpolants over several MB) is data, not a shader: fit a model first.
+std::string body(ModelType<RglT<float>>, Build& c) {
+  const std::string file = c.m.params.has("file") ? c.m.params.text("file") : std::string("FILE.bsdf");
+  throw InputError(fmt::format(
+      "{}: an RGL tensor file has no GLSL form; sample it and fit an analytic model first (`aniso eval` on pairs "
+      "of directions, then `aniso fit` on the CSV), or render it with the CPU path tracer",
+      file));
+}
+
 // A measured table (35 MB of bins plus sampling tables) is data, not a shader: fit a model first.
 std::string body(ModelType<MeasuredT<float>>, Build& c) {
   const std::string file = c.m.params.has("file") ? c.m.params.text("file") : std::string();

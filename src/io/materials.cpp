@@ -12,6 +12,7 @@
 #include "io/json_read.h"
 #include "io/presets.h"
 #include "measured/measured.h"
+#include "rgl/rgl_material.h"
 
 namespace aniso {
 
@@ -142,6 +143,10 @@ ParamValues read_params(const json& obj, const ModelSpec& spec, const std::strin
       std::string oriented;
       for (const ModelSpec* m : model_specs())
         if (m->find("rotation_deg")) oriented += fmt::format("{}{}", oriented.empty() ? "" : ", ", m->name);
+      if (spec.name == "rgl")
+        throw InputError(fmt::format("{}: key \"rotation_deg\": a tensor file is tabulated in its own frame and has no "
+                                     "rotation key; turn the surface's tangent instead (a scene's tangent.angle_deg)",
+                                     where));
       throw InputError(fmt::format("{}: key \"rotation_deg\": {} is isotropic, so turning its tangent has no effect; remove "
                                    "the key (the anisotropic models take it: {})",
                                    where, spec.name, oriented));
@@ -222,6 +227,13 @@ MaterialDesc parse_material(const json& obj, const std::string& where, const std
     const fs::path p = base_dir.empty() || fs::path(file).is_absolute() ? fs::path(file) : fs::path(base_dir) / file;
     d.measured = load_measured(p.string());  // InputError naming the file and the byte offset
   }
+  if (d.model == "rgl") {
+    const std::string& file = d.params.text("file");
+    if (file.empty()) d.params.fail("file", "expected the path of an RGL .bsdf tensor file, got an empty string");
+    namespace fs = std::filesystem;
+    const fs::path p = base_dir.empty() || fs::path(file).is_absolute() ? fs::path(file) : fs::path(base_dir) / file;
+    d.rgl = rgl::load_rgl(p.string());  // InputError naming the file, the field and the problem
+  }
   if (d.model == "metal") {
     const bool named = d.params.has("metal"), custom = d.params.has("eta") || d.params.has("k");
     if (named && custom) d.params.fail("metal", "give either \"metal\" or \"eta\" and \"k\", not both");
@@ -243,6 +255,7 @@ MaterialDesc load_material(const std::string& spec) {
   namespace fs = std::filesystem;
   // A MERL file: read_merl names the file and the problem (missing, a directory, a bad header...).
   if (is_measured_file_name(spec)) return parse_material(json{{"model", "measured"}, {"file", spec}}, spec);
+  if (rgl::is_rgl_file_name(spec)) return parse_material(json{{"model", "rgl"}, {"file", spec}}, spec);
   std::error_code ec;
   if (!fs::exists(spec, ec)) {
     // Neither a preset nor a file: suggest the nearest preset names.
@@ -435,6 +448,11 @@ template <typename T> PrincipledT<T> build(ModelType<PrincipledT<T>>, const Mate
   m.clearcoat = T(p.scalar("clearcoat"));
   m.clearcoat_gloss = T(p.scalar("clearcoat_gloss"));
   return m;
+}
+
+template <typename T> RglT<T> build(ModelType<RglT<T>>, const MaterialDesc& d) {
+  if (!d.rgl) throw InputError(fmt::format("{}: rgl material without its tensor file", d.params.where));
+  return rgl::rgl_kernel<T>(*d.rgl);
 }
 
 template <typename T> MeasuredT<T> build(ModelType<MeasuredT<T>>, const MaterialDesc& d) {

@@ -16,6 +16,9 @@
 namespace aniso {
 
 struct MeasuredData;
+namespace rgl {
+struct RglData;
+}
 
 struct MaterialDesc {
   std::string model;    // the table's name ("ward", ...)
@@ -24,6 +27,8 @@ struct MaterialDesc {
   // model "measured": the loaded table and its sampling tables, which the kernel points into
   // (lifetime rule: src/measured/measured.h).
   std::shared_ptr<const MeasuredData> measured;
+  // model "rgl": the tensor file's tables (the same lifetime rule, src/rgl/rgl_material.h).
+  std::shared_ptr<const rgl::RglData> rgl;
 };
 
 // "the number 3", "the string \"x\"", "an array of 2 elements", ...: what a message says it got.
@@ -38,7 +43,8 @@ ParamValues read_params(const nlohmann::json& obj, const ModelSpec& spec, const 
 MaterialDesc parse_material(const nlohmann::json& obj, const std::string& where, const std::string& base_dir = {});
 
 // A preset name (`aniso presets`), a path to a JSON file, a path ending in .binary (a MERL BRDF
-// file: {"model": "measured", "file": PATH}, docs/measured.md), or an inline JSON object ("{...}";
+// file: {"model": "measured", "file": PATH}, docs/measured.md) or .bsdf (an RGL tensor file:
+// {"model": "rgl", "file": PATH}, docs/rgl.md), or an inline JSON object ("{...}";
 // messages then say "inline material").
 MaterialDesc load_material(const std::string& spec);
 

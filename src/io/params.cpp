@@ -194,6 +194,18 @@ constexpr ParamSpec kMeasured[] = {
 };
 constexpr std::span<const ParamSpec> kMeasuredParts[] = {kMeasured};
 
+// --- rgl ---------------------------------------------------------------------------------------
+// An RGL tensor file (Dupuy & Jakob 2018; docs/rgl.md) is the material, as a MERL table is. A path
+// ending in .bsdf given as a material means {"model": "rgl", "file": PATH}.
+constexpr ParamSpec kRgl[] = {
+    {.name = "file", .kind = ParamKind::String,
+     .doc = "RGL tensor file (.bsdf: the RGL material database, `aniso export-rgl`), evaluated as pbrt-v4's "
+            "MeasuredBxDF; relative to the folder of the JSON or scene file naming it (else the working "
+            "directory); no other parameters",
+     .required = true},
+};
+constexpr std::span<const ParamSpec> kRglParts[] = {kRgl};
+
 // --- principled -------------------------------------------------------------------------------
 // Disney's BRDF Explorer, src/brdfs/disney.brdf lines 21-33: every parameter in [0, 1] with the
 // file's defaults (base colour: ours is linear, the file's .82 .67 .16 is a display colour; a grey
@@ -236,6 +248,10 @@ constexpr ModelSpec kPrincipledSpec{"principled", "Disney principled",
 constexpr ModelSpec kMeasuredSpec{"measured", "Measured (MERL table)",
                                   "Matusik et al. 2003, A Data-Driven Reflectance Model (MERL BRDF database)",
                                   kMeasuredParts};
+constexpr ModelSpec kRglSpec{"rgl", "Measured (RGL tensor file)",
+                             "Dupuy & Jakob 2018, An Adaptive Parameterization for Efficient Material Acquisition and "
+                             "Rendering (pbrt-v4 MeasuredBxDF)",
+                             kRglParts};
 
 // One table per registry row, in the registry's order (a row without its k<Tag>Spec does not compile).
 constexpr const ModelSpec* kAllModels[] = {

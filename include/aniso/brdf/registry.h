@@ -32,6 +32,7 @@
 #include "aniso/brdf/metal.h"
 #include "aniso/brdf/phong.h"
 #include "aniso/brdf/principled.h"
+#include "aniso/brdf/rgl.h"
 #include "aniso/brdf/ward.h"
 
 #define ANISO_MODELS(X)                                                                         \
@@ -43,7 +44,8 @@
   X(GGX, GGXT, ggx, "ggx", Simd, Glsl)                                                          \
   X(Metal, MetalT, metal, "metal", Simd, Glsl)                                                  \
   X(Principled, PrincipledT, principled, "principled", Scalar, Glsl)                            \
-  X(Measured, MeasuredT, measured, "measured", Scalar, NoGlsl)
+  X(Measured, MeasuredT, measured, "measured", Scalar, NoGlsl)                                  \
+  X(Rgl, RglT, rgl, "rgl", Scalar, NoGlsl)
 
 namespace aniso {
 
