@@ -1,0 +1,99 @@
+// apps/aniso/cmd_export_targets.cpp: `aniso export --to TARGET` (docs/export.md): a material in the
+// native format of Blender, Mitsuba 3, pbrt-v4, MaterialX or glTF, with the target's conventions
+// (src/export/targets.h) and a report of how close it is (src/export/export.h).
+//
+// Everything is computed before anything is written; each file goes through the one atomic writer
+// (io/atomic_file.h). glTF writes two files: the .bin first, then the .gltf; if the .gltf cannot be
+// written, a .bin this command created is removed again, so a failed export leaves nothing.
+#include <filesystem>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "export/export.h"
+#include "io/materials.h"
+
+namespace aniso {
+
+namespace {
+
+struct ExportArgs {
+  std::string to, material, output, name, metric = "l2cos", help_target;
+  int starts = 4;
+  uint64_t seed = 1;
+  bool list = false;
+};
+
+void run_export(const ExportArgs& a) {
+  using namespace exporter;
+  if (a.list) {
+    for (const TargetInfo& t : targets()) fmt::print("{:<10} {:<6} {}\n", t.name, t.extension, t.summary);
+    return;
+  }
+  if (!a.help_target.empty()) {
+    const TargetInfo* t = find_target(a.help_target);
+    if (!t) throw InputError(fmt::format("--help-target: unknown target \"{}\"; the targets are {}", a.help_target, target_names()));
+    fmt::print("{} ({}): {}\n\n{}\n", t->name, t->extension, t->summary, t->help);
+    return;
+  }
+  if (a.to.empty()) throw InputError(fmt::format("--to is required: one of {} (--list-targets)", target_names()));
+  const TargetInfo* info = find_target(a.to);
+  if (!info) throw InputError(fmt::format("--to: unknown target \"{}\"; the targets are {}", a.to, target_names()));
+  if (a.material.empty()) throw InputError("--material is required (a preset name, a JSON file or inline JSON)");
+  if (info->target == Target::Gltf && (a.output.empty() || a.output == "-"))
+    throw InputError("--to gltf writes two files (.gltf and .bin): give -o FILE.gltf");
+  ExportOptions o;
+  o.target = a.to;
+  o.name = a.name;
+  o.starts = a.starts;
+  o.seed = a.seed;
+  if (a.metric == "l2cos") o.metric = FitMetric::L2Cos;
+  else if (a.metric == "log") o.metric = FitMetric::Log;
+  else throw InputError(fmt::format("--metric: expected l2cos or log, got \"{}\"", a.metric));
+  const MaterialDesc desc = load_material(a.material);
+  (void)build_material<double>(desc);
+  namespace fs = std::filesystem;
+  std::string bin_name;
+  if (info->target == Target::Gltf) bin_name = fs::path(a.output).stem().string() + ".bin";
+  const ExportResult r = export_material(desc, a.material, o, bin_name);
+  const bool to_stdout = a.output.empty() || a.output == "-";
+  if (r.files.size() == 2) {
+    const fs::path bin = fs::path(a.output).parent_path() / r.files[1].path;
+    std::error_code ec;
+    const bool existed = fs::exists(bin, ec);
+    // The .gltf's folder must be writable before the .bin is written next to it.
+    if (fs::is_directory(a.output, ec)) throw InputError(fmt::format("-o {}: is a directory", a.output));
+    write_atomically(bin.string(), r.files[1].content);
+    try {
+      write_atomically(a.output, r.files[0].content);
+    } catch (...) {
+      if (!existed) fs::remove(bin, ec);
+      throw;
+    }
+  } else {
+    write_atomically(a.output, r.files[0].content);
+  }
+  fmt::print(to_stdout ? stderr : stdout, "{}", r.report.text());
+  if (!to_stdout) fmt::print("wrote {}{}\n", a.output, r.files.size() == 2 ? " and " + r.files[1].path : std::string());
+}
+
+}  // namespace
+
+void add_export_target_command(CLI::App& app) {
+  auto a = std::make_shared<ExportArgs>();
+  auto* cmd = app.add_subcommand("export", "write the material for a renderer: blender, mitsuba3, pbrt-v4, materialx, "
+                                           "gltf (docs/export.md)");
+  cmd->add_option("--to", a->to, "target: blender | mitsuba3 | pbrt-v4 | materialx | gltf");
+  cmd->add_option("--material,-m", a->material, "preset name, JSON file or inline JSON");
+  cmd->add_option("-o,--output", a->output, "output file (default: stdout; glTF needs a file)");
+  cmd->add_option("--name", a->name, "material name in the file (default: from the source)");
+  cmd->add_option("--metric", a->metric, "fitted path: l2cos (default) or log");
+  cmd->add_option("--starts", a->starts, "fitted path: starts of the fit (default 4)")->check(CLI::Range(1, 100));
+  cmd->add_option("--seed", a->seed, "fitted path: random seed (default 1)");
+  cmd->add_flag("--list-targets", a->list, "list the targets and exit");
+  cmd->add_option("--help-target", a->help_target, "what a target's export writes and how to use it");
+  cmd->callback([a] { run_command([&] { run_export(*a); }); });
+}
+
+}  // namespace aniso
