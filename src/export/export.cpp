@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 
@@ -115,15 +116,39 @@ double wrap_turn(double t) {
   return t;
 }
 
-// An index of refraction with normal-incidence reflectance f0: (1 + sqrt f0) / (1 - sqrt f0).
-double ior_from_f0(double f0) {
-  const double s = std::sqrt(std::clamp(f0, 0.0, 0.99));
-  return (1.0 + s) / (1.0 - s);
-}
-// pbrt-v4's reflectance-to-conductor conversion (materials.h:505-507): eta 1, k = 2 sqrt(r) / sqrt(1 - r).
-glm::dvec3 k_from_reflectance(const glm::dvec3& r) {
-  const glm::dvec3 c = glm::clamp(r, 0.0, 0.9999);
-  return 2.0 * glm::sqrt(c) / glm::sqrt(glm::dvec3(1.0) - c);
+// The exact Fresnel (a dielectric of index eta, or a conductor of eta 1 and extinction k) closest
+// to Schlick's curve s(c) = (f0 + (1 - f0)(1 - c)^5) / scale over c in [0, 1] (least squares on 64
+// points, a 1-D golden-section search per form): the targets that have no Schlick Fresnel get the
+// curve, not only its F0 (F0 = 0 with Schlick's grazing rise is not eta = 1, which reflects nothing).
+struct ExactFresnel {
+  double eta = 1.5, k = 0.0;
+};
+ExactFresnel match_schlick(double f0, double scale, bool allow_conductor) {
+  const auto cost = [&](double eta, double k) {
+    double e = 0.0;
+    for (int i = 0; i < 64; ++i) {
+      const double c = (i + 0.5) / 64.0, m = 1.0 - c;
+      const double want = std::min(1.0, (f0 + (1.0 - f0) * m * m * m * m * m) / scale);
+      e += sqr(F_Conductor(c, eta, k) - want);
+    }
+    return e;
+  };
+  const auto golden = [](auto&& f, double lo, double hi) {
+    const double r = (std::sqrt(5.0) - 1.0) / 2.0;
+    double a = lo, b = hi, x1 = b - r * (b - a), x2 = a + r * (b - a), f1 = f(x1), f2 = f(x2);
+    for (int i = 0; i < 80; ++i) {
+      if (f1 < f2) b = x2, x2 = x1, f2 = f1, x1 = b - r * (b - a), f1 = f(x1);
+      else a = x1, x1 = x2, f1 = f2, x2 = a + r * (b - a), f2 = f(x2);
+    }
+    return (a + b) / 2.0;
+  };
+  ExactFresnel d;
+  d.eta = golden([&](double e) { return cost(e, 0.0); }, 1.0001, 60.0);
+  if (!allow_conductor) return d;
+  ExactFresnel c;
+  c.eta = 1.0;
+  c.k = golden([&](double k) { return cost(1.0, k); }, 0.0, 60.0);
+  return cost(c.eta, c.k) < cost(d.eta, 0.0) ? c : d;
 }
 
 bool no_diffuse(const GgxSource& g) { return max3(g.kd) < 1e-6; }
@@ -341,6 +366,100 @@ std::optional<GgxSource> exact_ggx(const MaterialDesc& d) {
 
 }  // namespace
 
+namespace {
+
+// A GGX as the exporter fits it: error of aniso's GGX kernel (ggx.h / metal.h) against the samples.
+FitErrors ggx_errors(const GgxSource& g, const SampleSet& data) {
+  TargetBrdf t;
+  t.lobe.alpha_x = g.alpha_x, t.lobe.alpha_y = g.alpha_y;
+  t.lobe.masking = Masking::HeightCorrelated;
+  if (g.conductor) t.lobe.fresnel = FresnelModel::Conductor, t.lobe.eta = g.eta, t.lobe.k = g.k;
+  else t.lobe.fresnel = FresnelModel::Schlick, t.lobe.f0 = g.f0, t.diffuse = g.kd;
+  return target_errors(t, data);
+}
+double metric_of(const FitErrors& e, FitMetric m) { return m == FitMetric::L2Cos ? e.l2cos_all : e.log_all; }
+
+// The fit engine's starts (moments, Ngan's nearest fit, random draws) can miss the basin of a sharp
+// anisotropic lobe (Ward 0.05 x 0.3: all 16 starts ended at alpha_y = 1). A second candidate that
+// cannot: a search over the two alphas (log grid, 0.002 to 1, then a finer grid around the best),
+// where everything else is linear (kd and F0 of the Schlick GGX: f = kd / pi + (F0 (1 - s) + s) L,
+// s = (1 - wi.h)^5, solved by weighted least squares per channel, l2cos residuals) or fixed (the
+// conductor's eta, k: the source's own). The better of the two, in the chosen metric, is written.
+GgxSource grid_fit(const GgxSource& base, const SampleSet& all) {
+  SampleSet data;
+  const size_t stride = std::max<size_t>(1, all.samples.size() / 6000);
+  for (size_t i = 0; i < all.samples.size(); i += stride) data.samples.push_back(all.samples[i]);
+  struct Pre { Vec3d wi, wo; double c, s5, w; glm::dvec3 v; };
+  std::vector<Pre> pre;
+  for (const MeasuredSample& m : data.samples) {
+    const Vec3d h = glm::normalize(m.wi + m.wo);
+    const double s = 1.0 - std::clamp(glm::dot(m.wi, h), 0.0, 1.0);
+    pre.push_back({m.wi, m.wo, m.wi.z, s * s * s * s * s, m.weight, m.value});
+  }
+  const auto solve = [&](double ax, double ay, GgxSource& g) {
+    GGXLobeT<double> lobe;
+    lobe.alpha_x = ax, lobe.alpha_y = ay;
+    g.alpha_x = ax, g.alpha_y = ay;
+    double err = 0.0;
+    if (g.conductor) {
+      for (const Pre& p : pre) {
+        const glm::dvec3 F = F_Conductor(glm::dot(p.wi, glm::normalize(p.wi + p.wo)), RGBT<double>(g.eta), RGBT<double>(g.k));
+        const glm::dvec3 r = (F * lobe.eval(p.wi, p.wo) - p.v) * p.c;
+        err += p.w * glm::dot(r, r);
+      }
+      return err;
+    }
+    // Normal equations of [c / pi, (1 - s) L c] (kd, F0) against (v - s L) c, per channel.
+    double a11 = 0, a12 = 0, a22 = 0;
+    glm::dvec3 b1(0.0), b2(0.0);
+    std::vector<double> L(pre.size());
+    for (size_t i = 0; i < pre.size(); ++i) {
+      const Pre& p = pre[i];
+      L[i] = lobe.eval(p.wi, p.wo);
+      const double x1 = p.c * kInvPi<double>, x2 = (1.0 - p.s5) * L[i] * p.c;
+      const glm::dvec3 y = (p.v - p.s5 * L[i]) * p.c;
+      a11 += p.w * x1 * x1, a12 += p.w * x1 * x2, a22 += p.w * x2 * x2;
+      b1 += p.w * x1 * y, b2 += p.w * x2 * y;
+    }
+    for (int c = 0; c < 3; ++c) {
+      const double det = a11 * a22 - a12 * a12;
+      double kd = det != 0.0 ? (b1[c] * a22 - b2[c] * a12) / det : 0.0;
+      double f0 = det != 0.0 ? (a11 * b2[c] - a12 * b1[c]) / det : 0.0;
+      // The box [0, 1]^2: clamp one, re-solve the other.
+      if (kd < 0.0 || kd > 1.0) kd = std::clamp(kd, 0.0, 1.0), f0 = a22 > 0 ? std::clamp((b2[c] - a12 * kd) / a22, 0.0, 1.0) : 0.0;
+      if (f0 < 0.0 || f0 > 1.0) f0 = std::clamp(f0, 0.0, 1.0), kd = a11 > 0 ? std::clamp((b1[c] - a12 * f0) / a11, 0.0, 1.0) : 0.0;
+      g.kd[c] = kd, g.f0[c] = f0;
+    }
+    for (size_t i = 0; i < pre.size(); ++i) {
+      const Pre& p = pre[i];
+      const glm::dvec3 f = g.kd * kInvPi<double> + (g.f0 * (1.0 - p.s5) + p.s5) * L[i];
+      const glm::dvec3 r = (f - p.v) * p.c;
+      err += p.w * glm::dot(r, r);
+    }
+    return err;
+  };
+  constexpr int n = 24;
+  const double lo = std::log(0.002), hi = std::log(1.0), step = (hi - lo) / (n - 1);
+  GgxSource best = base, g = base;
+  double best_err = INFINITY, bx = 0, by = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double e = solve(std::exp(lo + i * step), std::exp(lo + j * step), g);
+      if (e < best_err) best_err = e, best = g, bx = lo + i * step, by = lo + j * step;
+    }
+  constexpr int m = 9;
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double x = std::min(hi, bx + (i - (m - 1) / 2) * step / ((m - 1) / 2));
+      const double y = std::min(hi, by + (j - (m - 1) / 2) * step / ((m - 1) / 2));
+      const double e = solve(std::exp(x), std::exp(y), g);
+      if (e < best_err) best_err = e, best = g;
+    }
+  return best;
+}
+
+}  // namespace
+
 GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const ExportOptions& o) {
   if (std::optional<GgxSource> g = exact_ggx(d)) return *g;
   if (samples.samples.empty())
@@ -380,11 +499,27 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
   }
   g.exact = false;
   g.source_fit = r.errors;
-  g.origin = fmt::format("fitted: aniso's anisotropic {} to {} samples of the {} source ({} metric, {} starts, best {}: "
-                         "l2cos {:.4g}, log {:.4g})",
+  // The grid candidate: the conductor keeps the source's own eta, k.
+  GgxSource start = g;
+  if (g.conductor) {
+    const MaterialD src = build_material<double>(unrotated(d));
+    start.eta = glm::dvec3(src.metal.eta.x, src.metal.eta.y, src.metal.eta.z);
+    start.k = glm::dvec3(src.metal.k.x, src.metal.k.y, src.metal.k.z);
+  }
+  const GgxSource grid = grid_fit(start, samples);
+  const FitErrors grid_err = ggx_errors(grid, samples);
+  std::string how = fmt::format("Ceres from {} starts, best {}", fo.starts, r.best_start);
+  if (metric_of(grid_err, o.metric) < metric_of(r.errors, o.metric)) {
+    g.alpha_x = grid.alpha_x, g.alpha_y = grid.alpha_y, g.kd = grid.kd, g.f0 = grid.f0, g.eta = grid.eta, g.k = grid.k;
+    g.source_fit = grid_err;
+    how = fmt::format("the alpha grid search (Ceres from {} starts reached l2cos {:.4g}, log {:.4g})", fo.starts,
+                      r.errors.l2cos_all, r.errors.log_all);
+  }
+  g.origin = fmt::format("fitted: aniso's anisotropic {} to {} samples of the {} source ({} metric; {}): l2cos {:.4g}, "
+                         "log {:.4g}",
                          fo.model == "metal" ? "GGX conductor" : "GGX", samples.samples.size(), d.model,
-                         o.metric == FitMetric::L2Cos ? "l2cos" : "log", fo.starts, r.best_start, r.errors.l2cos_all,
-                         r.errors.log_all);
+                         o.metric == FitMetric::L2Cos ? "l2cos" : "log", how, g.source_fit.l2cos_all,
+                         g.source_fit.log_all);
   return g;
 }
 
@@ -413,6 +548,7 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
       const double turn = wrap_turn((g.rotation_deg + extra) / 360.0);
       const glm::dvec2 a = cycles_principled_alpha(rough, aniso);
       m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+      m.tangent_turn_deg = extra;
       m.lobe.masking = Masking::HeightCorrelated;
       p["Roughness"] = rough, p["Anisotropic"] = aniso, p["Anisotropic Rotation"] = turn;
       p["distribution"] = "GGX";
@@ -433,14 +569,17 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
                                          "cos = 1/7 (Blender 3.4 ignores the tint: its Specular Tint is a float)");
       } else {
         // Dielectric: F0 = F0_from_ior(IOR) 2 level (closure.h, "Apply IOR adjustment"), exact Fresnel.
-        const double f0 = luminance_avg(g.f0), level = f0 / (2.0 * 0.04);
-        const double eta = ior_from_f0(f0);
+        const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
+        const double f0 = F_Conductor(1.0, eta, 0.0);
         m.name = "Cycles 4.x Principled BSDF, dielectric (exact Fresnel, height-correlated G) + Lambert";
         m.lobe.fresnel = FresnelModel::Dielectric;
         m.lobe.eta = glm::dvec3(eta);
         m.diffuse = g.kd;
-        p["Base Color"] = j3(g.kd), p["Metallic"] = 0.0, p["IOR"] = 1.5, p["Specular IOR Level"] = level;
+        p["Base Color"] = j3(g.kd), p["Metallic"] = 0.0, p["IOR"] = eta, p["Specular IOR Level"] = 0.5;
         p["Specular"] = f0 / 0.08;  // Blender 3.4: F0 = 0.08 Specular
+        notes.push_back(fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of IOR {:.4g} closest to its "
+                                    "curve (F0 {:.4g})",
+                                    luminance_avg(g.f0), eta, f0));
         notes.push_back("Cycles layers the diffuse under the specular (its weight times 1 - the specular albedo, "
                         "closure_layering_weight); the target model adds them as aniso's GGX does");
         if (max3(g.f0) - std::min({g.f0.x, g.f0.y, g.f0.z}) > 1e-3)
@@ -480,11 +619,12 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         // The Schlick lobe as a conductor with eta 1, k = 2 sqrt(r) / sqrt(1 - r): F(0) = r exactly,
         // (pbrt-v4 materials.h:505-507 for its "reflectance"), near Schlick elsewhere.
         const double w = no_diffuse(g) ? 1.0 : mix_weight(g);
-        const glm::dvec3 r = glm::clamp(g.f0 / w, 0.0, 0.9999);
-        m.lobe.eta = glm::dvec3(1.0), m.lobe.k = k_from_reflectance(r);
+        for (int c = 0; c < 3; ++c) {
+          const ExactFresnel e = match_schlick(g.f0[c], w, true);
+          m.lobe.eta[c] = e.eta, m.lobe.k[c] = e.k;
+        }
         m.lobe.weight = glm::dvec3(w);
-        if (mitsuba) p["eta"] = j3(glm::dvec3(1.0)), p["k"] = j3(m.lobe.k);
-        else p["reflectance"] = j3(r);
+        p["eta"] = j3(m.lobe.eta), p["k"] = j3(m.lobe.k);
         if (no_diffuse(g)) {
           m.name = mitsuba ? "Mitsuba 3 roughconductor (eta 1, k from F0)" : "pbrt-v4 conductor (reflectance = F0)";
         } else {
@@ -498,8 +638,8 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
                                       "instead of 1",
                                       w, w));
         }
-        notes.push_back("Schlick's Fresnel is written as a conductor Fresnel with the same F0 (the targets have no "
-                        "Schlick conductor)");
+        notes.push_back("Schlick's Fresnel is written as the exact (dielectric or conductor) Fresnel closest to its "
+                        "curve: the target has no Schlick Fresnel");
       }
       if (g.rotation_deg != 0.0)
         notes.push_back(fmt::format("the tangent is dp/du: {} has no rotation input, so rotate the mesh's uv "
@@ -527,6 +667,7 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
       const double turn = wrap_turn(-(g.rotation_deg + extra) / 360.0);
       const glm::dvec2 a = materialx_alpha(rough, aniso);
       m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+      m.tangent_turn_deg = extra;
       m.lobe.masking = Masking::HeightCorrelatedMeanAlpha;
       p["specular_roughness"] = rough, p["specular_anisotropy"] = aniso, p["specular_rotation"] = turn;
       p["base"] = 1.0, p["specular"] = 1.0;
@@ -542,7 +683,7 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         notes.push_back("the conductor goes through Gulbrandsen's artistic IOR (reflectivity, edge colour): two "
                         "colours for n, k, so the Fresnel curve is close, not equal");
       } else {
-        const double f0 = luminance_avg(g.f0), eta = ior_from_f0(f0);
+        const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
         m.name = "MaterialX standard_surface, dielectric (exact Fresnel, G2 at the mean alpha) + Lambert";
         m.lobe.fresnel = FresnelModel::Dielectric;
         m.lobe.eta = glm::dvec3(eta);
@@ -565,6 +706,7 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
       const double rot = glm::radians(std::fmod(g.rotation_deg + extra, 360.0));
       const glm::dvec2 a = gltf_alpha(rough, s);
       m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+      m.tangent_turn_deg = extra;
       m.lobe.masking = Masking::HeightCorrelated;  // V_GGX_anisotropic (README.md:174-181)
       m.lobe.fresnel = FresnelModel::Schlick;
       p["roughnessFactor"] = rough, p["anisotropyStrength"] = s, p["anisotropyRotation"] = rot;

@@ -70,6 +70,10 @@ struct TargetBrdf {
   TargetLobe lobe;
   glm::dvec3 diffuse{0.0};
   bool diffuse_times_one_minus_f = false;
+  // The target's tangent, turned from aniso's x axis towards y by this angle (the targets that want
+  // the larger alpha along the tangent turn it by 90 degrees instead of swapping the alphas); f()
+  // takes directions in aniso's frame.
+  double tangent_turn_deg = 0.0;
 
   glm::dvec3 fresnel(double cos_theta) const;
   glm::dvec3 f(const Vec3d& wi, const Vec3d& wo) const;
@@ -194,8 +198,15 @@ inline glm::dvec3 TargetBrdf::fresnel(double c) const {
   return glm::dvec3(1.0);
 }
 
-inline glm::dvec3 TargetBrdf::f(const Vec3d& wi, const Vec3d& wo) const {
-  if (!(wi.z > 0.0) || !(wo.z > 0.0)) return glm::dvec3(0.0);
+inline glm::dvec3 TargetBrdf::f(const Vec3d& wi_in, const Vec3d& wo_in) const {
+  if (!(wi_in.z > 0.0) || !(wo_in.z > 0.0)) return glm::dvec3(0.0);
+  Vec3d wi = wi_in, wo = wo_in;
+  if (tangent_turn_deg != 0.0) {
+    // Components along the turned tangent t' = cos a x + sin a y and b' = -sin a x + cos a y.
+    const double a = tangent_turn_deg * kPi<double> / 180.0, c = std::cos(a), s = std::sin(a);
+    wi = Vec3d(c * wi_in.x + s * wi_in.y, -s * wi_in.x + c * wi_in.y, wi_in.z);
+    wo = Vec3d(c * wo_in.x + s * wo_in.y, -s * wo_in.x + c * wo_in.y, wo_in.z);
+  }
   const Vec3d h = glm::normalize(wi + wo);
   const double ax = lobe.alpha_x, ay = lobe.alpha_y;
   const double D = D_GGX_Aniso(h.x, h.y, h.z, ax, ay);
