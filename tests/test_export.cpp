@@ -503,6 +503,16 @@ TEST_F(ExportCli, UnwritableOutputLeavesNothing) {
   EXPECT_FALSE(fs::exists(dir_ / "x.bin"));
 }
 
+TEST_F(ExportCli, PreviewWritesAPng) {
+  const std::string png = (dir_ / "p.png").string();
+  const Result r = run({"export", "--to", "pbrt-v4", "--material", "gold", "-o", (dir_ / "g.pbrt").string(), "--preview", png});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(read_file(png).substr(1, 3), "PNG");
+  const Result bad = run({"export", "--to", "pbrt-v4", "--material", "gold", "-o", (dir_ / "h.pbrt").string(), "--preview", "x.jpg"});
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "h.pbrt"));
+}
+
 TEST_F(ExportCli, ListAndHelpTargets) {
   const Result r = run({"export", "--list-targets"});
   ASSERT_EQ(r.code, 0) << r.err;

@@ -19,7 +19,7 @@ namespace aniso {
 namespace {
 
 struct ExportArgs {
-  std::string to, material, output, name, metric = "l2cos", help_target;
+  std::string to, material, output, name, metric = "l2cos", help_target, preview;
   int starts = 4;
   uint64_t seed = 1;
   bool list = false;
@@ -58,6 +58,10 @@ void run_export(const ExportArgs& a) {
   if (info->target == Target::Gltf) bin_name = fs::path(a.output).stem().string() + ".bin";
   const ExportResult r = export_material(desc, a.material, o, bin_name);
   const bool to_stdout = a.output.empty() || a.output == "-";
+  if (!a.preview.empty()) {
+    if (!a.preview.ends_with(".png")) throw InputError(fmt::format("--preview {}: expected a .png file", a.preview));
+    if (fs::is_directory(a.preview)) throw InputError(fmt::format("--preview {}: is a directory", a.preview));
+  }
   if (r.files.size() == 2) {
     const fs::path bin = fs::path(a.output).parent_path() / r.files[1].path;
     std::error_code ec;
@@ -73,6 +77,12 @@ void run_export(const ExportArgs& a) {
     }
   } else {
     write_atomically(a.output, r.files[0].content);
+  }
+  if (!a.preview.empty()) {
+    MaterialDesc plain = desc;
+    if (plain.params.values.count("rotation_deg")) plain.params.values["rotation_deg"] = 0.0;
+    write_preview(a.preview, build_material<double>(plain), r.model, "source: " + desc.model,
+                  std::string(info->name) + (r.report.exact ? " (exact)" : " (fitted)"));
   }
   fmt::print(to_stdout ? stderr : stdout, "{}", r.report.text());
   if (!to_stdout) fmt::print("wrote {}{}\n", a.output, r.files.size() == 2 ? " and " + r.files[1].path : std::string());
@@ -91,6 +101,7 @@ void add_export_target_command(CLI::App& app) {
   cmd->add_option("--metric", a->metric, "fitted path: l2cos (default) or log");
   cmd->add_option("--starts", a->starts, "fitted path: starts of the fit (default 4)")->check(CLI::Range(1, 100));
   cmd->add_option("--seed", a->seed, "fitted path: random seed (default 1)");
+  cmd->add_option("--preview", a->preview, "also write a PNG: the source (left) and the target model (right), shaded by aniso");
   cmd->add_flag("--list-targets", a->list, "list the targets and exit");
   cmd->add_option("--help-target", a->help_target, "what a target's export writes and how to use it");
   cmd->callback([a] { run_command([&] { run_export(*a); }); });

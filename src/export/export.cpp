@@ -13,6 +13,7 @@
 
 #include "data/metals.h"
 #include "io/input_error.h"
+#include "render/image.h"
 
 namespace aniso::exporter {
 
@@ -113,7 +114,7 @@ double wrap_turn(double t) {
   t = std::fmod(t, 1.0);
   if (t < 0.0) t += 1.0;
   if (t >= 1.0 - 1e-12) t = 0.0;
-  return t;
+  return t + 0.0;  // -0 is written as "-0"
 }
 
 // The exact Fresnel (a dielectric of index eta, or a conductor of eta 1 and extinction k) closest
@@ -673,7 +674,27 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
       p["base"] = 1.0, p["specular"] = 1.0;
       if (g.conductor || no_diffuse(g)) {
         glm::dvec3 refl = glm::clamp(cond_f0, 0.0, 0.99), edge(1.0);
-        if (g.conductor) materialx_artistic_from_ior(g.eta, g.k, refl, edge);
+        if (g.conductor) {
+          materialx_artistic_from_ior(g.eta, g.k, refl, edge);
+        } else {
+          // A Schlick metal: the edge colour whose artistic-IOR Fresnel is closest to Schlick's curve.
+          for (int c = 0; c < 3; ++c) {
+            const auto cost = [&](double e) {
+              glm::dvec3 n, k;
+              materialx_artistic_ior(glm::dvec3(refl[c]), glm::dvec3(e), n, k);
+              double sum = 0.0;
+              for (int i = 0; i < 64; ++i) {
+                const double cs = (i + 0.5) / 64.0, m5 = std::pow(1.0 - cs, 5.0);
+                sum += sqr(F_Conductor(cs, n.x, k.x) - (refl[c] + (1.0 - refl[c]) * m5));
+              }
+              return sum;
+            };
+            double best = 1.0, best_cost = cost(1.0);
+            for (int i = 0; i <= 100; ++i)
+              if (const double v = cost(i / 100.0); v < best_cost) best_cost = v, best = i / 100.0;
+            edge[c] = best;
+          }
+        }
         glm::dvec3 n, k;
         materialx_artistic_ior(refl, edge, n, k);
         m.name = "MaterialX standard_surface, metalness 1 (artistic IOR conductor, G2 at the mean alpha)";
@@ -976,6 +997,45 @@ void write_gltf(const std::string& name, const json& p, const ExportReport& r, c
 }
 
 }  // namespace
+
+void write_preview(const std::string& path, const MaterialD& source, const TargetBrdf& target, const std::string& left,
+                   const std::string& right, int size) {
+  const int label = size / 8, w = 2 * size, h = size + label;
+  render::Image img(w, size);
+  const glm::dvec3 lights[2] = {glm::normalize(glm::dvec3(-0.5, 0.6, 1.0)), glm::normalize(glm::dvec3(0.7, -0.3, 0.8))};
+  const double power[2] = {2.5, 1.0};
+  for (int side = 0; side < 2; ++side)
+    for (int py = 0; py < size; ++py)
+      for (int px = 0; px < size; ++px) {
+        const double x = (px + 0.5) / size * 2.0 - 1.0, y = 1.0 - (py + 0.5) / size * 2.0, r2 = x * x + y * y;
+        if (r2 >= 1.0) continue;
+        const glm::dvec3 n(x, y, std::sqrt(1.0 - r2));
+        const glm::dvec3 t = glm::normalize(glm::dvec3(n.z, 0.0, -n.x)), b = glm::cross(n, t);
+        const auto local = [&](const glm::dvec3& v) { return Vec3d(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)); };
+        const Vec3d wo = local(glm::dvec3(0.0, 0.0, 1.0));
+        glm::dvec3 c(0.0);
+        for (int l = 0; l < 2; ++l) {
+          const Vec3d wi = local(lights[l]);
+          if (!(wi.z > 0.0) || !(wo.z > 0.0)) continue;
+          glm::dvec3 f;
+          if (side == 0) {
+            const RGBT<double> s = source.f(wi, wo);
+            f = glm::dvec3(s.x, s.y, s.z);
+          } else {
+            f = target.f(wi, wo);
+          }
+          c += f * wi.z * power[l];
+        }
+        img.set(side * size + px, py, RGB(float(c.x), float(c.y), float(c.z)));
+      }
+  const render::DisplayImage shaded = render::tonemap(img, {});
+  render::DisplayImage out(w, h, 255);
+  render::blit(out, shaded, 0, 0);
+  const float ph = float(label) * 0.55f;
+  render::draw_text(out, 6, size + label / 5, left, ph, {0, 0, 0});
+  render::draw_text(out, size + 6, size + label / 5, right, ph, {0, 0, 0});
+  render::write_png(path, out);
+}
 
 SphereMesh uv_sphere(int rings, int segments) {
   SphereMesh m;

@@ -123,6 +123,13 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
 TargetBrdf target_model(Target t, const GgxSource& g, nlohmann::json* parameters = nullptr,
                         std::vector<std::string>* notes = nullptr);
 
+// A picture for the docs and `--preview`: two spheres, the source (left) and the written target
+// model (right), shaded by aniso with the same two directional lights, tangent dp/du of a sphere
+// whose u runs around the vertical axis (aniso's meshes), viewed orthographically along -z.
+// Each sphere `size` pixels; PNG through render::write_png.
+void write_preview(const std::string& path, const MaterialD& source, const TargetBrdf& target, const std::string& left,
+                   const std::string& right, int size = 256);
+
 // The sphere the glTF export carries (positions, normals, tangents (w = +1), uvs, indices).
 struct SphereMesh {
   std::vector<float> positions, normals, tangents, uvs;
