@@ -451,6 +451,19 @@ TEST_F(ExportCli, BlenderScriptRunsInBlender) {
   const std::string py = read_file(script);
   EXPECT_TRUE(contains(py, "bpy.app.version")) << py;
   EXPECT_TRUE(contains(py, "ShaderNodeBsdfPrincipled")) << py;
+  // The inputs it sets are the Principled BSDF's sockets (node_shader_bsdf_principled.cc,
+  // node_declare): 3.x "Specular" (float), 4.x "Specular IOR Level" and a colour "Specular Tint".
+  static const std::set<std::string> sockets = {"Base Color", "Metallic", "Roughness", "Anisotropic", "Anisotropic Rotation",
+                                                "IOR", "Specular", "Specular IOR Level", "Specular Tint", "Tangent"};
+  static const std::regex put(R"re(put\("([^"]+)")re");
+  int puts = 0;
+  for (auto it = std::sregex_iterator(py.begin(), py.end(), put); it != std::sregex_iterator(); ++it, ++puts)
+    EXPECT_TRUE(sockets.count((*it)[1])) << (*it)[1];
+  EXPECT_GE(puts, 6);
+  // Valid Python (the syntax, without Blender).
+  if (std::system("command -v python3 > /dev/null 2>&1") == 0) {
+    EXPECT_EQ(std::system(("python3 -c 'import ast, sys; ast.parse(open(sys.argv[1]).read())' " + shell_quote(script)).c_str()), 0);
+  }
   if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed: the script was not run";
   // A script that makes an object (with a UV map), then execs the export: the material lands on it.
   const std::string driver = write("driver.py",
