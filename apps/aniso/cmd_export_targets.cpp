@@ -20,7 +20,7 @@ namespace {
 
 struct ExportArgs {
   std::string to, material, output, name, metric = "l2cos", help_target, preview;
-  int starts = 4;
+  int starts = 4, grid = 6;
   uint64_t seed = 1;
   bool list = false;
 };
@@ -48,6 +48,7 @@ void run_export(const ExportArgs& a) {
   o.name = a.name;
   o.starts = a.starts;
   o.seed = a.seed;
+  o.grid = a.grid;
   if (a.metric == "l2cos") o.metric = FitMetric::L2Cos;
   else if (a.metric == "log") o.metric = FitMetric::Log;
   else throw InputError(fmt::format("--metric: expected l2cos or log, got \"{}\"", a.metric));
@@ -101,6 +102,8 @@ void add_export_target_command(CLI::App& app) {
   cmd->add_option("--metric", a->metric, "fitted path: l2cos (default) or log");
   cmd->add_option("--starts", a->starts, "fitted path: starts of the fit (default 4)")->check(CLI::Range(1, 100));
   cmd->add_option("--seed", a->seed, "fitted path: random seed (default 1)");
+  cmd->add_option("--grid", a->grid, "sampling of the source: 4n x 4n x 2n x 2n half / difference angle pairs (default 6)")
+      ->check(CLI::Range(1, 12));
   cmd->add_option("--preview", a->preview, "also write a PNG: the source (left) and the target model (right), shaded by aniso");
   cmd->add_flag("--list-targets", a->list, "list the targets and exit");
   cmd->add_option("--help-target", a->help_target, "what a target's export writes and how to use it");
