@@ -497,6 +497,41 @@ TEST_F(ExportCli, BlenderScriptRunsInBlender) {
   EXPECT_TRUE(contains(out, "ANISO_OK")) << out;
 }
 
+// Where Blender is absent: the script run by Python against a stand-in for bpy with the Principled
+// BSDF's 3.4 and 4.x sockets (tests/export_bpy_stub/bpy.py), with and without a UV map, for a metal
+// and a dielectric: every input it sets exists with its type, the node is single-scattering GGX,
+// the material lands on the active object, the Tangent node comes with the UV map.
+TEST_F(ExportCli, BlenderScriptRunsOnABpyStub) {
+  if (std::system("command -v python3 > /dev/null 2>&1") != 0) GTEST_SKIP() << "python3 is not installed";
+  for (const char* material : {"gold", R"({"model": "ggx", "kd": 0.3, "f0": 0.04, "alpha_x": 0.1, "alpha_y": 0.3})"}) {
+    const std::string script = (dir_ / "m.py").string();
+    const Result r = run({"export", "--to", "blender", "--material", material, "-o", script, "--grid", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string check = write("check.py",
+                                    "import bpy\n"
+                                    "exec(open(r'" + script + "').read())\n"
+                                    "obj = bpy.context.view_layer.objects.active\n"
+                                    "assert obj.data.materials[0] is mat\n"
+                                    "assert bsdf.distribution == 'GGX'\n"
+                                    "has_tangent = any(n.bl_idname == 'ShaderNodeTangent' for n in nodes)\n"
+                                    "assert has_tangent == (obj.data.uv_layers.active is not None), has_tangent\n"
+                                    "print('ANISO_OK')\n");
+    for (const char* version : {"3.4", "4.2"})
+      for (const char* uv : {"0", "1"}) {
+        const std::string cmd = "PYTHONPATH=" + shell_quote(std::string(ANISO_SOURCE_DIR) + "/tests/export_bpy_stub") +
+                                " ANISO_BPY_VERSION=" + version + " ANISO_BPY_UV=" + uv + " python3 " + shell_quote(check) +
+                                " 2>&1";
+        std::string out;
+        if (FILE* p = popen(cmd.c_str(), "r")) {
+          char buf[4096];
+          for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+          pclose(p);
+        }
+        EXPECT_TRUE(contains(out, "ANISO_OK")) << material << " Blender " << version << " uv " << uv << ":\n" << out;
+      }
+  }
+}
+
 // ---- bad input: exit 2, nothing written ---------------------------------------------------------
 
 TEST_F(ExportCli, UnknownTarget) {
