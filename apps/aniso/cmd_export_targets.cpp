@@ -49,9 +49,9 @@ void run_export(const ExportArgs& a) {
   o.starts = a.starts;
   o.seed = a.seed;
   o.grid = a.grid;
-  if (a.metric == "l2cos") o.metric = FitMetric::L2Cos;
-  else if (a.metric == "log") o.metric = FitMetric::Log;
-  else throw InputError(fmt::format("--metric: expected l2cos or log, got \"{}\"", a.metric));
+  FitOptionText metric_only;
+  metric_only.metric = a.metric;
+  o.metric = parse_fit_options(metric_only).metric;  // `aniso fit`'s check and message
   const MaterialDesc desc = load_material(a.material);
   (void)build_material<double>(desc);
   namespace fs = std::filesystem;

@@ -1352,9 +1352,9 @@ PYBIND11_MODULE(_aniso, m) {
           exporter::ExportOptions o;
           o.target = to;
           if (name) o.name = *name;
-          if (metric == "l2cos") o.metric = FitMetric::L2Cos;
-          else if (metric == "log") o.metric = FitMetric::Log;
-          else throw InputError(fmt::format("metric: expected \"l2cos\" or \"log\", got \"{}\"", metric));
+          FitOptionText metric_only;
+          metric_only.metric = metric;
+          o.metric = parse_fit_options(metric_only).metric;
           if (starts < 1 || starts > 100) throw InputError(fmt::format("starts: expected 1 to 100, got {}", starts));
           o.starts = starts;
           o.seed = seed;

@@ -110,6 +110,29 @@ double major_first(double& ax, double& ay) {
   return 90.0;
 }
 
+// The roughness and anisotropy of the targets whose alphas are r^2 / aspect and r^2 aspect with
+// aspect^2 = 1 - scale a (Blender's Principled: scale 0.9; MaterialX: 1): r^2 = sqrt(ax ay), a =
+// (1 - ay / ax) / scale, the larger alpha first (extra = the tangent's turn); a capped at `cap`
+// (keeping the mean alpha) and r at 1, each with a note.
+struct RoughAniso {
+  double extra, rough, aniso;
+};
+RoughAniso invert_aspect(double& ax, double& ay, double scale, double cap, std::string_view who,
+                         std::vector<std::string>& notes) {
+  RoughAniso r;
+  r.extra = major_first(ax, ay);
+  r.aniso = (1.0 - ay / ax) / scale;
+  if (r.aniso > cap) {
+    notes.push_back(fmt::format("alpha ratio {:.3g} exceeds {}'s largest, {:.3g} (anisotropy {:.3g}): written with "
+                                "anisotropy {:.3g} and the same mean alpha",
+                                ax / ay, who, 1.0 / (1.0 - scale * cap), cap, cap));
+    r.aniso = cap;
+  }
+  r.rough = std::sqrt(std::sqrt(ax * ay));
+  if (r.rough > 1.0) notes.push_back("roughness above 1 clamped to 1"), r.rough = 1.0;
+  return r;
+}
+
 double wrap_turn(double t) {
   t = std::fmod(t, 1.0);
   if (t < 0.0) t += 1.0;
@@ -535,17 +558,8 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
   switch (t) {
     case Target::Blender: {
       // Principled BSDF (closure.h @ 02e6985c): alpha_x = r^2 / aspect >= alpha_y = r^2 aspect.
-      const double extra = major_first(ax, ay);
-      const double r2 = std::sqrt(ax * ay);
-      double aspect2 = ay / ax, aniso = (1.0 - aspect2) / 0.9;
-      if (aniso > 1.0) {
-        notes.push_back(fmt::format("alpha ratio {:.3g} exceeds the Principled BSDF's largest, 1 / 0.1 = 10 "
-                                    "(anisotropic = 1): written with anisotropic 1 and the same mean alpha",
-                                    ax / ay));
-        aniso = 1.0;
-      }
-      double rough = std::sqrt(r2);
-      if (rough > 1.0) notes.push_back("roughness above 1 clamped to 1"), rough = 1.0;
+      // aspect^2 = alpha_y / alpha_x = 1 - 0.9 anisotropic, anisotropic <= 1.
+      const auto [extra, rough, aniso] = invert_aspect(ax, ay, 0.9, 1.0, "the Principled BSDF", notes);
       const double turn = wrap_turn((g.rotation_deg + extra) / 360.0);
       const glm::dvec2 a = cycles_principled_alpha(rough, aniso);
       m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
@@ -652,17 +666,8 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
       break;
     }
     case Target::MaterialX: {
-      const double extra = major_first(ax, ay);
-      const double r2 = std::sqrt(ax * ay);
-      double aniso = 1.0 - ay / ax;
-      if (aniso > 0.98) {
-        notes.push_back(fmt::format("alpha ratio {:.3g} exceeds standard_surface's largest, 1 / 0.02 = 50 "
-                                    "(mx_roughness_anisotropy clamps anisotropy to 0.98)",
-                                    ax / ay));
-        aniso = 0.98;
-      }
-      double rough = std::sqrt(r2);
-      if (rough > 1.0) rough = 1.0;
+      // aspect^2 = alpha_y / alpha_x = 1 - anisotropy, anisotropy <= 0.98 (mx_roughness_anisotropy).
+      const auto [extra, rough, aniso] = invert_aspect(ax, ay, 1.0, 0.98, "standard_surface", notes);
       // MaterialX's rotate3d turns the tangent clockwise about the normal (mx_rotate_vector3.glsl:12:
       // v c + cross(v, axis) s, and t x n = -b): specular_rotation = -angle / 360.
       const double turn = wrap_turn(-(g.rotation_deg + extra) / 360.0);
