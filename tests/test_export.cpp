@@ -467,7 +467,8 @@ TEST_F(ExportCli, BlenderScriptRunsInBlender) {
   // The inputs it sets are the Principled BSDF's sockets (node_shader_bsdf_principled.cc,
   // node_declare): 3.x "Specular" (float), 4.x "Specular IOR Level" and a colour "Specular Tint".
   static const std::set<std::string> sockets = {"Base Color", "Metallic", "Roughness", "Anisotropic", "Anisotropic Rotation",
-                                                "IOR", "Specular", "Specular IOR Level", "Specular Tint", "Tangent"};
+                                                "IOR", "Specular", "Specular IOR Level", "Specular Tint", "Tangent",
+                                                "Extinction", "Anisotropy", "Rotation"};
   static const std::regex put(R"re(put\("([^"]+)")re");
   int puts = 0;
   for (auto it = std::sregex_iterator(py.begin(), py.end(), put); it != std::sregex_iterator(); ++it, ++puts)
@@ -509,14 +510,20 @@ TEST_F(ExportCli, BlenderScriptRunsOnABpyStub) {
     ASSERT_EQ(r.code, 0) << r.err;
     const std::string check = write("check.py",
                                     "import bpy\n"
+                                    "MATERIAL = '" + std::string(material[0] == '{' ? "ggx" : material) + "'\n"
                                     "exec(open(r'" + script + "').read())\n"
                                     "obj = bpy.context.view_layer.objects.active\n"
                                     "assert obj.data.materials[0] is mat\n"
                                     "assert bsdf.distribution == 'GGX'\n"
+                                    "assert bsdf in nodes and (bsdf.outputs['BSDF'], out.inputs['Surface']) in links\n"
+                                    "want = 'ShaderNodeBsdfMetallic' if bpy.app.version >= (4, 3, 0) and MATERIAL == 'gold' "
+                                    "else 'ShaderNodeBsdfPrincipled'\n"
+                                    "assert bsdf.bl_idname == want, bsdf.bl_idname\n"
+                                    "assert bsdf.bl_idname != 'ShaderNodeBsdfMetallic' or bsdf.fresnel_type == 'PHYSICAL_CONDUCTOR'\n"
                                     "has_tangent = any(n.bl_idname == 'ShaderNodeTangent' for n in nodes)\n"
                                     "assert has_tangent == (obj.data.uv_layers.active is not None), has_tangent\n"
                                     "print('ANISO_OK')\n");
-    for (const char* version : {"3.4", "4.2"})
+    for (const char* version : {"3.4", "4.2", "4.3"})
       for (const char* uv : {"0", "1"}) {
         const std::string cmd = "PYTHONPATH=" + shell_quote(std::string(ANISO_SOURCE_DIR) + "/tests/export_bpy_stub") +
                                 " ANISO_BPY_VERSION=" + version + " ANISO_BPY_UV=" + uv + " python3 " + shell_quote(check) +

@@ -21,6 +21,7 @@ namespace {
 struct ExportArgs {
   std::string to, material, output, name, metric = "l2cos", help_target, preview;
   int starts = 4, grid = 6;
+  double blender_version = 4.3;
   uint64_t seed = 1;
   bool list = false;
 };
@@ -49,6 +50,7 @@ void run_export(const ExportArgs& a) {
   o.starts = a.starts;
   o.seed = a.seed;
   o.grid = a.grid;
+  o.blender_version = a.blender_version;
   FitOptionText metric_only;
   metric_only.metric = a.metric;
   o.metric = parse_fit_options(metric_only).metric;  // `aniso fit`'s check and message
@@ -104,6 +106,10 @@ void add_export_target_command(CLI::App& app) {
   cmd->add_option("--seed", a->seed, "fitted path: random seed (default 1)");
   cmd->add_option("--grid", a->grid, "sampling of the source: 4n x 4n x 2n x 2n half / difference angle pairs (default 6)")
       ->check(CLI::Range(1, 12));
+  cmd->add_option("--blender-version", a->blender_version,
+                  "--to blender: the Blender whose model the report measures (default 4.3: conductors as the Metallic "
+                  "BSDF with n, k; 4.0: the Principled BSDF's F82 tint); the script adapts to the Blender running it")
+      ->check(CLI::Range(3.0, 10.0));
   cmd->add_option("--preview", a->preview, "also write a PNG: the source (left) and the target model (right), shaded by aniso");
   cmd->add_flag("--list-targets", a->list, "list the targets and exit");
   cmd->add_option("--help-target", a->help_target, "what a target's export writes and how to use it");

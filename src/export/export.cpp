@@ -71,7 +71,7 @@ void half_diff_to_dirs(double th, double ph, double td, double pd, Vec3d& wi, Ve
   wo = 2.0 * glm::dot(wi, h) * h - wi;
 }
 
-std::string fmt3(const glm::dvec3& c, const char* sep = ", ") { return fmt::format("{:.6g}{}{:.6g}{}{:.6g}", c.x, sep, c.y, sep, c.z); }
+std::string fmt3(const glm::dvec3& c, const char* sep = ", ") { return fmt::format("{:.9g}{}{:.9g}{}{:.9g}", c.x, sep, c.y, sep, c.z); }
 json j3(const glm::dvec3& c) { return json::array({c.x, c.y, c.z}); }
 
 bool has_scalar(const ParamValues& p, std::string_view key) {
@@ -549,7 +549,8 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
 
 // --- GGX -> each target ----------------------------------------------------------------------------
 
-TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vector<std::string>* notes_out) {
+TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vector<std::string>* notes_out,
+                        double blender_version) {
   json p = json::object();
   std::vector<std::string> notes;
   TargetBrdf m;
@@ -580,8 +581,22 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         m.lobe.f0 = f0;
         m.lobe.f82_b = cycles_f82tint_b(f0, tint);
         p["Base Color"] = j3(f0), p["Metallic"] = 1.0, p["Specular Tint"] = j3(tint);
-        if (g.conductor) notes.push_back("the conductor's n, k become F0 and the F82 tint matching its reflectance at "
-                                         "cos = 1/7 (Blender 3.4 ignores the tint: its Specular Tint is a float)");
+        if (g.conductor && blender_version >= 4.3) {
+          // Blender 4.3+: the Metallic BSDF with fresnel_type PHYSICAL_CONDUCTOR takes n and k
+          // (closure.h, CLOSURE_BSDF_PHYSICAL_CONDUCTOR: the same aspect mapping as the Principled
+          // BSDF, bsdf_microfacet_setup_fresnel_conductor with ior = {n, k}): aniso's conductor exactly.
+          m.name = "Cycles 4.3+ Metallic BSDF, physical conductor (exact n, k Fresnel, height-correlated Smith G)";
+          m.lobe.fresnel = FresnelModel::Conductor;
+          m.lobe.eta = g.eta, m.lobe.k = g.k;
+          p["IOR"] = j3(g.eta), p["Extinction"] = j3(g.k);
+          notes.push_back("Blender 4.3+: a Metallic BSDF with the physical conductor Fresnel (n, k); before 4.3 the "
+                          "script builds a Principled BSDF with F0 and the F82 tint matching the reflectance at cos = "
+                          "1/7 instead (--blender-version 4.0 reports that one; 3.4 has no tint)");
+        } else if (g.conductor) {
+          notes.push_back("the conductor's n, k become F0 and the F82 tint matching its reflectance at cos = 1/7 (the "
+                          "script uses 4.3's Metallic BSDF with n, k where it exists; Blender 3.4 ignores the tint: its "
+                          "Specular Tint is a float)");
+        }
       } else {
         // Dielectric: F0 = F0_from_ior(IOR) 2 level (closure.h, "Apply IOR adjustment"), exact Fresnel.
         const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
@@ -658,7 +673,7 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
       }
       if (g.rotation_deg != 0.0)
         notes.push_back(fmt::format("the tangent is dp/du: {} has no rotation input, so rotate the mesh's uv "
-                                    "parameterisation (or the tangent) by {:.6g} degrees about the normal, towards "
+                                    "parameterisation (or the tangent) by {:.9g} degrees about the normal, towards "
                                     "dp/dv",
                                     mitsuba ? "Mitsuba 3" : "pbrt-v4", g.rotation_deg));
       else
@@ -826,24 +841,40 @@ std::string write_blender(const std::string& name, const json& p, const std::str
        "links.new(bsdf.outputs[\"BSDF\"], out.inputs[\"Surface\"])\n\n"
        "def put(name, value):\n"
        "    if name not in bsdf.inputs:\n"
-       "        raise KeyError(\"Principled BSDF of Blender %s has no input %r\" % (bpy.app.version_string, name))\n"
+       "        raise KeyError(\"%s of Blender %s has no input %r\" % (bsdf.bl_idname, bpy.app.version_string, name))\n"
        "    bsdf.inputs[name].default_value = value\n\n";
-  s += fmt::format("put(\"Base Color\", ({:.6g}, {:.6g}, {:.6g}, 1.0))\n", base.x, base.y, base.z);
-  s += fmt::format("put(\"Metallic\", {:.6g})\n", num(p, "Metallic"));
-  s += fmt::format("put(\"Roughness\", {:.6g})\n", num(p, "Roughness"));
-  s += fmt::format("put(\"Anisotropic\", {:.6g})\n", num(p, "Anisotropic"));
-  s += fmt::format("put(\"Anisotropic Rotation\", {:.6g})\n", num(p, "Anisotropic Rotation"));
+  s += fmt::format("put(\"Base Color\", ({:.9g}, {:.9g}, {:.9g}, 1.0))\n", base.x, base.y, base.z);
+  s += fmt::format("put(\"Metallic\", {:.9g})\n", num(p, "Metallic"));
+  s += fmt::format("put(\"Roughness\", {:.9g})\n", num(p, "Roughness"));
+  s += fmt::format("put(\"Anisotropic\", {:.9g})\n", num(p, "Anisotropic"));
+  s += fmt::format("put(\"Anisotropic Rotation\", {:.9g})\n", num(p, "Anisotropic Rotation"));
   s += "if V4:\n";
   if (metallic) {
     const glm::dvec3 t = col(p, "Specular Tint");
-    s += fmt::format("    put(\"Specular Tint\", ({:.6g}, {:.6g}, {:.6g}, 1.0))  # the F82 edge tint\n", t.x, t.y, t.z);
+    s += fmt::format("    put(\"Specular Tint\", ({:.9g}, {:.9g}, {:.9g}, 1.0))  # the F82 edge tint\n", t.x, t.y, t.z);
   } else {
-    s += fmt::format("    put(\"IOR\", {:.6g})\n    put(\"Specular IOR Level\", {:.6g})\n", num(p, "IOR"),
+    s += fmt::format("    put(\"IOR\", {:.9g})\n    put(\"Specular IOR Level\", {:.9g})\n", num(p, "IOR"),
                      num(p, "Specular IOR Level"));
   }
   s += "else:\n";
   if (metallic) s += "    pass  # 3.4: no edge tint (its Specular Tint is a float that tints the dielectric F0)\n";
-  else s += fmt::format("    put(\"Specular\", {:.6g})  # F0 = 0.08 Specular\n", num(p, "Specular"));
+  else s += fmt::format("    put(\"Specular\", {:.9g})  # F0 = 0.08 Specular\n", num(p, "Specular"));
+  if (p.contains("Extinction")) {
+    // Blender 4.3+: the Metallic BSDF (node_shader_bsdf_metallic.cc: IOR and Extinction are
+    // vectors, Anisotropy and Rotation as the Principled BSDF's) replaces the Principled one.
+    const glm::dvec3 n = col(p, "IOR"), k = col(p, "Extinction");
+    s += "\nif bpy.app.version >= (4, 3, 0):  # the physical conductor: n, k themselves\n"
+         "    nodes.remove(bsdf)\n"
+         "    bsdf = nodes.new(\"ShaderNodeBsdfMetallic\")\n"
+         "    bsdf.distribution = \"GGX\"\n"
+         "    bsdf.fresnel_type = \"PHYSICAL_CONDUCTOR\"\n"
+         "    links.new(bsdf.outputs[\"BSDF\"], out.inputs[\"Surface\"])\n";
+    s += fmt::format("    put(\"IOR\", ({:.9g}, {:.9g}, {:.9g}))\n", n.x, n.y, n.z);
+    s += fmt::format("    put(\"Extinction\", ({:.9g}, {:.9g}, {:.9g}))\n", k.x, k.y, k.z);
+    s += fmt::format("    put(\"Roughness\", {:.9g})\n", num(p, "Roughness"));
+    s += fmt::format("    put(\"Anisotropy\", {:.9g})\n", num(p, "Anisotropic"));
+    s += fmt::format("    put(\"Rotation\", {:.9g})\n", num(p, "Anisotropic Rotation"));
+  }
   s += "\nobj = bpy.context.view_layer.objects.active\n"
        "if obj is not None and obj.type == \"MESH\":\n"
        "    uv = obj.data.uv_layers.active\n"
@@ -863,8 +894,8 @@ std::string write_blender(const std::string& name, const json& p, const std::str
 std::string write_mitsuba(const std::string& name, const json& p, const std::string& comment) {
   const std::string id = xml_escape(identifier(name));
   std::string conductor = "        <string name=\"distribution\" value=\"ggx\"/>\n";
-  conductor += fmt::format("        <float name=\"alpha_u\" value=\"{:.6g}\"/>\n", num(p, "alpha_u"));
-  conductor += fmt::format("        <float name=\"alpha_v\" value=\"{:.6g}\"/>\n", num(p, "alpha_v"));
+  conductor += fmt::format("        <float name=\"alpha_u\" value=\"{:.9g}\"/>\n", num(p, "alpha_u"));
+  conductor += fmt::format("        <float name=\"alpha_v\" value=\"{:.9g}\"/>\n", num(p, "alpha_v"));
   if (p.contains("material")) conductor += fmt::format("        <string name=\"material\" value=\"{}\"/>\n", p["material"].get<std::string>());
   else
     conductor += fmt::format("        <rgb name=\"eta\" value=\"{}\"/>\n        <rgb name=\"k\" value=\"{}\"/>\n",
@@ -874,7 +905,7 @@ std::string write_mitsuba(const std::string& name, const json& p, const std::str
   if (p.contains("weight")) {
     // blendbsdf.cpp:17-21: weight 0 is the first nested BSDF, 1 the second.
     s += fmt::format("    <bsdf type=\"blendbsdf\" id=\"{}\">\n", id);
-    s += fmt::format("        <float name=\"weight\" value=\"{:.6g}\"/>\n", num(p, "weight"));
+    s += fmt::format("        <float name=\"weight\" value=\"{:.9g}\"/>\n", num(p, "weight"));
     s += fmt::format("        <bsdf type=\"diffuse\">\n            <rgb name=\"reflectance\" value=\"{}\"/>\n        </bsdf>\n",
                      fmt3(col(p, "diffuse_reflectance")));
     s += "        <bsdf type=\"roughconductor\">\n";
@@ -897,7 +928,7 @@ std::string pbrt_conductor(const json& p) {
   else if (p["eta"].is_string())
     s += fmt::format("    \"spectrum eta\" \"{}\"\n    \"spectrum k\" \"{}\"\n", p["eta"].get<std::string>(), p["k"].get<std::string>());
   else s += fmt::format("    \"rgb eta\" [ {} ]\n    \"rgb k\" [ {} ]\n", fmt3(col(p, "eta"), " "), fmt3(col(p, "k"), " "));
-  s += fmt::format("    \"float uroughness\" {:.6g}\n    \"float vroughness\" {:.6g}\n    \"bool remaproughness\" false\n",
+  s += fmt::format("    \"float uroughness\" {:.9g}\n    \"float vroughness\" {:.9g}\n    \"bool remaproughness\" false\n",
                    num(p, "uroughness"), num(p, "vroughness"));
   return s;
 }
@@ -911,7 +942,7 @@ std::string write_pbrt(const std::string& name, const json& p, const std::string
     s += fmt::format("MakeNamedMaterial \"{}-specular\"\n", id) + pbrt_conductor(p);
     // materials.h:285-293: amount is the probability of materials[1].
     s += fmt::format("MakeNamedMaterial \"{}\"\n    \"string type\" \"mix\"\n    \"string materials\" [ \"{}-diffuse\" "
-                     "\"{}-specular\" ]\n    \"float amount\" {:.6g}\n",
+                     "\"{}-specular\" ]\n    \"float amount\" {:.9g}\n",
                      id, id, id, num(p, "amount"));
   } else {
     s += fmt::format("MakeNamedMaterial \"{}\"\n", id) + pbrt_conductor(p);
@@ -924,7 +955,7 @@ std::string write_materialx(const std::string& name, const json& p, const std::s
   std::string s = "<?xml version=\"1.0\"?>\n<materialx version=\"1.38\">\n  <!--\n" + xml_comment_safe(comment) + "  -->\n";
   s += fmt::format("  <standard_surface name=\"SR_{}\" type=\"surfaceshader\">\n", xml_escape(id));
   const auto f = [&](const char* k) {
-    s += fmt::format("    <input name=\"{}\" type=\"float\" value=\"{:.6g}\" />\n", k, num(p, k));
+    s += fmt::format("    <input name=\"{}\" type=\"float\" value=\"{:.9g}\" />\n", k, num(p, k));
   };
   const auto c = [&](const char* k) {
     s += fmt::format("    <input name=\"{}\" type=\"color3\" value=\"{}\" />\n", k, fmt3(col(p, k)));
@@ -1081,7 +1112,7 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   res.ggx = ggx_source(desc, samples, o);
   json params;
   std::vector<std::string> notes;
-  res.model = target_model(info->target, res.ggx, &params, &notes);
+  res.model = target_model(info->target, res.ggx, &params, &notes, o.blender_version);
   ExportReport& r = res.report;
   r.target = std::string(info->name);
   r.target_model = res.model.name;
@@ -1090,8 +1121,16 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   r.parameters = params;
   r.notes = notes;
   if (res.ggx.exact && (res.ggx.rotation_deg != 0.0))
-    r.notes.push_back(fmt::format("rotation_deg {:.6g} carried to the target's orientation", res.ggx.rotation_deg));
+    r.notes.push_back(fmt::format("rotation_deg {:.9g} carried to the target's orientation", res.ggx.rotation_deg));
   r.errors = target_errors(res.model, samples);
+  if (info->target == Target::Blender && res.ggx.conductor && o.blender_version >= 4.3) {
+    // The other model the script may build (before 4.3): its error too.
+    const TargetBrdf older = target_model(Target::Blender, res.ggx, nullptr, nullptr, 4.0);
+    const FitErrors e = target_errors(older, samples);
+    r.notes.push_back(fmt::format("Blender 4.0 to 4.2 (Principled BSDF, F82 tint): l2cos {:.4g} (relative {:.3g}), log "
+                                  "{:.4g}",
+                                  e.l2cos_all, e.relative_l2cos, e.log_all));
+  }
   r.samples = samples.samples.size();
   r.max_albedo_difference = max_albedo_difference(source, res.model, &r.albedo_theta_deg, &r.albedo_phi_deg);
   std::string name = o.name;

@@ -70,6 +70,9 @@ struct ExportOptions {
   // The source sampling grid: theta_h x phi_h x theta_d x phi_d = 4 n x 4 n x 2 n x 2 n pairs (n = 6:
   // 20736 before the horizon cut). Tests use n = 3.
   int grid = 6;
+  // --to blender: the version the report's target model is (the script itself adapts to the
+  // Blender that runs it): 4.3 and later use the Metallic BSDF with n, k for conductors.
+  double blender_version = 4.3;
 };
 
 struct ExportReport {
@@ -120,8 +123,10 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
                              const std::string& bin_name = "");
 
 // For tests and the docs: the target model and parameters for a GGX, without the file.
+// blender_version: which of the script's node setups the model is (4.3 and later: the Metallic BSDF
+// with n, k for conductors; earlier: the Principled BSDF).
 TargetBrdf target_model(Target t, const GgxSource& g, nlohmann::json* parameters = nullptr,
-                        std::vector<std::string>* notes = nullptr);
+                        std::vector<std::string>* notes = nullptr, double blender_version = 4.3);
 
 // A picture for the docs and `--preview`: two spheres, the source (left) and the written target
 // model (right), shaded by aniso with the same two directional lights, tangent dp/du of a sphere

@@ -3,7 +3,8 @@ writes where Blender is not installed (tests/test_export.cpp, ExportCli.BlenderS
 The Principled BSDF's inputs are those of node_declare in
 source/blender/nodes/shader/nodes/node_shader_bsdf_principled.cc: 3.x (read at 007b7d03) and 4.x
 (the version with panels); a missing name raises KeyError as Blender's collections do.
-ANISO_BPY_VERSION chooses "3.4" or "4.2"; ANISO_BPY_UV=0 gives the object no UV map."""
+The Metallic BSDF (4.3 and later) has the inputs of node_shader_bsdf_metallic.cc's node_declare.
+ANISO_BPY_VERSION chooses "3.4", "4.2" or "4.3"; ANISO_BPY_UV=0 gives the object no UV map."""
 import os
 
 _V = os.environ.get("ANISO_BPY_VERSION", "4.2")
@@ -19,7 +20,11 @@ _PRINCIPLED = {
             "Transmission Weight", "Coat Weight", "Coat Roughness", "Coat IOR", "Coat Tint", "Coat Normal",
             "Sheen Weight", "Sheen Roughness", "Sheen Tint", "Emission Color", "Emission Strength"],
 }
-_COLOR = {"Base Color", "Subsurface Color", "Emission", "Emission Color", "Sheen Tint", "Coat Tint"}
+_PRINCIPLED["4.3"] = _PRINCIPLED["4.2"]
+_METALLIC = ["Base Color", "Edge Tint", "IOR", "Extinction", "Roughness", "Anisotropy", "Rotation", "Normal", "Tangent",
+             "Weight", "Thin Film Thickness", "Thin Film IOR"]
+_VECTOR = {"IOR", "Extinction"}
+_COLOR = {"Edge Tint", "Base Color", "Subsurface Color", "Emission", "Emission Color", "Sheen Tint", "Coat Tint"}
 
 
 class _Socket:
@@ -34,9 +39,12 @@ class _Socket:
 
     @default_value.setter
     def default_value(self, v):
-        if self._color and len(v) != 4:
+        if self._color == "vector":
+            if len(v) != 3:
+                raise TypeError(f"{self.name}: expected 3 values, got {v!r}")
+        elif self._color and len(v) != 4:
             raise TypeError(f"{self.name}: expected 4 values, got {v!r}")
-        if not self._color and not isinstance(v, (int, float)):
+        elif not self._color and not isinstance(v, (int, float)):
             raise TypeError(f"{self.name}: expected a number, got {v!r}")
         self._value = v
 
@@ -53,12 +61,20 @@ class _Node:
         self.bl_idname = kind
         self.location = (0, 0)
         self.inputs, self.outputs = _Sockets(), _Sockets()
-        if kind == "ShaderNodeBsdfPrincipled":
-            color4 = _V == "4.2"
+        if kind == "ShaderNodeBsdfMetallic":
+            if _V != "4.3":
+                raise RuntimeError(f"unknown node type {kind} before Blender 4.3")
+            for n in _METALLIC:
+                self.inputs[n] = _Socket(n, "vector" if n in _VECTOR else n in _COLOR)
+            self.outputs["BSDF"] = _Socket("BSDF")
+            self.distribution = "MULTI_GGX"
+            self.fresnel_type = "F82"
+        elif kind == "ShaderNodeBsdfPrincipled":
+            color4 = _V != "3.4"
             for n in _PRINCIPLED[_V]:
                 self.inputs[n] = _Socket(n, n in _COLOR or (color4 and n == "Specular Tint"))
             self.outputs["BSDF"] = _Socket("BSDF")
-            self.distribution = "MULTI_GGX" if _V == "4.2" else "GGX"
+            self.distribution = "GGX" if _V == "3.4" else "MULTI_GGX"
         elif kind == "ShaderNodeOutputMaterial":
             self.inputs["Surface"] = _Socket("Surface")
         elif kind == "ShaderNodeTangent":
@@ -69,14 +85,19 @@ class _Node:
             raise RuntimeError(f"unknown node type {kind}")
 
     def __setattr__(self, k, v):
-        if k == "distribution" and v not in ("GGX", "MULTI_GGX"):
-            raise TypeError(f"enum \"{v}\" not found in ('GGX', 'MULTI_GGX')")
+        if k == "distribution" and v not in ("BECKMANN", "GGX", "MULTI_GGX"):
+            raise TypeError(f"enum \"{v}\" not found in ('BECKMANN', 'GGX', 'MULTI_GGX')")
+        if k == "fresnel_type" and v not in ("F82", "PHYSICAL_CONDUCTOR"):
+            raise TypeError(f"enum \"{v}\" not found in ('F82', 'PHYSICAL_CONDUCTOR')")
         if k == "direction_type" and v not in ("RADIAL", "UV_MAP"):
             raise TypeError(f"enum \"{v}\" not found")
         object.__setattr__(self, k, v)
 
 
 class _Nodes(list):
+    def remove(self, node):
+        list.remove(self, node)
+
     def new(self, kind):
         n = _Node(kind)
         self.append(n)
@@ -132,7 +153,7 @@ class _Ns:
 
 
 app = _Ns()
-app.version = (3, 4, 1) if _V == "3.4" else (4, 2, 0)
+app.version = {"3.4": (3, 4, 1), "4.2": (4, 2, 0), "4.3": (4, 3, 0)}[_V]
 app.version_string = _V
 data = _Ns()
 data.materials = _Materials()
