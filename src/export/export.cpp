@@ -752,11 +752,24 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
       m.lobe.fresnel = FresnelModel::Schlick;
       p["roughnessFactor"] = rough, p["anisotropyStrength"] = s, p["anisotropyRotation"] = rot;
       if (g.conductor || no_diffuse(g)) {
-        const glm::dvec3 f0 = glm::clamp(cond_f0, 0.0, 1.0);
+        glm::dvec3 f0 = glm::clamp(cond_f0, 0.0, 1.0);
+        if (g.conductor) {
+          // The Schlick F0 closest to the conductor's Fresnel curve: Schlick = F0 (1 - m) + m, m = (1 - c)^5,
+          // is linear in F0; least squares over c in [0, 1] (64 points).
+          glm::dvec3 num(0.0);
+          double den = 0.0;
+          for (int i = 0; i < 64; ++i) {
+            const double c = (i + 0.5) / 64.0, m5 = std::pow(1.0 - c, 5.0);
+            const glm::dvec3 F = F_Conductor(c, RGBT<double>(g.eta), RGBT<double>(g.k));
+            num += (F - m5) * (1.0 - m5), den += sqr(1.0 - m5);
+          }
+          f0 = glm::clamp(num / den, 0.0, 1.0);
+        }
         m.name = "glTF 2.0 metal_brdf (metallic 1): Schlick F0 = baseColor, height-correlated G";
         m.lobe.f0 = f0;
         p["metallicFactor"] = 1.0, p["baseColorFactor"] = j3(f0);
-        if (g.conductor) notes.push_back("the conductor becomes Schlick's Fresnel with F0 = F(0; n, k)");
+        if (g.conductor) notes.push_back("the conductor becomes Schlick's Fresnel with the F0 closest to its curve (least "
+                                         "squares over the cosine)");
       } else {
         // Appendix B: dielectric_brdf = fresnel_mix(ior 1.5, diffuse, specular): (1 - F) diffuse + F specular.
         m.name = "glTF 2.0 dielectric_brdf (metallic 0): fresnel_mix(ior 1.5) of Lambert and GGX";
