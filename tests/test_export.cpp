@@ -15,6 +15,7 @@
 #include "cli_fixture.h"
 #include "export/export.h"
 #include "io/materials.h"
+#include "measured/merl.h"
 
 namespace aniso {
 namespace {
@@ -537,6 +538,18 @@ TEST_F(ExportCli, BlenderScriptRunsOnABpyStub) {
         EXPECT_TRUE(contains(out, "ANISO_OK")) << material << " Blender " << version << " uv " << uv << ":\n" << out;
       }
   }
+}
+
+// Measured data (a MERL table, here aniso's tabulation of a Ward material) takes the fitted path.
+TEST_F(ExportCli, MeasuredMerlTableIsFitted) {
+  const std::string merl = (dir_ / "ward.binary").string();
+  write_merl(merl, tabulate_merl(build_material<double>(load_material(
+                       R"({"model": "ward", "kd": 0.1, "ks": 0.2, "alpha_x": 0.1, "alpha_y": 0.25, "normalization": "balanced"})"))));
+  const std::string out = (dir_ / "m.pbrt").string();
+  const Result r = run({"export", "--to", "pbrt-v4", "--material", merl, "-o", out, "--grid", "2", "--starts", "1"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "fitted: aniso's anisotropic GGX")) << r.out;
+  EXPECT_TRUE(contains(read_file(out), "MakeNamedMaterial")) << read_file(out);
 }
 
 // ---- bad input: exit 2, nothing written ---------------------------------------------------------
