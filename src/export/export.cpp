@@ -105,7 +105,7 @@ bool pbrt_has(std::string_view sym) {
 // The anisotropic GGX of the target's "major axis along the tangent" convention: the larger alpha
 // along the (rotated) tangent; returns the extra rotation (0 or 90 degrees) this needs.
 double major_first(double& ax, double& ay) {
-  if (ax >= ay) return 0.0;
+  if (ax >= ay * (1.0 - 1e-9)) return 0.0;  // (nearly) isotropic fits stay unturned
   std::swap(ax, ay);
   return 90.0;
 }
@@ -121,7 +121,8 @@ RoughAniso invert_aspect(double& ax, double& ay, double scale, double cap, std::
                          std::vector<std::string>& notes) {
   RoughAniso r;
   r.extra = major_first(ax, ay);
-  r.aniso = (1.0 - ay / ax) / scale;
+  r.aniso = std::max(0.0, (1.0 - ay / ax) / scale);
+  if (r.aniso < 1e-9) r.aniso = 0.0;
   if (r.aniso > cap) {
     notes.push_back(fmt::format("alpha ratio {:.3g} exceeds {}'s largest, {:.3g} (anisotropy {:.3g}): written with "
                                 "anisotropy {:.3g} and the same mean alpha",
@@ -734,8 +735,8 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         notes.push_back("standard_surface layers the diffuse under the specular (scaled by 1 - its albedo); the "
                         "target model adds them");
       }
-      notes.push_back("MaterialX's conductor adds a multiple-scattering energy compensation "
-                      "(mx_ggx_energy_compensation) that the target model leaves out");
+      notes.push_back("MaterialX's GGX lobes add a multiple-scattering energy compensation "
+                      "(mx_ggx_energy_compensation, mx_conductor_bsdf.glsl:40) that the target model leaves out");
       break;
     }
     case Target::Gltf: {
@@ -808,7 +809,7 @@ json ExportReport::to_json() const {
 std::string ExportReport::text(std::string_view pre) const {
   std::string s;
   const auto line = [&](const std::string& l) { s += std::string(pre) + l + "\n"; };
-  line(fmt::format("aniso export --to {}: {}", target, target_model));
+  line(fmt::format("aniso export, target {}: {}", target, target_model));
   line(fmt::format("  {}", origin));
   line(fmt::format("  parameters: {}", parameters.dump()));
   line(fmt::format("  error of the export against the source ({} samples): l2cos {:.4g} (relative {:.3g}), log {:.4g}",
