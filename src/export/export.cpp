@@ -1115,6 +1115,43 @@ SphereMesh uv_sphere(int rings, int segments) {
   return m;
 }
 
+// The fitted path, last step: the target's own model (its masking, its Fresnel) against the source,
+// over the roughness. The GGX fit is aniso's (height-correlated Smith, Schlick); the target model
+// differs (Mitsuba 3's separable G, MaterialX's G2 at the mean alpha, exact Fresnel curves), so the
+// alphas are searched again with the written model itself: factors 0.6 to 1.5 on each alpha (a
+// 9 x 9 log grid, then 7 x 7 around the best), on at most o.refine_samples of the samples, in the
+// chosen metric.
+GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& all, const ExportOptions& o) {
+  SampleSet data;
+  const size_t stride = std::max<size_t>(1, all.samples.size() / size_t(std::max(o.refine_samples, 100)));
+  for (size_t i = 0; i < all.samples.size(); i += stride) data.samples.push_back(all.samples[i]);
+  const auto err = [&](double fx, double fy, GgxSource& out) {
+    out = g;
+    out.alpha_x = std::clamp(g.alpha_x * fx, 1e-3, 1.0), out.alpha_y = std::clamp(g.alpha_y * fy, 1e-3, 1.0);
+    return metric_of(target_errors(target_model(t, out, nullptr, nullptr, o.blender_version), data), o.metric);
+  };
+  GgxSource best = g, trial;
+  double best_err = err(1.0, 1.0, trial), bx = 0.0, by = 0.0;
+  const double lo = std::log(0.6), hi = std::log(1.5);
+  constexpr int n = 9;
+  const double step = (hi - lo) / (n - 1);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double x = lo + i * step, y = lo + j * step, e = err(std::exp(x), std::exp(y), trial);
+      if (e < best_err) best_err = e, best = trial, bx = x, by = y;
+    }
+  for (int i = -3; i <= 3; ++i)
+    for (int j = -3; j <= 3; ++j) {
+      const double e = err(std::exp(bx + i * step / 3), std::exp(by + j * step / 3), trial);
+      if (e < best_err) best_err = e, best = trial;
+    }
+  // Kept only if it is better on every sample, not just on the subset it was searched on.
+  const auto full = [&](const GgxSource& x) {
+    return metric_of(target_errors(target_model(t, x, nullptr, nullptr, o.blender_version), all), o.metric);
+  };
+  return full(best) < full(g) ? best : g;
+}
+
 ExportResult export_material(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o,
                              const std::string& bin_name_in) {
   const TargetInfo* info = find_target(o.target);
@@ -1125,7 +1162,14 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   const SampleSet samples = sample_source(source, o.grid);
   res.ggx = ggx_source(desc, samples, o);
   json params;
-  std::vector<std::string> notes;
+  std::vector<std::string> notes, notes_before;
+  if (!res.ggx.exact) {
+    const GgxSource refined = refine_for_target(info->target, res.ggx, samples, o);
+    if (refined.alpha_x != res.ggx.alpha_x || refined.alpha_y != res.ggx.alpha_y)
+      notes_before.push_back(fmt::format("alphas refined with the target model: {:.4g} x {:.4g} (the GGX fit's {:.4g} x {:.4g})",
+                                         refined.alpha_x, refined.alpha_y, res.ggx.alpha_x, res.ggx.alpha_y));
+    res.ggx = refined;
+  }
   res.model = target_model(info->target, res.ggx, &params, &notes, o.blender_version);
   ExportReport& r = res.report;
   r.target = std::string(info->name);
@@ -1134,6 +1178,7 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   r.origin = res.ggx.origin;
   r.parameters = params;
   r.notes = notes;
+  r.notes.insert(r.notes.end(), notes_before.begin(), notes_before.end());
   if (res.ggx.exact && (res.ggx.rotation_deg != 0.0))
     r.notes.push_back(fmt::format("rotation_deg {:.9g} carried to the target's orientation", res.ggx.rotation_deg));
   r.errors = target_errors(res.model, samples);

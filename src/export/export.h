@@ -73,6 +73,8 @@ struct ExportOptions {
   // --to blender: the version the report's target model is (the script itself adapts to the
   // Blender that runs it): 4.3 and later use the Metallic BSDF with n, k for conductors.
   double blender_version = 4.3;
+  // Fitted path: the samples (at most) the alphas are refined on with the target model.
+  int refine_samples = 4000;
 };
 
 struct ExportReport {
@@ -109,6 +111,10 @@ SampleSet sample_source(const MaterialD& m, int grid);
 // The GGX the targets map from: exact where the source has one, else fitted (InputError: a source
 // that no GGX can stand for, with the reason).
 GgxSource ggx_source(const MaterialDesc& desc, const SampleSet& samples, const ExportOptions& o);
+
+// The fitted path's last step: the alphas searched again with the target's own model (its masking and
+// Fresnel), factors 0.6 to 1.5 around the GGX fit's, in o.metric.
+GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& samples, const ExportOptions& o);
 
 // The written target model's errors against the samples (fit_errors' formulas, fit.cpp).
 FitErrors target_errors(const TargetBrdf& t, const SampleSet& data);
