@@ -81,6 +81,20 @@ TEST(ExportTargets, CyclesF82Tint) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(f2[k], want[k], 1e-12);
 }
 
+// Mitsuba 3, principledhelpers.h, calc_dist_params: aspect = sqrt(1 - 0.9 anisotropic),
+// { max(0.001, roughness_2 / aspect), max(0.001, roughness_2 * aspect) }: aniso's principled alphas.
+TEST(ExportTargets, MitsubaPrincipledAlphaIsAnisosPrincipled) {
+  for (const auto& [r, a] : {std::pair{0.5, 0.8}, std::pair{0.02, 0.3}, std::pair{0.9, 1.0}, std::pair{0.3, 0.0}}) {
+    const glm::dvec2 m = mitsuba_principled_alpha(r, a, true);
+    PrincipledT<double> p;
+    p.roughness = r, p.anisotropic = a;
+    const GGXLobeT<double> l = p.specular_lobe();
+    EXPECT_NEAR(m.x, l.alpha_x, 1e-15) << r << " " << a;
+    EXPECT_NEAR(m.y, l.alpha_y, 1e-15) << r << " " << a;
+  }
+  EXPECT_EQ(mitsuba_principled_alpha(0.01, 0.0, false), glm::dvec2(0.001));
+}
+
 // MaterialX, mx_roughness_anisotropy.glsl:
 //   float roughness_sqr = clamp(roughness*roughness, M_FLOAT_EPS, 1.0);
 //   if (anisotropy > 0.0) { float aspect = sqrt(1.0 - clamp(anisotropy, 0.0, 0.98));

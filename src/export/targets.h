@@ -136,6 +136,20 @@ inline glm::dvec3 cycles_tint_for(const glm::dvec3& f0, const glm::dvec3& f_at_8
   return glm::clamp(f_at_82 / schlick, 0.0, 1.0);
 }
 
+// --- Mitsuba 3 principled (for reference: the exporter writes roughconductor) -----------------------
+
+// src/bsdfs/principledhelpers.h:320-331, calc_dist_params: roughness_2 = roughness^2;
+//   isotropic: a = max(0.001, roughness_2); else aspect = sqrt(1 - 0.9 anisotropic),
+//   { max(0.001, roughness_2 / aspect), max(0.001, roughness_2 * aspect) }.
+// The same mapping as aniso's principled (principled.h) and Blender's Principled BSDF, with
+// aniso's 0.001 clamp.
+inline glm::dvec2 mitsuba_principled_alpha(double roughness, double anisotropic, bool has_anisotropic) {
+  const double r2 = roughness * roughness;
+  if (!has_anisotropic) return glm::dvec2(std::max(0.001, r2));
+  const double aspect = std::sqrt(1.0 - 0.9 * anisotropic);
+  return {std::max(0.001, r2 / aspect), std::max(0.001, r2 * aspect)};
+}
+
 // --- MaterialX ---------------------------------------------------------------------------------
 
 // mx_roughness_anisotropy.glsl:1-15:
