@@ -228,10 +228,6 @@ std::span<const TargetInfo> targets() { return kTargets; }
 const TargetInfo* find_target(std::string_view name) {
   for (const TargetInfo& t : kTargets)
     if (t.name == name) return &t;
-  if (name == "pbrt" || name == "pbrtv4") return &kTargets[2];
-  if (name == "mitsuba" || name == "mitsuba-3") return &kTargets[1];
-  if (name == "mtlx") return &kTargets[3];
-  if (name == "glb") return nullptr;
   return nullptr;
 }
 
