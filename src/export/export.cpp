@@ -603,7 +603,9 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         m.lobe.eta = glm::dvec3(eta);
         m.diffuse = g.kd;
         p["Base Color"] = j3(g.kd), p["Metallic"] = 0.0, p["IOR"] = eta, p["Specular IOR Level"] = 0.5;
-        p["Specular"] = f0 / 0.08;  // Blender 3.4: F0 = 0.08 Specular
+        p["Specular"] = std::min(f0 / 0.08, 1.0);  // Blender 3.4: F0 = 0.08 Specular, Specular in [0, 1]
+        if (f0 > 0.08)
+          notes.push_back(fmt::format("Blender 3.4's Specular stops at 1 (F0 0.08); this F0 {:.4g} needs 4.x's IOR", f0));
         notes.push_back(fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of IOR {:.4g} closest to its "
                                     "curve (F0 {:.4g})",
                                     luminance_avg(g.f0), eta, f0));
