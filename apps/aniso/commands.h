@@ -38,6 +38,9 @@ void add_fit_command(CLI::App& app);
 // export-glsl and export-brdf (cmd_export.cpp, docs/glsl.md).
 void add_export_commands(CLI::App& app);
 
+// export --to TARGET: Blender, Mitsuba 3, pbrt-v4, MaterialX, glTF (cmd_export_targets.cpp, docs/export.md).
+void add_export_target_command(CLI::App& app);
+
 // export-rgl: an RGL tensor file (.bsdf) for pbrt-v4 and Mitsuba 3 (cmd_rgl.cpp, docs/rgl.md).
 void add_rgl_command(CLI::App& app);
 

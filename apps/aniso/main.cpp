@@ -774,6 +774,7 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
 
   add_export_commands(app);
+  add_export_target_command(app);
   add_rgl_command(app);
   add_fit_command(app);
   add_view_command(app);

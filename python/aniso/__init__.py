@@ -20,6 +20,7 @@ from ._aniso import (  # noqa: F401  (re-exported)
     FitResult,
     Frame,
     Material,
+    export,
     export_brdf,
     export_glsl,
     fit,
@@ -87,5 +88,5 @@ for _cls in (Material, Frame, FitResult):
 del _cls
 
 __all__ = ["Material", "Frame", "FitResult", "presets", "preset_source", "models", "metals", "fresnel", "render",
-           "save_image", "fit", "read_measured", "export_glsl", "export_brdf", "simd_target", "direction", "angles",
+           "save_image", "fit", "read_measured", "export_glsl", "export_brdf", "export", "simd_target", "direction", "angles",
            *_MODEL_CONSTRUCTORS]

@@ -127,3 +127,31 @@ def test_save_image_errors(tmp):
     with pytest.raises(OSError, match=r"cannot write .*x.png"):
         aniso.save_image(img, tmp / "no" / "such" / "x.png")
     assert not (tmp / "x.png").exists() and not (tmp / "x.exr").exists()
+
+
+def test_export_to_a_renderer_equals_the_cli(tmp):
+    """aniso.export writes what `aniso export --to` writes (docs/export.md), and returns the report."""
+    for to, ext in (("pbrt-v4", "pbrt"), ("mitsuba3", "xml"), ("gltf", "gltf")):
+        out = tmp / f"cli.{ext}"
+        rc, _, err = run_cli("export", "--to", to, "--material", "gold", "-o", str(out))
+        assert rc == 0, err
+        r = aniso.export("gold", to=to, path=tmp / f"py.{ext}")
+        assert r["report"]["path"] == "exact"
+        assert r["report"]["target"] == to
+        cli = out.read_text()
+        py = (tmp / f"py.{ext}").read_text()
+        if to == "gltf":  # the .bin's name differs with the file's
+            assert py.replace("py.bin", "cli.bin") == cli
+            assert (tmp / "py.bin").read_bytes() == (tmp / "cli.bin").read_bytes() == r["files"]["py.bin"]
+        else:
+            assert py == cli == r["files"][""]
+
+
+def test_export_errors(tmp):
+    with pytest.raises(ValueError, match="unknown target"):
+        aniso.export("gold", to="renderman")
+    with pytest.raises(ValueError, match="metric"):
+        aniso.export("gold", to="pbrt-v4", metric="l1")
+    with pytest.raises(OSError):
+        aniso.export("gold", to="gltf", path=tmp / "missing" / "x.gltf")
+    assert not (tmp / "missing").exists()

@@ -1,0 +1,1218 @@
+// export/export.cpp: see export.h; the conventions of each target are in targets.h, with the
+// source lines they come from, and in docs/export.md.
+#include "export/export.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "data/metals.h"
+#include "io/input_error.h"
+#include "render/image.h"
+
+namespace aniso::exporter {
+
+using json = nlohmann::json;
+
+namespace {
+
+constexpr TargetInfo kTargets[] = {
+    {Target::Blender, "blender", ".py", "Blender (Cycles) Principled BSDF, a Python script for 3.4 and 4.x",
+     "Writes a Python script that builds a Principled BSDF material (GGX, not multiscatter GGX), names it after the "
+     "source and assigns it to the active object. The tangent comes from the object's active UV map (a Tangent node, "
+     "dp/du as aniso's meshes), else Cycles' default. Run: blender -b scene.blend -P FILE, or exec(open(FILE).read()) "
+     "after making the object. Blender 4.x: metals use the F82-tint Fresnel (Base Color = F0, Specular Tint = the "
+     "edge tint at 82 degrees); 3.4 has no edge tint (its Specular Tint is a float)."},
+    {Target::Mitsuba3, "mitsuba3", ".xml", "Mitsuba 3 roughconductor (GGX), or blendbsdf of diffuse and roughconductor",
+     "Writes a <scene version=\"3.0.0\"> holding one <bsdf> with id = the material name: a roughconductor with "
+     "distribution ggx, alpha_u / alpha_v as aniso's alpha_x / alpha_y, and a named material (Ag, Al, Au, Cr, Cu, W) "
+     "or rgb eta / k; with a diffuse part, a blendbsdf of a diffuse and a roughconductor. Use it with <include "
+     "filename=\"FILE\"/> and <ref id=\"NAME\"/>. The tangent is dp/du of the mesh: rotate the uv map by rotation_deg "
+     "to orient the highlight (Mitsuba 3 has no rotation input)."},
+    {Target::PbrtV4, "pbrt-v4", ".pbrt", "pbrt-v4 conductor (remaproughness false), or mix of diffuse and conductor",
+     "Writes MakeNamedMaterial statements: a conductor with uroughness / vroughness = alpha_x / alpha_y and "
+     "remaproughness false, eta / k as named spectra (metal-Au-eta, ...) or rgb values; with a diffuse part, a mix "
+     "material of a diffuse and a conductor (pbrt-v4 chooses one of them per hit with probability amount: in the mean "
+     "the sum). Use it with Include \"FILE\" and NamedMaterial \"NAME\". The tangent is dp/du of the shape: orient "
+     "the uv parameterisation by rotation_deg (pbrt-v4 has no rotation input)."},
+    {Target::MaterialX, "materialx", ".mtlx", "MaterialX standard_surface (specular_anisotropy, specular_rotation)",
+     "Writes a MaterialX document with a standard_surface shader and a surfacematerial. Metals: metalness 1, base_color "
+     "= the reflectivity F0 and specular_color = the edge colour of Gulbrandsen's artistic IOR (mx_artistic_ior), "
+     "matched to the source's n, k; dielectrics: base_color = the diffuse albedo, specular_IOR from F0. The tangent is "
+     "the geometry's Tworld rotated by specular_rotation (a fraction of a turn)."},
+    {Target::Gltf, "gltf", ".gltf", "glTF 2.0 with KHR_materials_anisotropy: a .gltf and a .bin sphere with tangents",
+     "Writes FILE.gltf and a .bin beside it: a UV sphere with NORMAL and TANGENT (dp/du, w = +1) and one material "
+     "(pbrMetallicRoughness plus KHR_materials_anisotropy: anisotropyStrength, anisotropyRotation in radians, "
+     "counter-clockwise from the tangent). Open it in any glTF viewer that supports the extension. The provenance is "
+     "in asset.extras."},
+};
+
+double luminance_avg(const glm::dvec3& c) { return (c.x + c.y + c.z) / 3.0; }
+double max3(const glm::dvec3& c) { return std::max({c.x, c.y, c.z}); }
+
+// Rotates v about z by angle (radians), counter-clockwise: x towards y.
+Vec3d rotate_z(const Vec3d& v, double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  return {c * v.x - s * v.y, s * v.x + c * v.y, v.z};
+}
+
+// Rusinkiewicz 1998: h from (theta_h, phi_h), wi = d rotated by theta_h about y then phi_h about z.
+void half_diff_to_dirs(double th, double ph, double td, double pd, Vec3d& wi, Vec3d& wo) {
+  const Vec3d h(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+  const Vec3d d(std::sin(td) * std::cos(pd), std::sin(td) * std::sin(pd), std::cos(td));
+  // rotate d about y by theta_h
+  const Vec3d dy(std::cos(th) * d.x + std::sin(th) * d.z, d.y, -std::sin(th) * d.x + std::cos(th) * d.z);
+  wi = rotate_z(dy, ph);
+  wo = 2.0 * glm::dot(wi, h) * h - wi;
+}
+
+std::string fmt3(const glm::dvec3& c, const char* sep = ", ") { return fmt::format("{:.9g}{}{:.9g}{}{:.9g}", c.x, sep, c.y, sep, c.z); }
+json j3(const glm::dvec3& c) { return json::array({c.x, c.y, c.z}); }
+
+bool has_scalar(const ParamValues& p, std::string_view key) {
+  const auto it = p.values.find(key);
+  return it != p.values.end() && std::holds_alternative<double>(it->second);
+}
+
+// The source as built, with its tangent rotation (rotation_deg, when the table has it) taken out:
+// the exporter fits the unrotated material and writes the rotation into each target's own input.
+MaterialDesc unrotated(const MaterialDesc& d) {
+  MaterialDesc u = d;
+  if (has_scalar(u.params, "rotation_deg")) u.params.values["rotation_deg"] = 0.0;
+  return u;
+}
+
+double rotation_of(const MaterialDesc& d) { return has_scalar(d.params, "rotation_deg") ? d.params.scalar("rotation_deg") : 0.0; }
+
+// Mitsuba 3's named conductors among aniso's metals (src/bsdfs/conductor.cpp:107-200, the
+// conductor-ior-list table), pbrt-v4's named spectra (src/pbrt/util/spectrum.cpp:2670-2683).
+bool mitsuba_has(std::string_view sym) {
+  for (const char* s : {"Ag", "Al", "Au", "Cr", "Cu", "W"})
+    if (sym == s) return true;
+  return false;
+}
+bool pbrt_has(std::string_view sym) {
+  for (const char* s : {"Ag", "Al", "Au", "Cu", "CuZn"})
+    if (sym == s) return true;
+  return false;
+}
+
+// The anisotropic GGX of the target's "major axis along the tangent" convention: the larger alpha
+// along the (rotated) tangent; returns the extra rotation (0 or 90 degrees) this needs.
+double major_first(double& ax, double& ay) {
+  if (ax >= ay * (1.0 - 1e-9)) return 0.0;  // (nearly) isotropic fits stay unturned
+  std::swap(ax, ay);
+  return 90.0;
+}
+
+// The roughness and anisotropy of the targets whose alphas are r^2 / aspect and r^2 aspect with
+// aspect^2 = 1 - scale a (Blender's Principled: scale 0.9; MaterialX: 1): r^2 = sqrt(ax ay), a =
+// (1 - ay / ax) / scale, the larger alpha first (extra = the tangent's turn); a capped at `cap`
+// (keeping the mean alpha) and r at 1, each with a note.
+struct RoughAniso {
+  double extra, rough, aniso;
+};
+RoughAniso invert_aspect(double& ax, double& ay, double scale, double cap, std::string_view who,
+                         std::vector<std::string>& notes) {
+  RoughAniso r;
+  r.extra = major_first(ax, ay);
+  r.aniso = std::max(0.0, (1.0 - ay / ax) / scale);
+  if (r.aniso < 1e-9) r.aniso = 0.0;
+  if (r.aniso > cap) {
+    notes.push_back(fmt::format("alpha ratio {:.3g} exceeds {}'s largest, {:.3g} (anisotropy {:.3g}): written with "
+                                "anisotropy {:.3g} and the same mean alpha",
+                                ax / ay, who, 1.0 / (1.0 - scale * cap), cap, cap));
+    r.aniso = cap;
+  }
+  r.rough = std::sqrt(std::sqrt(ax * ay));
+  if (r.rough > 1.0) notes.push_back("roughness above 1 clamped to 1"), r.rough = 1.0;
+  return r;
+}
+
+double wrap_turn(double t) {
+  t = std::fmod(t, 1.0);
+  if (t < 0.0) t += 1.0;
+  if (t >= 1.0 - 1e-12) t = 0.0;
+  return t + 0.0;  // -0 is written as "-0"
+}
+
+// The exact Fresnel (a dielectric of index eta, or a conductor of eta 1 and extinction k) closest
+// to Schlick's curve s(c) = (f0 + (1 - f0)(1 - c)^5) / scale over c in [0, 1] (least squares on 64
+// points, a 1-D golden-section search per form): the targets that have no Schlick Fresnel get the
+// curve, not only its F0 (F0 = 0 with Schlick's grazing rise is not eta = 1, which reflects nothing).
+struct ExactFresnel {
+  double eta = 1.5, k = 0.0;
+};
+ExactFresnel match_schlick(double f0, double scale, bool allow_conductor) {
+  const auto cost = [&](double eta, double k) {
+    double e = 0.0;
+    for (int i = 0; i < 64; ++i) {
+      const double c = (i + 0.5) / 64.0, m = 1.0 - c;
+      const double want = std::min(1.0, (f0 + (1.0 - f0) * m * m * m * m * m) / scale);
+      e += sqr(F_Conductor(c, eta, k) - want);
+    }
+    return e;
+  };
+  const auto golden = [](auto&& f, double lo, double hi) {
+    const double r = (std::sqrt(5.0) - 1.0) / 2.0;
+    double a = lo, b = hi, x1 = b - r * (b - a), x2 = a + r * (b - a), f1 = f(x1), f2 = f(x2);
+    for (int i = 0; i < 80; ++i) {
+      if (f1 < f2) b = x2, x2 = x1, f2 = f1, x1 = b - r * (b - a), f1 = f(x1);
+      else a = x1, x1 = x2, f1 = f2, x2 = a + r * (b - a), f2 = f(x2);
+    }
+    return (a + b) / 2.0;
+  };
+  ExactFresnel d;
+  d.eta = golden([&](double e) { return cost(e, 0.0); }, 1.0001, 60.0);
+  if (!allow_conductor) return d;
+  ExactFresnel c;
+  c.eta = 1.0;
+  c.k = golden([&](double k) { return cost(1.0, k); }, 0.0, 60.0);
+  return cost(c.eta, c.k) < cost(d.eta, 0.0) ? c : d;
+}
+
+bool no_diffuse(const GgxSource& g) { return max3(g.kd) < 1e-6; }
+
+// For the mixes of Mitsuba 3 and pbrt-v4 (diffuse + specular as (1 - w) A + w B): the largest w
+// that keeps the diffuse reflectance kd / (1 - w) <= 1, but at least max(F0) so that the specular
+// reflectance F0 / w stays <= 1.
+double mix_weight(const GgxSource& g) {
+  const double w = 1.0 - max3(g.kd);
+  return std::clamp(std::max(w, max3(g.f0)), 1e-3, 1.0 - 1e-3);
+}
+
+std::string xml_escape(std::string_view s) {
+  std::string o;
+  for (char c : s) {
+    switch (c) {
+      case '&': o += "&amp;"; break;
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '"': o += "&quot;"; break;
+      case '\'': o += "&apos;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+// Text inside an XML comment may not contain "--".
+std::string xml_comment_safe(std::string s) {
+  for (size_t i; (i = s.find("--")) != std::string::npos;) s.replace(i, 2, "- -");
+  return s;
+}
+std::string identifier(std::string_view s) {
+  std::string o;
+  for (char c : s) o += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
+  if (o.empty()) o = "material";
+  return o;
+}
+std::string py_string(std::string_view s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '\\' || c == '"') o += '\\';
+    if (c == '\n') { o += "\\n"; continue; }
+    o += c;
+  }
+  return o + "\"";
+}
+
+}  // namespace
+
+std::span<const TargetInfo> targets() { return kTargets; }
+
+const TargetInfo* find_target(std::string_view name) {
+  for (const TargetInfo& t : kTargets)
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+std::string target_names() {
+  std::string s;
+  for (const TargetInfo& t : kTargets) s += (s.empty() ? "\"" : ", \"") + std::string(t.name) + "\"";
+  return s;
+}
+
+// --- sampling and errors ---------------------------------------------------------------------------
+
+SampleSet sample_source(const MaterialD& m, int grid) {
+  SampleSet set;
+  set.source = "export: source sampled";
+  set.format = "synthetic";
+  const int nth = 4 * grid, nph = 4 * grid, ntd = 2 * grid, npd = 2 * grid;
+  const double half_pi = kPi<double> / 2.0;
+  for (int i = 0; i < nth; ++i) {
+    // theta_h on MERL's quadratic spacing (dense at the peak): theta = ((i + 0.5) / n)^2 pi / 2.
+    const double u = (i + 0.5) / nth, th = u * u * half_pi;
+    const double dth = (2.0 * u / nth) * half_pi;  // d theta_h / d i
+    for (int j = 0; j < nph; ++j) {
+      const double ph = (j + 0.5) * 2.0 * kPi<double> / nph;
+      for (int a = 0; a < ntd; ++a) {
+        const double td = (a + 0.5) * half_pi / ntd;
+        for (int b = 0; b < npd; ++b) {
+          const double pd = (b + 0.5) * 2.0 * kPi<double> / npd;
+          Vec3d wi, wo;
+          half_diff_to_dirs(th, ph, td, pd, wi, wo);
+          if (!(wi.z > 0.02) || !(wo.z > 0.02)) continue;
+          MeasuredSample s;
+          s.wi = glm::normalize(wi), s.wo = glm::normalize(wo);
+          const RGBT<double> f = m.f(s.wi, s.wo);
+          s.value = glm::dvec3(f.x, f.y, f.z);
+          // Solid angle of the bin, dw_i dw_o = 4 cos(theta_d) sin(theta_h) sin(theta_d) dth dph dtd dpd
+          // (measured/samples.h, merl_samples), the constant factors dropped (weights are relative).
+          s.weight = 4.0 * std::cos(td) * std::sin(th) * std::sin(td) * dth;
+          if (!(s.weight > 0.0) || !std::isfinite(s.value.x + s.value.y + s.value.z)) continue;
+          set.samples.push_back(s);
+        }
+      }
+    }
+  }
+  return set;
+}
+
+FitErrors target_errors(const TargetBrdf& t, const SampleSet& data) {
+  // fit_errors (fit.cpp) with the target model in place of a material: the same sums.
+  FitErrors e;
+  double wsum = 0.0, data_norm = 0.0;
+  glm::dvec3 l2(0.0), lg(0.0);
+  for (const MeasuredSample& s : data.samples) {
+    const glm::dvec3 f = t.f(s.wi, s.wo);
+    const double c = s.wi.z;
+    wsum += s.weight;
+    for (int k = 0; k < 3; ++k) {
+      l2[k] += s.weight * sqr((f[k] - s.value[k]) * c);
+      lg[k] += s.weight * sqr(std::log1p(f[k] * c) - std::log1p(std::max(s.value[k] * c, 0.0)));
+      data_norm += s.weight * sqr(s.value[k] * c);
+    }
+  }
+  if (!(wsum > 0.0)) return e;
+  for (int k = 0; k < 3; ++k) e.l2cos[k] = std::sqrt(l2[k] / wsum), e.log[k] = std::sqrt(lg[k] / wsum);
+  e.l2cos_all = std::sqrt((l2.x + l2.y + l2.z) / (3.0 * wsum));
+  e.log_all = std::sqrt((lg.x + lg.y + lg.z) / (3.0 * wsum));
+  e.relative_l2cos = data_norm > 0.0 ? std::sqrt((l2.x + l2.y + l2.z) / data_norm) : 0.0;
+  return e;
+}
+
+namespace {
+// rho(wo) = integral f cos_i dw_i, over the half vector h: wi = reflect(wo, h), dw_i = 4 (wo.h) dw_h,
+// theta_h on a quadratic grid (dense near the normal, where the sharp lobes are).
+template <typename F> glm::dvec3 albedo_by_half_vector(F&& f, const Vec3d& wo) {
+  constexpr int nt = 128, np = 128;
+  glm::dvec3 sum(0.0);
+  for (int i = 0; i < nt; ++i) {
+    const double u = (i + 0.5) / nt, th = u * u * kPi<double> / 2.0, dth = 2.0 * u / nt * kPi<double> / 2.0;
+    for (int j = 0; j < np; ++j) {
+      const double ph = (j + 0.5) * 2.0 * kPi<double> / np;
+      const Vec3d h(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      const double oh = glm::dot(wo, h);
+      if (!(oh > 0.0)) continue;
+      const Vec3d wi = 2.0 * oh * h - wo;
+      if (!(wi.z > 0.0)) continue;
+      sum += f(wi) * (wi.z * 4.0 * oh * std::sin(th) * dth * (2.0 * kPi<double> / np));
+    }
+  }
+  return sum;
+}
+}  // namespace
+
+double max_albedo_difference(const MaterialD& source, const TargetBrdf& t, double* theta_deg, double* phi_deg) {
+  double worst = 0.0;
+  for (double th : {0.0, 20.0, 40.0, 60.0, 75.0})
+    for (double ph : {0.0, 45.0, 90.0}) {
+      const double a = glm::radians(th), p = glm::radians(ph);
+      const Vec3d wo(std::sin(a) * std::cos(p), std::sin(a) * std::sin(p), std::cos(a));
+      const glm::dvec3 s = albedo_by_half_vector(
+          [&](const Vec3d& wi) {
+            const RGBT<double> f = source.f(wi, wo);
+            return glm::dvec3(f.x, f.y, f.z);
+          },
+          wo);
+      const glm::dvec3 g = albedo_by_half_vector([&](const Vec3d& wi) { return t.f(wi, wo); }, wo);
+      const double d = max3(glm::abs(s - g));
+      if (d > worst) {
+        worst = d;
+        if (theta_deg) *theta_deg = th;
+        if (phi_deg) *phi_deg = ph;
+      }
+    }
+  return worst;
+}
+
+// --- source -> GGX -----------------------------------------------------------------------------------
+
+namespace {
+
+std::optional<GgxSource> exact_ggx(const MaterialDesc& d) {
+  const MaterialD m = build_material<double>(unrotated(d));
+  GgxSource g;
+  g.rotation_deg = rotation_of(d);
+  if (m.kind == ModelKind::GGX) {
+    g.alpha_x = m.ggx.lobe.alpha_x, g.alpha_y = m.ggx.lobe.alpha_y;
+    g.kd = glm::dvec3(m.ggx.kd.x, m.ggx.kd.y, m.ggx.kd.z);
+    g.f0 = glm::dvec3(m.ggx.f0.x, m.ggx.f0.y, m.ggx.f0.z);
+    g.origin = "exact: the source is an anisotropic GGX (Schlick F0, Lambertian kd)";
+    return g;
+  }
+  if (m.kind == ModelKind::Metal && m.metal.lobe_kind == SpecularLobeKind::GGX && !m.metal.has_directional_diffuse) {
+    g.conductor = true;
+    g.alpha_x = m.metal.ggx.alpha_x, g.alpha_y = m.metal.ggx.alpha_y;
+    g.eta = glm::dvec3(m.metal.eta.x, m.metal.eta.y, m.metal.eta.z);
+    g.k = glm::dvec3(m.metal.k.x, m.metal.k.y, m.metal.k.z);
+    if (d.params.has("metal")) {
+      const MetalData* md = find_metal(d.params.text("metal"));
+      if (md) g.metal = std::string(md->name), g.symbol = std::string(md->symbol);
+    }
+    g.origin = "exact: the source is a conductor with a GGX lobe (eta, k)";
+    return g;
+  }
+  if (m.kind == ModelKind::Principled) {
+    const PrincipledT<double>& p = m.principled;
+    if (p.metallic == 1.0 && p.sheen == 0.0 && p.clearcoat == 0.0) {
+      const GGXLobeT<double> l = p.specular_lobe();
+      g.alpha_x = l.alpha_x, g.alpha_y = l.alpha_y;
+      g.kd = glm::dvec3(0.0);
+      const RGBT<double> f0 = p.specular_f0();
+      g.f0 = glm::dvec3(f0.x, f0.y, f0.z);
+      g.origin = "exact: the source is a metallic Disney principled material (Schlick F0 = base_color; its separable "
+                 "Smith G differs from the targets' height-correlated one)";
+      return g;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+namespace {
+
+// A GGX as the exporter fits it: error of aniso's GGX kernel (ggx.h / metal.h) against the samples.
+FitErrors ggx_errors(const GgxSource& g, const SampleSet& data) {
+  TargetBrdf t;
+  t.lobe.alpha_x = g.alpha_x, t.lobe.alpha_y = g.alpha_y;
+  t.lobe.masking = Masking::HeightCorrelated;
+  if (g.conductor) t.lobe.fresnel = FresnelModel::Conductor, t.lobe.eta = g.eta, t.lobe.k = g.k;
+  else t.lobe.fresnel = FresnelModel::Schlick, t.lobe.f0 = g.f0, t.diffuse = g.kd;
+  return target_errors(t, data);
+}
+double metric_of(const FitErrors& e, FitMetric m) { return m == FitMetric::L2Cos ? e.l2cos_all : e.log_all; }
+
+// The fit engine's starts (moments, Ngan's nearest fit, random draws) can miss the basin of a sharp
+// anisotropic lobe (Ward 0.05 x 0.3: all 16 starts ended at alpha_y = 1). A second candidate that
+// cannot: a search over the two alphas (log grid, 0.002 to 1, then a finer grid around the best),
+// where everything else is linear (kd and F0 of the Schlick GGX: f = kd / pi + (F0 (1 - s) + s) L,
+// s = (1 - wi.h)^5, solved by weighted least squares per channel, l2cos residuals) or fixed (the
+// conductor's eta, k: the source's own). The better of the two, in the chosen metric, is written.
+GgxSource grid_fit(const GgxSource& base, const SampleSet& all) {
+  SampleSet data;
+  const size_t stride = std::max<size_t>(1, all.samples.size() / 6000);
+  for (size_t i = 0; i < all.samples.size(); i += stride) data.samples.push_back(all.samples[i]);
+  struct Pre { Vec3d wi, wo; double c, s5, w; glm::dvec3 v; };
+  std::vector<Pre> pre;
+  for (const MeasuredSample& m : data.samples) {
+    const Vec3d h = glm::normalize(m.wi + m.wo);
+    const double s = 1.0 - std::clamp(glm::dot(m.wi, h), 0.0, 1.0);
+    pre.push_back({m.wi, m.wo, m.wi.z, s * s * s * s * s, m.weight, m.value});
+  }
+  const auto solve = [&](double ax, double ay, GgxSource& g) {
+    GGXLobeT<double> lobe;
+    lobe.alpha_x = ax, lobe.alpha_y = ay;
+    g.alpha_x = ax, g.alpha_y = ay;
+    double err = 0.0;
+    if (g.conductor) {
+      for (const Pre& p : pre) {
+        const glm::dvec3 F = F_Conductor(glm::dot(p.wi, glm::normalize(p.wi + p.wo)), RGBT<double>(g.eta), RGBT<double>(g.k));
+        const glm::dvec3 r = (F * lobe.eval(p.wi, p.wo) - p.v) * p.c;
+        err += p.w * glm::dot(r, r);
+      }
+      return err;
+    }
+    // Normal equations of [c / pi, (1 - s) L c] (kd, F0) against (v - s L) c, per channel.
+    double a11 = 0, a12 = 0, a22 = 0;
+    glm::dvec3 b1(0.0), b2(0.0);
+    std::vector<double> L(pre.size());
+    for (size_t i = 0; i < pre.size(); ++i) {
+      const Pre& p = pre[i];
+      L[i] = lobe.eval(p.wi, p.wo);
+      const double x1 = p.c * kInvPi<double>, x2 = (1.0 - p.s5) * L[i] * p.c;
+      const glm::dvec3 y = (p.v - p.s5 * L[i]) * p.c;
+      a11 += p.w * x1 * x1, a12 += p.w * x1 * x2, a22 += p.w * x2 * x2;
+      b1 += p.w * x1 * y, b2 += p.w * x2 * y;
+    }
+    for (int c = 0; c < 3; ++c) {
+      const double det = a11 * a22 - a12 * a12;
+      double kd = det != 0.0 ? (b1[c] * a22 - b2[c] * a12) / det : 0.0;
+      double f0 = det != 0.0 ? (a11 * b2[c] - a12 * b1[c]) / det : 0.0;
+      // The box [0, 1]^2: clamp one, re-solve the other.
+      if (kd < 0.0 || kd > 1.0) kd = std::clamp(kd, 0.0, 1.0), f0 = a22 > 0 ? std::clamp((b2[c] - a12 * kd) / a22, 0.0, 1.0) : 0.0;
+      if (f0 < 0.0 || f0 > 1.0) f0 = std::clamp(f0, 0.0, 1.0), kd = a11 > 0 ? std::clamp((b1[c] - a12 * f0) / a11, 0.0, 1.0) : 0.0;
+      g.kd[c] = kd, g.f0[c] = f0;
+    }
+    for (size_t i = 0; i < pre.size(); ++i) {
+      const Pre& p = pre[i];
+      const glm::dvec3 f = g.kd * kInvPi<double> + (g.f0 * (1.0 - p.s5) + p.s5) * L[i];
+      const glm::dvec3 r = (f - p.v) * p.c;
+      err += p.w * glm::dot(r, r);
+    }
+    return err;
+  };
+  constexpr int n = 24;
+  const double lo = std::log(0.002), hi = std::log(1.0), step = (hi - lo) / (n - 1);
+  GgxSource best = base, g = base;
+  double best_err = INFINITY, bx = 0, by = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double e = solve(std::exp(lo + i * step), std::exp(lo + j * step), g);
+      if (e < best_err) best_err = e, best = g, bx = lo + i * step, by = lo + j * step;
+    }
+  constexpr int m = 9;
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double x = std::min(hi, bx + (i - (m - 1) / 2) * step / ((m - 1) / 2));
+      const double y = std::min(hi, by + (j - (m - 1) / 2) * step / ((m - 1) / 2));
+      const double e = solve(std::exp(x), std::exp(y), g);
+      if (e < best_err) best_err = e, best = g;
+    }
+  return best;
+}
+
+}  // namespace
+
+GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const ExportOptions& o) {
+  if (std::optional<GgxSource> g = exact_ggx(d)) return *g;
+  if (samples.samples.empty())
+    throw InputError(fmt::format("{}: the material reflects nothing above the horizon: there is nothing to export",
+                                 d.params.where));
+  double total = 0.0;
+  for (const MeasuredSample& s : samples.samples) total += s.value.x + s.value.y + s.value.z;
+  if (!(total > 0.0))
+    throw InputError(fmt::format("{}: the material is black (f = 0 at every sampled pair): no target can represent it "
+                                 "other than as black, and a fit has nothing to fit",
+                                 d.params.where.empty() ? d.model : d.params.where));
+  FitOptions fo;
+  fo.anisotropic = true;
+  fo.metric = o.metric;
+  fo.starts = o.starts;
+  fo.seed = o.seed;
+  fo.threads = o.threads;
+  fo.max_iterations = 100;
+  GgxSource g;
+  g.rotation_deg = rotation_of(d);
+  if (d.model == "metal") {
+    fo.model = "metal";
+    fo.metal_lobe = "ggx";
+    if (d.params.has("metal")) fo.metal = d.params.text("metal");
+  } else {
+    fo.model = "ggx";
+  }
+  const FitResult r = fit_samples(samples, fo);
+  const MaterialDesc fitted = parse_material(r.material, "fitted GGX");
+  std::optional<GgxSource> e = exact_ggx(fitted);
+  if (!e) throw std::logic_error("export: the fitted material is not a GGX");
+  g.alpha_x = e->alpha_x, g.alpha_y = e->alpha_y;
+  g.conductor = e->conductor;
+  g.kd = e->kd, g.f0 = e->f0, g.eta = e->eta, g.k = e->k;
+  if (d.params.has("metal")) {
+    if (const MetalData* md = find_metal(d.params.text("metal"))) g.metal = std::string(md->name), g.symbol = std::string(md->symbol);
+  }
+  g.exact = false;
+  g.source_fit = r.errors;
+  // The grid candidate: the conductor keeps the source's own eta, k.
+  GgxSource start = g;
+  if (g.conductor) {
+    const MaterialD src = build_material<double>(unrotated(d));
+    start.eta = glm::dvec3(src.metal.eta.x, src.metal.eta.y, src.metal.eta.z);
+    start.k = glm::dvec3(src.metal.k.x, src.metal.k.y, src.metal.k.z);
+  }
+  const GgxSource grid = grid_fit(start, samples);
+  const FitErrors grid_err = ggx_errors(grid, samples);
+  std::string how = fmt::format("Ceres from {} starts, best {}", fo.starts, r.best_start);
+  if (metric_of(grid_err, o.metric) < metric_of(r.errors, o.metric)) {
+    g.alpha_x = grid.alpha_x, g.alpha_y = grid.alpha_y, g.kd = grid.kd, g.f0 = grid.f0, g.eta = grid.eta, g.k = grid.k;
+    g.source_fit = grid_err;
+    how = fmt::format("the alpha grid search (Ceres from {} starts reached l2cos {:.4g}, log {:.4g})", fo.starts,
+                      r.errors.l2cos_all, r.errors.log_all);
+  }
+  g.origin = fmt::format("fitted: aniso's anisotropic {} to {} samples of the {} source ({} metric; {}): l2cos {:.4g}, "
+                         "log {:.4g}",
+                         fo.model == "metal" ? "GGX conductor" : "GGX", samples.samples.size(), d.model,
+                         o.metric == FitMetric::L2Cos ? "l2cos" : "log", how, g.source_fit.l2cos_all,
+                         g.source_fit.log_all);
+  return g;
+}
+
+// --- GGX -> each target ----------------------------------------------------------------------------
+
+TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vector<std::string>* notes_out,
+                        double blender_version) {
+  json p = json::object();
+  std::vector<std::string> notes;
+  TargetBrdf m;
+  double ax = g.alpha_x, ay = g.alpha_y;
+  const glm::dvec3 cond_f0 = g.conductor ? glm::dvec3(F_Conductor(1.0, RGBT<double>(g.eta), RGBT<double>(g.k))) : g.f0;
+  switch (t) {
+    case Target::Blender: {
+      // Principled BSDF (closure.h @ 02e6985c): alpha_x = r^2 / aspect >= alpha_y = r^2 aspect.
+      // aspect^2 = alpha_y / alpha_x = 1 - 0.9 anisotropic, anisotropic <= 1.
+      const auto [extra, rough, aniso] = invert_aspect(ax, ay, 0.9, 1.0, "the Principled BSDF", notes);
+      const double turn = wrap_turn((g.rotation_deg + extra) / 360.0);
+      const glm::dvec2 a = cycles_principled_alpha(rough, aniso);
+      m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+      m.tangent_turn_deg = extra;
+      m.lobe.masking = Masking::HeightCorrelated;
+      p["Roughness"] = rough, p["Anisotropic"] = aniso, p["Anisotropic Rotation"] = turn;
+      p["distribution"] = "GGX";
+      if (g.conductor || no_diffuse(g)) {
+        // Metallic: F0 = min(Base Color, 1), F82-tint with f82 = min(Specular Tint, 1).
+        const glm::dvec3 f0 = glm::clamp(cond_f0, 0.0, 1.0);
+        glm::dvec3 tint(1.0);
+        if (g.conductor) {
+          const double c82 = 1.0 / 7.0;
+          tint = cycles_tint_for(f0, glm::dvec3(F_Conductor(c82, RGBT<double>(g.eta), RGBT<double>(g.k))));
+        }
+        m.name = "Cycles 4.x Principled BSDF, metallic (F82-tint Fresnel, height-correlated Smith G)";
+        m.lobe.fresnel = FresnelModel::F82Tint;
+        m.lobe.f0 = f0;
+        m.lobe.f82_b = cycles_f82tint_b(f0, tint);
+        p["Base Color"] = j3(f0), p["Metallic"] = 1.0, p["Specular Tint"] = j3(tint);
+        if (g.conductor && blender_version >= 4.3) {
+          // Blender 4.3+: the Metallic BSDF with fresnel_type PHYSICAL_CONDUCTOR takes n and k
+          // (closure.h, CLOSURE_BSDF_PHYSICAL_CONDUCTOR: the same aspect mapping as the Principled
+          // BSDF, bsdf_microfacet_setup_fresnel_conductor with ior = {n, k}): aniso's conductor exactly.
+          m.name = "Cycles 4.3+ Metallic BSDF, physical conductor (exact n, k Fresnel, height-correlated Smith G)";
+          m.lobe.fresnel = FresnelModel::Conductor;
+          m.lobe.eta = g.eta, m.lobe.k = g.k;
+          p["IOR"] = j3(g.eta), p["Extinction"] = j3(g.k);
+          notes.push_back("Blender 4.3+: a Metallic BSDF with the physical conductor Fresnel (n, k); before 4.3 the "
+                          "script builds a Principled BSDF with F0 and the F82 tint matching the reflectance at cos = "
+                          "1/7 instead (--blender-version 4.0 reports that one; 3.4 has no tint)");
+        } else if (g.conductor) {
+          notes.push_back("the conductor's n, k become F0 and the F82 tint matching its reflectance at cos = 1/7 (the "
+                          "script uses 4.3's Metallic BSDF with n, k where it exists; Blender 3.4 ignores the tint: its "
+                          "Specular Tint is a float)");
+        }
+      } else {
+        // Dielectric: F0 = F0_from_ior(IOR) 2 level (closure.h, "Apply IOR adjustment"), exact Fresnel.
+        const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
+        const double f0 = F_Conductor(1.0, eta, 0.0);
+        m.name = "Cycles 4.x Principled BSDF, dielectric (exact Fresnel, height-correlated G) + Lambert";
+        m.lobe.fresnel = FresnelModel::Dielectric;
+        m.lobe.eta = glm::dvec3(eta);
+        m.diffuse = g.kd;
+        p["Base Color"] = j3(g.kd), p["Metallic"] = 0.0, p["IOR"] = eta, p["Specular IOR Level"] = 0.5;
+        p["Specular"] = std::min(f0 / 0.08, 1.0);  // Blender 3.4: F0 = 0.08 Specular, Specular in [0, 1]
+        if (f0 > 0.08)
+          notes.push_back(fmt::format("Blender 3.4's Specular stops at 1 (F0 0.08); this F0 {:.4g} needs 4.x's IOR", f0));
+        notes.push_back(fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of IOR {:.4g} closest to its "
+                                    "curve (F0 {:.4g})",
+                                    luminance_avg(g.f0), eta, f0));
+        notes.push_back("Cycles layers the diffuse under the specular (its weight times 1 - the specular albedo, "
+                        "closure_layering_weight); the target model adds them as aniso's GGX does");
+        if (max3(g.f0) - std::min({g.f0.x, g.f0.y, g.f0.z}) > 1e-3)
+          notes.push_back("the coloured dielectric F0 is written as its mean (Specular IOR Level)");
+      }
+      notes.push_back("Blender 3.4: the same node and inputs except Specular (3.4's F0 = 0.08 Specular) for Specular "
+                      "IOR Level; 3.4's Cycles evaluates its own masking and the Principled v1 Fresnel, which the "
+                      "target model (4.x) does not reproduce");
+      break;
+    }
+    case Target::Mitsuba3:
+    case Target::PbrtV4: {
+      const bool mitsuba = t == Target::Mitsuba3;
+      m.lobe.alpha_x = std::max(ax, mitsuba ? 0.0 : 1e-4), m.lobe.alpha_y = std::max(ay, mitsuba ? 0.0 : 1e-4);
+      // Mitsuba 3: separable Smith (microfacet.h:329-331); pbrt-v4: height-correlated
+      // (scattering.h:152, G = 1 / (1 + Lambda(wo) + Lambda(wi))).
+      m.lobe.masking = mitsuba ? Masking::Separable : Masking::HeightCorrelated;
+      m.lobe.fresnel = FresnelModel::Conductor;
+      const std::string ru = mitsuba ? "alpha_u" : "uroughness", rv = mitsuba ? "alpha_v" : "vroughness";
+      p[ru] = ax, p[rv] = ay;
+      if (!mitsuba) p["remaproughness"] = false;
+      if (g.conductor) {
+        m.name = mitsuba ? "Mitsuba 3 roughconductor (GGX, separable Smith G, conductor Fresnel)"
+                         : "pbrt-v4 conductor (Trowbridge-Reitz, height-correlated G, conductor Fresnel)";
+        m.lobe.eta = g.eta, m.lobe.k = g.k;
+        const bool named = mitsuba ? mitsuba_has(g.symbol) : pbrt_has(g.symbol);
+        if (named) {
+          if (mitsuba) p["material"] = g.symbol;
+          else p["eta"] = "metal-" + g.symbol + "-eta", p["k"] = "metal-" + g.symbol + "-k";
+          notes.push_back(fmt::format("the renderer's own spectrum for {} ({}) replaces aniso's RGB n, k: a different "
+                                      "measurement, so the colour may differ slightly from the target model",
+                                      g.symbol, g.metal));
+        } else {
+          p["eta"] = j3(g.eta), p["k"] = j3(g.k);
+        }
+      } else {
+        // The Schlick lobe as a conductor with eta 1, k = 2 sqrt(r) / sqrt(1 - r): F(0) = r exactly,
+        // (pbrt-v4 materials.h:505-507 for its "reflectance"), near Schlick elsewhere.
+        const double w = no_diffuse(g) ? 1.0 : mix_weight(g);
+        for (int c = 0; c < 3; ++c) {
+          const ExactFresnel e = match_schlick(g.f0[c], w, true);
+          m.lobe.eta[c] = e.eta, m.lobe.k[c] = e.k;
+        }
+        m.lobe.weight = glm::dvec3(w);
+        p["eta"] = j3(m.lobe.eta), p["k"] = j3(m.lobe.k);
+        if (no_diffuse(g)) {
+          m.name = mitsuba ? "Mitsuba 3 roughconductor (eta 1, k from F0)" : "pbrt-v4 conductor (reflectance = F0)";
+        } else {
+          m.name = mitsuba ? "Mitsuba 3 blendbsdf: (1 - w) diffuse + w roughconductor"
+                           : "pbrt-v4 mix: (1 - amount) diffuse + amount conductor";
+          m.diffuse = g.kd;
+          p[mitsuba ? "weight" : "amount"] = w;
+          p["diffuse_reflectance"] = j3(g.kd / (1.0 - w));
+          notes.push_back(fmt::format("no additive BSDF sum in the target: a stochastic mix with weight {:.4g}; the "
+                                      "specular reflectance at normal incidence is exact, at grazing it rises to {:.4g} "
+                                      "instead of 1",
+                                      w, w));
+        }
+        notes.push_back("Schlick's Fresnel is written as the exact (dielectric or conductor) Fresnel closest to its "
+                        "curve: the target has no Schlick Fresnel");
+      }
+      if (g.rotation_deg != 0.0)
+        notes.push_back(fmt::format("the tangent is dp/du: {} has no rotation input, so rotate the mesh's uv "
+                                    "parameterisation (or the tangent) by {:.9g} degrees about the normal, towards "
+                                    "dp/dv",
+                                    mitsuba ? "Mitsuba 3" : "pbrt-v4", g.rotation_deg));
+      else
+        notes.push_back("alpha along the tangent dp/du and the bitangent, as aniso's alpha_x and alpha_y");
+      break;
+    }
+    case Target::MaterialX: {
+      // aspect^2 = alpha_y / alpha_x = 1 - anisotropy, anisotropy <= 0.98 (mx_roughness_anisotropy).
+      const auto [extra, rough, aniso] = invert_aspect(ax, ay, 1.0, 0.98, "standard_surface", notes);
+      // MaterialX's rotate3d turns the tangent clockwise about the normal (mx_rotate_vector3.glsl:12:
+      // v c + cross(v, axis) s, and t x n = -b): specular_rotation = -angle / 360.
+      const double turn = wrap_turn(-(g.rotation_deg + extra) / 360.0);
+      const glm::dvec2 a = materialx_alpha(rough, aniso);
+      m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+      m.tangent_turn_deg = extra;
+      m.lobe.masking = Masking::HeightCorrelatedMeanAlpha;
+      p["specular_roughness"] = rough, p["specular_anisotropy"] = aniso, p["specular_rotation"] = turn;
+      p["base"] = 1.0, p["specular"] = 1.0;
+      if (g.conductor || no_diffuse(g)) {
+        glm::dvec3 refl = glm::clamp(cond_f0, 0.0, 0.99), edge(1.0);
+        if (g.conductor) {
+          materialx_artistic_from_ior(g.eta, g.k, refl, edge);
+        } else {
+          // A Schlick metal: the edge colour whose artistic-IOR Fresnel is closest to Schlick's curve.
+          for (int c = 0; c < 3; ++c) {
+            const auto cost = [&](double e) {
+              glm::dvec3 n, k;
+              materialx_artistic_ior(glm::dvec3(refl[c]), glm::dvec3(e), n, k);
+              double sum = 0.0;
+              for (int i = 0; i < 64; ++i) {
+                const double cs = (i + 0.5) / 64.0, m5 = std::pow(1.0 - cs, 5.0);
+                sum += sqr(F_Conductor(cs, n.x, k.x) - (refl[c] + (1.0 - refl[c]) * m5));
+              }
+              return sum;
+            };
+            double best = 1.0, best_cost = cost(1.0);
+            for (int i = 0; i <= 100; ++i)
+              if (const double v = cost(i / 100.0); v < best_cost) best_cost = v, best = i / 100.0;
+            edge[c] = best;
+          }
+        }
+        glm::dvec3 n, k;
+        materialx_artistic_ior(refl, edge, n, k);
+        m.name = "MaterialX standard_surface, metalness 1 (artistic IOR conductor, G2 at the mean alpha)";
+        m.lobe.fresnel = FresnelModel::Conductor;
+        m.lobe.eta = n, m.lobe.k = k;
+        p["metalness"] = 1.0, p["base_color"] = j3(refl), p["specular_color"] = j3(edge);
+        notes.push_back("the conductor goes through Gulbrandsen's artistic IOR (reflectivity, edge colour): two "
+                        "colours for n, k, so the Fresnel curve is close, not equal");
+      } else {
+        const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
+        m.name = "MaterialX standard_surface, dielectric (exact Fresnel, G2 at the mean alpha) + Lambert";
+        m.lobe.fresnel = FresnelModel::Dielectric;
+        m.lobe.eta = glm::dvec3(eta);
+        m.diffuse = g.kd;
+        p["metalness"] = 0.0, p["base_color"] = j3(g.kd), p["specular_color"] = j3(glm::dvec3(1.0));
+        p["specular_IOR"] = eta;
+        notes.push_back("standard_surface layers the diffuse under the specular (scaled by 1 - its albedo); the "
+                        "target model adds them");
+      }
+      notes.push_back("MaterialX's GGX lobes add a multiple-scattering energy compensation "
+                      "(mx_ggx_energy_compensation, mx_conductor_bsdf.glsl:40) that the target model leaves out");
+      break;
+    }
+    case Target::Gltf: {
+      const double extra = major_first(ax, ay);
+      // README.md:88-100: at = mix(ab, 1, s^2), ab = roughness^2.
+      double ab = ay, at = std::min(ax, 1.0);
+      const double s = ab < 1.0 ? std::sqrt(std::clamp((at - ab) / (1.0 - ab), 0.0, 1.0)) : 0.0;
+      const double rough = std::sqrt(std::min(ab, 1.0));
+      const double rot = glm::radians(std::fmod(g.rotation_deg + extra, 360.0));
+      const glm::dvec2 a = gltf_alpha(rough, s);
+      m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+      m.tangent_turn_deg = extra;
+      m.lobe.masking = Masking::HeightCorrelated;  // V_GGX_anisotropic (README.md:174-181)
+      m.lobe.fresnel = FresnelModel::Schlick;
+      p["roughnessFactor"] = rough, p["anisotropyStrength"] = s, p["anisotropyRotation"] = rot;
+      if (g.conductor || no_diffuse(g)) {
+        glm::dvec3 f0 = glm::clamp(cond_f0, 0.0, 1.0);
+        if (g.conductor) {
+          // The Schlick F0 closest to the conductor's Fresnel curve: Schlick = F0 (1 - m) + m, m = (1 - c)^5,
+          // is linear in F0; least squares over c in [0, 1] (64 points).
+          glm::dvec3 num(0.0);
+          double den = 0.0;
+          for (int i = 0; i < 64; ++i) {
+            const double c = (i + 0.5) / 64.0, m5 = std::pow(1.0 - c, 5.0);
+            const glm::dvec3 F = F_Conductor(c, RGBT<double>(g.eta), RGBT<double>(g.k));
+            num += (F - m5) * (1.0 - m5), den += sqr(1.0 - m5);
+          }
+          f0 = glm::clamp(num / den, 0.0, 1.0);
+        }
+        m.name = "glTF 2.0 metal_brdf (metallic 1): Schlick F0 = baseColor, height-correlated G";
+        m.lobe.f0 = f0;
+        p["metallicFactor"] = 1.0, p["baseColorFactor"] = j3(f0);
+        if (g.conductor) notes.push_back("the conductor becomes Schlick's Fresnel with the F0 closest to its curve (least "
+                                         "squares over the cosine)");
+      } else {
+        // Appendix B: dielectric_brdf = fresnel_mix(ior 1.5, diffuse, specular): (1 - F) diffuse + F specular.
+        m.name = "glTF 2.0 dielectric_brdf (metallic 0): fresnel_mix(ior 1.5) of Lambert and GGX";
+        m.lobe.f0 = glm::dvec3(0.04);
+        m.diffuse = g.kd, m.diffuse_times_one_minus_f = true;
+        p["metallicFactor"] = 0.0, p["baseColorFactor"] = j3(glm::clamp(g.kd, 0.0, 1.0));
+        if (std::abs(luminance_avg(g.f0) - 0.04) > 1e-3)
+          notes.push_back(fmt::format("glTF's dielectric F0 is 0.04 (ior 1.5); the source's is {} "
+                                      "(KHR_materials_specular would carry it; not written)",
+                                      fmt3(g.f0)));
+      }
+      if (ax > 1.0) notes.push_back("alpha along the tangent above 1 clamped to 1 (glTF's mix(alpha, 1, s^2) <= 1)");
+      break;
+    }
+  }
+  if (params_out) *params_out = p;
+  if (notes_out) *notes_out = notes;
+  return m;
+}
+
+// --- reports -----------------------------------------------------------------------------------------
+
+json ExportReport::to_json() const {
+  return {{"target", target},
+          {"target_model", target_model},
+          {"path", exact ? "exact" : "fitted"},
+          {"origin", origin},
+          {"parameters", parameters},
+          {"error", {{"l2cos", errors.l2cos_all}, {"log", errors.log_all}, {"relative_l2cos", errors.relative_l2cos}}},
+          {"max_albedo_difference", {{"value", max_albedo_difference}, {"theta_o_deg", albedo_theta_deg},
+                                     {"phi_o_deg", albedo_phi_deg}}},
+          {"samples", samples},
+          {"notes", notes}};
+}
+
+std::string ExportReport::text(std::string_view pre) const {
+  std::string s;
+  const auto line = [&](const std::string& l) { s += std::string(pre) + l + "\n"; };
+  line(fmt::format("aniso export, target {}: {}", target, target_model));
+  line(fmt::format("  {}", origin));
+  line(fmt::format("  parameters: {}", parameters.dump()));
+  line(fmt::format("  error of the export against the source ({} samples): l2cos {:.4g} (relative {:.3g}), log {:.4g}",
+                   samples, errors.l2cos_all, errors.relative_l2cos, errors.log_all));
+  line(fmt::format("  largest directional-albedo difference: {:.4g} (theta_o {:g}, phi_o {:g} deg)",
+                   max_albedo_difference, albedo_theta_deg, albedo_phi_deg));
+  for (const std::string& n : notes) line("  note: " + n);
+  return s;
+}
+
+// --- writers -----------------------------------------------------------------------------------------
+
+namespace {
+
+std::string comment_block(const ExportReport& r, const std::string& source, std::string_view pre) {
+  return std::string(pre) + "Exported by aniso from " + source + "\n" + r.text(pre);
+}
+
+double num(const json& p, const char* k) { return p.at(k).get<double>(); }
+glm::dvec3 col(const json& p, const char* k) {
+  const json& a = p.at(k);
+  return {a[0].get<double>(), a[1].get<double>(), a[2].get<double>()};
+}
+
+std::string write_blender(const std::string& name, const json& p, const std::string& comment) {
+  const glm::dvec3 base = col(p, "Base Color");
+  const bool metallic = num(p, "Metallic") > 0.5;
+  std::string s = comment;
+  s += "#\n# Builds the material for Blender 3.4 and 4.x (Principled BSDF input names differ: checked by\n"
+       "# bpy.app.version), assigns it to the active object if there is one, and takes the tangent from\n"
+       "# that object's active UV map (dp/du) when it has one.\n";
+  s += "import bpy\n\n";
+  s += fmt::format("NAME = {}\n", py_string(name));
+  s += "V4 = bpy.app.version >= (4, 0, 0)\n\n";
+  s += "mat = bpy.data.materials.get(NAME) or bpy.data.materials.new(NAME)\n"
+       "mat.use_nodes = True\n"
+       "nodes, links = mat.node_tree.nodes, mat.node_tree.links\n"
+       "nodes.clear()\n"
+       "out = nodes.new(\"ShaderNodeOutputMaterial\")\n"
+       "out.location = (300, 0)\n"
+       "bsdf = nodes.new(\"ShaderNodeBsdfPrincipled\")\n"
+       "bsdf.distribution = \"GGX\"  # single-scattering GGX, as the target model (not MULTI_GGX)\n"
+       "links.new(bsdf.outputs[\"BSDF\"], out.inputs[\"Surface\"])\n\n"
+       "def put(name, value):\n"
+       "    if name not in bsdf.inputs:\n"
+       "        raise KeyError(\"%s of Blender %s has no input %r\" % (bsdf.bl_idname, bpy.app.version_string, name))\n"
+       "    bsdf.inputs[name].default_value = value\n\n";
+  s += fmt::format("put(\"Base Color\", ({:.9g}, {:.9g}, {:.9g}, 1.0))\n", base.x, base.y, base.z);
+  s += fmt::format("put(\"Metallic\", {:.9g})\n", num(p, "Metallic"));
+  s += fmt::format("put(\"Roughness\", {:.9g})\n", num(p, "Roughness"));
+  s += fmt::format("put(\"Anisotropic\", {:.9g})\n", num(p, "Anisotropic"));
+  s += fmt::format("put(\"Anisotropic Rotation\", {:.9g})\n", num(p, "Anisotropic Rotation"));
+  s += "if V4:\n";
+  if (metallic) {
+    const glm::dvec3 t = col(p, "Specular Tint");
+    s += fmt::format("    put(\"Specular Tint\", ({:.9g}, {:.9g}, {:.9g}, 1.0))  # the F82 edge tint\n", t.x, t.y, t.z);
+  } else {
+    s += fmt::format("    put(\"IOR\", {:.9g})\n    put(\"Specular IOR Level\", {:.9g})\n", num(p, "IOR"),
+                     num(p, "Specular IOR Level"));
+  }
+  s += "else:\n";
+  if (metallic) s += "    pass  # 3.4: no edge tint (its Specular Tint is a float that tints the dielectric F0)\n";
+  else s += fmt::format("    put(\"Specular\", {:.9g})  # F0 = 0.08 Specular\n", num(p, "Specular"));
+  if (p.contains("Extinction")) {
+    // Blender 4.3+: the Metallic BSDF (node_shader_bsdf_metallic.cc: IOR and Extinction are
+    // vectors, Anisotropy and Rotation as the Principled BSDF's) replaces the Principled one.
+    const glm::dvec3 n = col(p, "IOR"), k = col(p, "Extinction");
+    s += "\nif bpy.app.version >= (4, 3, 0):  # the physical conductor: n, k themselves\n"
+         "    nodes.remove(bsdf)\n"
+         "    bsdf = nodes.new(\"ShaderNodeBsdfMetallic\")\n"
+         "    bsdf.distribution = \"GGX\"\n"
+         "    bsdf.fresnel_type = \"PHYSICAL_CONDUCTOR\"\n"
+         "    links.new(bsdf.outputs[\"BSDF\"], out.inputs[\"Surface\"])\n";
+    s += fmt::format("    put(\"IOR\", ({:.9g}, {:.9g}, {:.9g}))\n", n.x, n.y, n.z);
+    s += fmt::format("    put(\"Extinction\", ({:.9g}, {:.9g}, {:.9g}))\n", k.x, k.y, k.z);
+    s += fmt::format("    put(\"Roughness\", {:.9g})\n", num(p, "Roughness"));
+    s += fmt::format("    put(\"Anisotropy\", {:.9g})\n", num(p, "Anisotropic"));
+    s += fmt::format("    put(\"Rotation\", {:.9g})\n", num(p, "Anisotropic Rotation"));
+  }
+  s += "\nobj = bpy.context.view_layer.objects.active\n"
+       "if obj is not None and obj.type == \"MESH\":\n"
+       "    uv = obj.data.uv_layers.active\n"
+       "    if uv is not None:\n"
+       "        tangent = nodes.new(\"ShaderNodeTangent\")\n"
+       "        tangent.location = (-300, -300)\n"
+       "        tangent.direction_type = \"UV_MAP\"\n"
+       "        tangent.uv_map = uv.name\n"
+       "        links.new(tangent.outputs[\"Tangent\"], bsdf.inputs[\"Tangent\"])\n"
+       "    if obj.data.materials:\n"
+       "        obj.data.materials[0] = mat\n"
+       "    else:\n"
+       "        obj.data.materials.append(mat)\n";
+  return s;
+}
+
+std::string write_mitsuba(const std::string& name, const json& p, const std::string& comment) {
+  const std::string id = xml_escape(identifier(name));
+  std::string conductor = "        <string name=\"distribution\" value=\"ggx\"/>\n";
+  conductor += fmt::format("        <float name=\"alpha_u\" value=\"{:.9g}\"/>\n", num(p, "alpha_u"));
+  conductor += fmt::format("        <float name=\"alpha_v\" value=\"{:.9g}\"/>\n", num(p, "alpha_v"));
+  if (p.contains("material")) conductor += fmt::format("        <string name=\"material\" value=\"{}\"/>\n", p["material"].get<std::string>());
+  else
+    conductor += fmt::format("        <rgb name=\"eta\" value=\"{}\"/>\n        <rgb name=\"k\" value=\"{}\"/>\n",
+                             fmt3(col(p, "eta")), fmt3(col(p, "k")));
+  std::string s = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!--\n" + xml_comment_safe(comment) + "-->\n";
+  s += "<scene version=\"3.0.0\">\n";
+  if (p.contains("weight")) {
+    // blendbsdf.cpp:17-21: weight 0 is the first nested BSDF, 1 the second.
+    s += fmt::format("    <bsdf type=\"blendbsdf\" id=\"{}\">\n", id);
+    s += fmt::format("        <float name=\"weight\" value=\"{:.9g}\"/>\n", num(p, "weight"));
+    s += fmt::format("        <bsdf type=\"diffuse\">\n            <rgb name=\"reflectance\" value=\"{}\"/>\n        </bsdf>\n",
+                     fmt3(col(p, "diffuse_reflectance")));
+    s += "        <bsdf type=\"roughconductor\">\n";
+    std::string inner;
+    for (size_t i = 0, j; i < conductor.size(); i = j + 1) {
+      j = conductor.find('\n', i);
+      inner += "    " + conductor.substr(i, j - i + 1);
+    }
+    s += inner + "        </bsdf>\n    </bsdf>\n";
+  } else {
+    s += fmt::format("    <bsdf type=\"roughconductor\" id=\"{}\">\n", id);
+    s += conductor + "    </bsdf>\n";
+  }
+  return s + "</scene>\n";
+}
+
+std::string pbrt_conductor(const json& p) {
+  std::string s = "    \"string type\" \"conductor\"\n";
+  if (p.contains("reflectance")) s += fmt::format("    \"rgb reflectance\" [ {} ]\n", fmt3(col(p, "reflectance"), " "));
+  else if (p["eta"].is_string())
+    s += fmt::format("    \"spectrum eta\" \"{}\"\n    \"spectrum k\" \"{}\"\n", p["eta"].get<std::string>(), p["k"].get<std::string>());
+  else s += fmt::format("    \"rgb eta\" [ {} ]\n    \"rgb k\" [ {} ]\n", fmt3(col(p, "eta"), " "), fmt3(col(p, "k"), " "));
+  s += fmt::format("    \"float uroughness\" {:.9g}\n    \"float vroughness\" {:.9g}\n    \"bool remaproughness\" false\n",
+                   num(p, "uroughness"), num(p, "vroughness"));
+  return s;
+}
+
+std::string write_pbrt(const std::string& name, const json& p, const std::string& comment) {
+  const std::string id = identifier(name);
+  std::string s = comment + "\n";
+  if (p.contains("amount")) {
+    s += fmt::format("MakeNamedMaterial \"{}-diffuse\"\n    \"string type\" \"diffuse\"\n    \"rgb reflectance\" [ {} ]\n",
+                     id, fmt3(col(p, "diffuse_reflectance"), " "));
+    s += fmt::format("MakeNamedMaterial \"{}-specular\"\n", id) + pbrt_conductor(p);
+    // materials.h:285-293: amount is the probability of materials[1].
+    s += fmt::format("MakeNamedMaterial \"{}\"\n    \"string type\" \"mix\"\n    \"string materials\" [ \"{}-diffuse\" "
+                     "\"{}-specular\" ]\n    \"float amount\" {:.9g}\n",
+                     id, id, id, num(p, "amount"));
+  } else {
+    s += fmt::format("MakeNamedMaterial \"{}\"\n", id) + pbrt_conductor(p);
+  }
+  return s;
+}
+
+std::string write_materialx(const std::string& name, const json& p, const std::string& comment) {
+  const std::string id = identifier(name);
+  std::string s = "<?xml version=\"1.0\"?>\n<materialx version=\"1.38\">\n  <!--\n" + xml_comment_safe(comment) + "  -->\n";
+  s += fmt::format("  <standard_surface name=\"SR_{}\" type=\"surfaceshader\">\n", xml_escape(id));
+  const auto f = [&](const char* k) {
+    s += fmt::format("    <input name=\"{}\" type=\"float\" value=\"{:.9g}\" />\n", k, num(p, k));
+  };
+  const auto c = [&](const char* k) {
+    s += fmt::format("    <input name=\"{}\" type=\"color3\" value=\"{}\" />\n", k, fmt3(col(p, k)));
+  };
+  f("base");
+  c("base_color");
+  f("metalness");
+  f("specular");
+  c("specular_color");
+  f("specular_roughness");
+  if (p.contains("specular_IOR")) f("specular_IOR");
+  f("specular_anisotropy");
+  f("specular_rotation");
+  s += "  </standard_surface>\n";
+  s += fmt::format("  <surfacematerial name=\"{}\" type=\"material\">\n", xml_escape(id));
+  s += fmt::format("    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SR_{}\" />\n", xml_escape(id));
+  s += "  </surfacematerial>\n</materialx>\n";
+  return s;
+}
+
+void write_gltf(const std::string& name, const json& p, const ExportReport& r, const std::string& source,
+                const std::string& bin_name, std::vector<ExportFile>& files) {
+  const SphereMesh mesh = uv_sphere(48, 96);
+  std::string bin;
+  const auto append = [&](const void* data, size_t bytes) {
+    bin.append(static_cast<const char*>(data), bytes);
+    while (bin.size() % 4) bin.push_back('\0');
+  };
+  const size_t nv = mesh.positions.size() / 3;
+  json views = json::array(), accessors = json::array();
+  const auto add = [&](const void* data, size_t bytes, int components, int ctype, const char* type, size_t count,
+                       int target, bool minmax) {
+    const size_t offset = bin.size();
+    append(data, bytes);
+    views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}, {"target", target}});
+    json a = {{"bufferView", views.size() - 1}, {"componentType", ctype}, {"count", count}, {"type", type}};
+    if (minmax) a["min"] = {-1.0, -1.0, -1.0}, a["max"] = {1.0, 1.0, 1.0};
+    (void)components;
+    accessors.push_back(a);
+  };
+  // 5126 FLOAT, 5123 UNSIGNED_SHORT; 34962 ARRAY_BUFFER, 34963 ELEMENT_ARRAY_BUFFER (glTF 2.0, 3.6.2).
+  add(mesh.positions.data(), mesh.positions.size() * 4, 3, 5126, "VEC3", nv, 34962, true);
+  add(mesh.normals.data(), mesh.normals.size() * 4, 3, 5126, "VEC3", nv, 34962, false);
+  add(mesh.tangents.data(), mesh.tangents.size() * 4, 4, 5126, "VEC4", nv, 34962, false);
+  add(mesh.uvs.data(), mesh.uvs.size() * 4, 2, 5126, "VEC2", nv, 34962, false);
+  add(mesh.indices.data(), mesh.indices.size() * 2, 1, 5123, "SCALAR", mesh.indices.size(), 34963, false);
+  const glm::dvec3 base = col(p, "baseColorFactor");
+  json material = {
+      {"name", name},
+      {"pbrMetallicRoughness",
+       {{"baseColorFactor", {base.x, base.y, base.z, 1.0}}, {"metallicFactor", num(p, "metallicFactor")},
+        {"roughnessFactor", num(p, "roughnessFactor")}}},
+      {"extensions",
+       {{"KHR_materials_anisotropy",
+         {{"anisotropyStrength", num(p, "anisotropyStrength")}, {"anisotropyRotation", num(p, "anisotropyRotation")}}}}}};
+  json doc = {
+      {"asset", {{"version", "2.0"}, {"generator", "aniso export --to gltf"},
+                 {"extras", {{"source", source}, {"aniso_export", r.to_json()}}}}},
+      {"extensionsUsed", {"KHR_materials_anisotropy"}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"nodes", {{{"mesh", 0}, {"name", name}}}},
+      {"meshes",
+       {{{"name", "sphere"},
+         {"primitives",
+          {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TANGENT", 2}, {"TEXCOORD_0", 3}}},
+            {"indices", 4},
+            {"material", 0}}}}}}},
+      {"materials", {material}},
+      {"buffers", {{{"uri", bin_name}, {"byteLength", bin.size()}}}},
+      {"bufferViews", views},
+      {"accessors", accessors}};
+  files.push_back({"", doc.dump(2) + "\n"});
+  files.push_back({bin_name, bin});
+}
+
+}  // namespace
+
+void write_preview(const std::string& path, const MaterialD& source, const TargetBrdf& target, const std::string& left,
+                   const std::string& right, int size) {
+  const int label = size / 8, w = 2 * size, h = size + label;
+  render::Image img(w, size);
+  const glm::dvec3 lights[2] = {glm::normalize(glm::dvec3(-0.5, 0.6, 1.0)), glm::normalize(glm::dvec3(0.7, -0.3, 0.8))};
+  const double power[2] = {2.5, 1.0};
+  for (int side = 0; side < 2; ++side)
+    for (int py = 0; py < size; ++py)
+      for (int px = 0; px < size; ++px) {
+        const double x = (px + 0.5) / size * 2.0 - 1.0, y = 1.0 - (py + 0.5) / size * 2.0, r2 = x * x + y * y;
+        if (r2 >= 1.0) continue;
+        const glm::dvec3 n(x, y, std::sqrt(1.0 - r2));
+        const glm::dvec3 t = glm::normalize(glm::dvec3(n.z, 0.0, -n.x)), b = glm::cross(n, t);
+        const auto local = [&](const glm::dvec3& v) { return Vec3d(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)); };
+        const Vec3d wo = local(glm::dvec3(0.0, 0.0, 1.0));
+        glm::dvec3 c(0.0);
+        for (int l = 0; l < 2; ++l) {
+          const Vec3d wi = local(lights[l]);
+          if (!(wi.z > 0.0) || !(wo.z > 0.0)) continue;
+          glm::dvec3 f;
+          if (side == 0) {
+            const RGBT<double> s = source.f(wi, wo);
+            f = glm::dvec3(s.x, s.y, s.z);
+          } else {
+            f = target.f(wi, wo);
+          }
+          c += f * wi.z * power[l];
+        }
+        img.set(side * size + px, py, RGB(float(c.x), float(c.y), float(c.z)));
+      }
+  const render::DisplayImage shaded = render::tonemap(img, {});
+  render::DisplayImage out(w, h, 255);
+  render::blit(out, shaded, 0, 0);
+  const float ph = float(label) * 0.55f;
+  render::draw_text(out, 6, size + label / 5, left, ph, {0, 0, 0});
+  render::draw_text(out, size + 6, size + label / 5, right, ph, {0, 0, 0});
+  render::write_png(path, out);
+}
+
+SphereMesh uv_sphere(int rings, int segments) {
+  SphereMesh m;
+  // glTF is y-up. theta from +y, phi around it; u = phi / 2 pi, v = theta / pi. p = (sin t sin f,
+  // cos t, sin t cos f): dp/du ~ (cos f, 0, -sin f), the tangent, perpendicular to the normal
+  // everywhere (also at the poles, where each vertex of the seam row has its own phi).
+  for (int i = 0; i <= rings; ++i) {
+    const double t = kPi<double> * i / rings;
+    for (int j = 0; j <= segments; ++j) {
+      const double f = 2.0 * kPi<double> * j / segments;
+      const glm::dvec3 n(std::sin(t) * std::sin(f), std::cos(t), std::sin(t) * std::cos(f));
+      const glm::dvec3 tan(std::cos(f), 0.0, -std::sin(f));
+      for (int k = 0; k < 3; ++k) m.positions.push_back(float(n[k])), m.normals.push_back(float(n[k]));
+      for (int k = 0; k < 3; ++k) m.tangents.push_back(float(tan[k]));
+      m.tangents.push_back(1.0f);
+      m.uvs.push_back(float(double(j) / segments)), m.uvs.push_back(float(double(i) / rings));
+    }
+  }
+  const int row = segments + 1;
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const uint16_t a = uint16_t(i * row + j), b = uint16_t(a + row), c = uint16_t(a + 1), d = uint16_t(b + 1);
+      // Counter-clockwise seen from outside (glTF front faces).
+      if (i != 0) m.indices.insert(m.indices.end(), {a, b, c});
+      if (i != rings - 1) m.indices.insert(m.indices.end(), {c, b, d});
+    }
+  return m;
+}
+
+// The fitted path, last step: the target's own model (its masking, its Fresnel) against the source,
+// over the roughness. The GGX fit is aniso's (height-correlated Smith, Schlick); the target model
+// differs (Mitsuba 3's separable G, MaterialX's G2 at the mean alpha, exact Fresnel curves), so the
+// alphas are searched again with the written model itself: factors 0.6 to 1.5 on each alpha (a
+// 9 x 9 log grid, then 7 x 7 around the best), on at most o.refine_samples of the samples, in the
+// chosen metric.
+GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& all, const ExportOptions& o) {
+  SampleSet data;
+  const size_t stride = std::max<size_t>(1, all.samples.size() / size_t(std::max(o.refine_samples, 100)));
+  for (size_t i = 0; i < all.samples.size(); i += stride) data.samples.push_back(all.samples[i]);
+  const auto err = [&](double fx, double fy, GgxSource& out) {
+    out = g;
+    out.alpha_x = std::clamp(g.alpha_x * fx, 1e-3, 1.0), out.alpha_y = std::clamp(g.alpha_y * fy, 1e-3, 1.0);
+    return metric_of(target_errors(target_model(t, out, nullptr, nullptr, o.blender_version), data), o.metric);
+  };
+  GgxSource best = g, trial;
+  double best_err = err(1.0, 1.0, trial), bx = 0.0, by = 0.0;
+  const double lo = std::log(0.6), hi = std::log(1.5);
+  constexpr int n = 9;
+  const double step = (hi - lo) / (n - 1);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double x = lo + i * step, y = lo + j * step, e = err(std::exp(x), std::exp(y), trial);
+      if (e < best_err) best_err = e, best = trial, bx = x, by = y;
+    }
+  for (int i = -3; i <= 3; ++i)
+    for (int j = -3; j <= 3; ++j) {
+      const double e = err(std::exp(bx + i * step / 3), std::exp(by + j * step / 3), trial);
+      if (e < best_err) best_err = e, best = trial;
+    }
+  // Kept only if it is better on every sample, not just on the subset it was searched on.
+  const auto full = [&](const GgxSource& x) {
+    return metric_of(target_errors(target_model(t, x, nullptr, nullptr, o.blender_version), all), o.metric);
+  };
+  return full(best) < full(g) ? best : g;
+}
+
+ExportResult export_material(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o,
+                             const std::string& bin_name_in) {
+  const TargetInfo* info = find_target(o.target);
+  if (!info) throw InputError(fmt::format("--to: unknown target \"{}\"; the targets are {}", o.target, target_names()));
+  const MaterialDesc plain = unrotated(desc);
+  const MaterialD source = build_material<double>(plain);
+  ExportResult res;
+  const SampleSet samples = sample_source(source, o.grid);
+  res.ggx = ggx_source(desc, samples, o);
+  json params;
+  std::vector<std::string> notes, notes_before;
+  if (!res.ggx.exact) {
+    const GgxSource refined = refine_for_target(info->target, res.ggx, samples, o);
+    if (refined.alpha_x != res.ggx.alpha_x || refined.alpha_y != res.ggx.alpha_y)
+      notes_before.push_back(fmt::format("alphas refined with the target model: {:.4g} x {:.4g} (the GGX fit's {:.4g} x {:.4g})",
+                                         refined.alpha_x, refined.alpha_y, res.ggx.alpha_x, res.ggx.alpha_y));
+    res.ggx = refined;
+  }
+  res.model = target_model(info->target, res.ggx, &params, &notes, o.blender_version);
+  ExportReport& r = res.report;
+  r.target = std::string(info->name);
+  r.target_model = res.model.name;
+  r.exact = res.ggx.exact;
+  r.origin = res.ggx.origin;
+  r.parameters = params;
+  r.notes = notes;
+  r.notes.insert(r.notes.end(), notes_before.begin(), notes_before.end());
+  if (res.ggx.exact && (res.ggx.rotation_deg != 0.0))
+    r.notes.push_back(fmt::format("rotation_deg {:.9g} carried to the target's orientation", res.ggx.rotation_deg));
+  r.errors = target_errors(res.model, samples);
+  if (info->target == Target::Blender && res.ggx.conductor && o.blender_version >= 4.3) {
+    // The other model the script may build (before 4.3): its error too.
+    const TargetBrdf older = target_model(Target::Blender, res.ggx, nullptr, nullptr, 4.0);
+    const FitErrors e = target_errors(older, samples);
+    r.notes.push_back(fmt::format("Blender 4.0 to 4.2 (Principled BSDF, F82 tint): l2cos {:.4g} (relative {:.3g}), log "
+                                  "{:.4g}",
+                                  e.l2cos_all, e.relative_l2cos, e.log_all));
+  }
+  r.samples = samples.samples.size();
+  r.max_albedo_difference = max_albedo_difference(source, res.model, &r.albedo_theta_deg, &r.albedo_phi_deg);
+  std::string name = o.name;
+  if (name.empty()) {
+    name = source_label;
+    const size_t slash = name.find_last_of('/');
+    if (name.size() > 0 && name.front() != '{' && slash != std::string::npos && name.find(".json") != std::string::npos)
+      name = name.substr(slash + 1);
+    if (name.size() > 5 && name.ends_with(".json")) name.resize(name.size() - 5);
+    if (name.empty() || name.front() == '{') name = "aniso-" + desc.model;
+  }
+  switch (info->target) {
+    case Target::Blender: res.files.push_back({"", write_blender(name, params, comment_block(r, source_label, "# "))}); break;
+    case Target::Mitsuba3: res.files.push_back({"", write_mitsuba(name, params, comment_block(r, source_label, "  "))}); break;
+    case Target::PbrtV4: res.files.push_back({"", write_pbrt(name, params, comment_block(r, source_label, "# "))}); break;
+    case Target::MaterialX:
+      res.files.push_back({"", write_materialx(name, params, comment_block(r, source_label, "    "))});
+      break;
+    case Target::Gltf: {
+      const std::string bin_name = bin_name_in.empty() ? identifier(name) + ".bin" : bin_name_in;
+      write_gltf(name, params, r, source_label, bin_name, res.files);
+      break;
+    }
+  }
+  return res;
+}
+
+}  // namespace aniso::exporter

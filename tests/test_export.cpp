@@ -1,0 +1,622 @@
+// Tests of `aniso export --to TARGET` (src/export, docs/export.md): each target model against the
+// target's formulas, quoted here from the renderer's source at pinned points; the exact path's
+// round trip; the fitted path's errors for the standard materials, pinned; the written files'
+// grammar; bad input.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_fixture.h"
+#include "export/export.h"
+#include "io/materials.h"
+#include "measured/merl.h"
+
+namespace aniso {
+namespace {
+
+using namespace exporter;
+using json = nlohmann::json;
+
+Vec3d dir(double theta_deg, double phi_deg) {
+  const double t = glm::radians(theta_deg), p = glm::radians(phi_deg);
+  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+}
+
+// ---- target formulas, quoted ------------------------------------------------------------------------
+
+// Cycles, closure.h (Principled BSDF):
+//   float alpha_x = sqr(roughness), alpha_y = sqr(roughness);
+//   if (anisotropic > 0.0f) { float aspect = sqrtf(1.0f - anisotropic * 0.9f); alpha_x /= aspect; alpha_y *= aspect; }
+TEST(ExportTargets, CyclesPrincipledAlpha) {
+  const double aspect = std::sqrt(1.0 - 0.8 * 0.9);
+  glm::dvec2 a = cycles_principled_alpha(0.5, 0.8);
+  EXPECT_NEAR(a.x, 0.25 / aspect, 1e-12);
+  EXPECT_NEAR(a.y, 0.25 * aspect, 1e-12);
+  EXPECT_NEAR(a.x, 0.472455591261534, 1e-12);
+  a = cycles_principled_alpha(0.5, 0.0);
+  EXPECT_EQ(a, glm::dvec2(0.25));
+  a = cycles_principled_alpha(0.5, -0.5);  // saturatef(anisotropic): a negative value is 0
+  EXPECT_EQ(a, glm::dvec2(0.25));
+  a = cycles_principled_alpha(0.3, 1.0);  // the largest ratio: 1 / 0.1
+  EXPECT_NEAR(a.x / a.y, 10.0, 1e-12);
+}
+
+// Cycles, closure.h (Glossy BSDF): anisotropy = clamp(param2, -0.99f, 0.99f);
+//   if (anisotropy < 0.0f) { alpha_x = roughness / (1.0f + anisotropy); alpha_y = roughness * (1.0f + anisotropy); }
+//   else { alpha_x = roughness * (1.0f - anisotropy); alpha_y = roughness / (1.0f - anisotropy); }
+TEST(ExportTargets, CyclesGlossyAlphaBothSigns) {
+  glm::dvec2 a = cycles_glossy_alpha(0.5, 0.5);
+  EXPECT_NEAR(a.x, 0.125, 1e-12);
+  EXPECT_NEAR(a.y, 0.5, 1e-12);
+  a = cycles_glossy_alpha(0.5, -0.5);
+  EXPECT_NEAR(a.x, 0.5, 1e-12);
+  EXPECT_NEAR(a.y, 0.125, 1e-12);
+  a = cycles_glossy_alpha(0.5, 0.999);  // clamped to 0.99
+  EXPECT_NEAR(a.x, 0.25 * 0.01, 1e-12);
+  EXPECT_NEAR(a.y, 0.25 / 0.01, 1e-9);
+  EXPECT_EQ(cycles_glossy_alpha(0.5, 5e-5), glm::dvec2(0.25));  // |anisotropy| <= 1e-4: isotropic
+}
+
+// Cycles, bsdf_util.h: fresnel_f82tint_B: F_schlick(6/7) * (7 / (f^5 f)) * (1 - tint);
+// fresnel_f82(cosi) = saturate(F_schlick(cosi) - B * cosi * (1 - cosi)^6): F(1/7) = Schlick(1/7) tint.
+TEST(ExportTargets, CyclesF82Tint) {
+  const glm::dvec3 f0(0.9, 0.6, 0.3), tint(0.8, 0.9, 1.0);
+  const glm::dvec3 b = cycles_f82tint_b(f0, tint);
+  const double c = 1.0 / 7.0, s5 = std::pow(1.0 - c, 5.0);
+  const glm::dvec3 schlick = f0 + (glm::dvec3(1.0) - f0) * s5;
+  const glm::dvec3 f = cycles_f82(c, f0, b);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(f[k], schlick[k] * tint[k], 1e-12);
+  EXPECT_EQ(b.z, 0.0);  // tint 1: plain Schlick
+  EXPECT_NEAR(cycles_f82(1.0, f0, b).x, 0.9, 1e-12);
+  // The tint the exporter chooses reproduces a target value at 82 degrees.
+  const glm::dvec3 want(0.7, 0.55, 0.4);
+  const glm::dvec3 t2 = cycles_tint_for(f0, want);
+  const glm::dvec3 f2 = cycles_f82(c, f0, cycles_f82tint_b(f0, t2));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(f2[k], want[k], 1e-12);
+}
+
+// Mitsuba 3, principledhelpers.h, calc_dist_params: aspect = sqrt(1 - 0.9 anisotropic),
+// { max(0.001, roughness_2 / aspect), max(0.001, roughness_2 * aspect) }: aniso's principled alphas.
+TEST(ExportTargets, MitsubaPrincipledAlphaIsAnisosPrincipled) {
+  for (const auto& [r, a] : {std::pair{0.5, 0.8}, std::pair{0.02, 0.3}, std::pair{0.9, 1.0}, std::pair{0.3, 0.0}}) {
+    const glm::dvec2 m = mitsuba_principled_alpha(r, a, true);
+    PrincipledT<double> p;
+    p.roughness = r, p.anisotropic = a;
+    const GGXLobeT<double> l = p.specular_lobe();
+    EXPECT_NEAR(m.x, l.alpha_x, 1e-15) << r << " " << a;
+    EXPECT_NEAR(m.y, l.alpha_y, 1e-15) << r << " " << a;
+  }
+  EXPECT_EQ(mitsuba_principled_alpha(0.01, 0.0, false), glm::dvec2(0.001));
+}
+
+// MaterialX, mx_roughness_anisotropy.glsl:
+//   float roughness_sqr = clamp(roughness*roughness, M_FLOAT_EPS, 1.0);
+//   if (anisotropy > 0.0) { float aspect = sqrt(1.0 - clamp(anisotropy, 0.0, 0.98));
+//       result.x = min(roughness_sqr / aspect, 1.0); result.y = roughness_sqr * aspect; }
+TEST(ExportTargets, MaterialXRoughnessAnisotropy) {
+  glm::dvec2 a = materialx_alpha(0.5, 0.5);
+  EXPECT_NEAR(a.x, 0.25 / std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(a.y, 0.25 * std::sqrt(0.5), 1e-12);
+  a = materialx_alpha(0.5, 0.99);  // anisotropy clamped to 0.98, alpha_x to 1
+  EXPECT_EQ(a.x, 1.0);
+  EXPECT_NEAR(a.y, 0.25 * std::sqrt(0.02), 1e-12);
+  EXPECT_EQ(materialx_alpha(0.5, -0.3), glm::dvec2(0.25));  // anisotropy <= 0: isotropic
+}
+
+// MaterialX, mx_artistic_ior.glsl (Gulbrandsen 2014): the inverse the exporter uses round-trips.
+TEST(ExportTargets, MaterialXArtisticIorRoundTrip) {
+  const glm::dvec3 eta(0.2067, 0.4892, 1.4885), k(3.2, 2.27, 1.76);
+  glm::dvec3 r, g, n2, k2;
+  materialx_artistic_from_ior(eta, k, r, g);
+  materialx_artistic_ior(r, g, n2, k2);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(F_Conductor(1.0, n2[c], k2[c]), r[c], 1e-9);
+    EXPECT_NEAR(n2[c], eta[c], 1e-9) << "edge colour inside [0, 1] reproduces n";
+    EXPECT_NEAR(k2[c], k[c], 1e-9);
+  }
+}
+
+// glTF KHR_materials_anisotropy README: at = mix(alphaRoughness, 1.0, anisotropy * anisotropy); ab = alphaRoughness.
+TEST(ExportTargets, GltfAlpha) {
+  const glm::dvec2 a = gltf_alpha(0.5, 0.6);
+  EXPECT_NEAR(a.x, 0.25 * (1.0 - 0.36) + 0.36, 1e-12);
+  EXPECT_NEAR(a.y, 0.25, 1e-12);
+  EXPECT_EQ(gltf_alpha(0.5, 0.0), glm::dvec2(0.25));
+}
+
+// glTF README's BRDF_specularAnisotropicGGX = F V D with
+//   D = a2 w2^2 / pi, a2 = at ab, f = (ab TdotH, at BdotH, a2 NdotH), w2 = a2 / dot(f, f)
+//   V = 0.5 / (NdotL |(at TdotV, ab BdotV, NdotV)| + NdotV |(at TdotL, ab BdotL, NdotL)|)
+// equals the target model's height-correlated lobe.
+TEST(ExportTargets, GltfLobeMatchesTheReadmeFormula) {
+  TargetBrdf t;
+  t.lobe.alpha_x = 0.4, t.lobe.alpha_y = 0.1;
+  t.lobe.masking = Masking::HeightCorrelated;
+  t.lobe.fresnel = FresnelModel::Schlick;
+  t.lobe.f0 = glm::dvec3(0.9);
+  for (const auto& [wi, wo] : {std::pair{dir(30, 10), dir(40, 200)}, std::pair{dir(70, 80), dir(10, 250)},
+                               std::pair{dir(55, 0), dir(55, 180)}}) {
+    const Vec3d h = glm::normalize(wi + wo);
+    const double at = 0.4, ab = 0.1, a2 = at * ab;
+    const glm::dvec3 f(ab * h.x, at * h.y, a2 * h.z);
+    const double w2 = a2 / glm::dot(f, f), D = a2 * w2 * w2 / kPi<double>;
+    const double V = 0.5 / (wi.z * glm::length(glm::dvec3(at * wo.x, ab * wo.y, wo.z)) +
+                            wo.z * glm::length(glm::dvec3(at * wi.x, ab * wi.y, wi.z)));
+    const double F = 0.9 + 0.1 * std::pow(1.0 - glm::dot(wo, h), 5.0);
+    EXPECT_NEAR(t.f(wi, wo).x, F * V * D, 1e-9 * F * V * D);
+  }
+}
+
+// Mitsuba 3, microfacet.h: G = smith_g1(wi, m) * smith_g1(wo, m), smith_g1 = 2 / (1 + sqrt(1 + tan^2 alpha^2))
+// with alpha^2 = (alpha_u v.x)^2 + (alpha_v v.y)^2 over sin^2; pbrt-v4, scattering.h:
+// G = 1 / (1 + Lambda(wo) + Lambda(wi)).
+TEST(ExportTargets, MaskingSeparableAndHeightCorrelated) {
+  const Vec3d wi = dir(60, 30), wo = dir(45, 250);
+  const double au = 0.3, av = 0.08;
+  const auto lambda = [&](const Vec3d& v) {
+    const double xy = sqr(au * v.x) + sqr(av * v.y);
+    return (std::sqrt(1.0 + xy / sqr(v.z)) - 1.0) / 2.0;
+  };
+  const auto g1 = [&](const Vec3d& v) { return 2.0 / (1.0 + std::sqrt(1.0 + (sqr(au * v.x) + sqr(av * v.y)) / sqr(v.z))); };
+  TargetBrdf sep, hc;
+  sep.lobe = hc.lobe = TargetLobe{.alpha_x = au, .alpha_y = av, .fresnel = FresnelModel::Conductor, .eta = glm::dvec3(1.0),
+                                  .k = glm::dvec3(3.0)};
+  sep.lobe.masking = Masking::Separable;
+  hc.lobe.masking = Masking::HeightCorrelated;
+  const double ratio = sep.f(wi, wo).x / hc.f(wi, wo).x;
+  EXPECT_NEAR(ratio, g1(wi) * g1(wo) * (1.0 + lambda(wi) + lambda(wo)), 1e-12);
+}
+
+// ---- exact path ---------------------------------------------------------------------------------------
+
+GgxSource ggx(double ax, double ay, double rotation = 0.0) {
+  GgxSource g;
+  g.alpha_x = ax, g.alpha_y = ay, g.rotation_deg = rotation;
+  g.conductor = true;
+  g.eta = glm::dvec3(0.2, 0.5, 1.5), g.k = glm::dvec3(3.5, 2.3, 1.8);
+  return g;
+}
+
+TEST(ExportExact, AlphasCarryOverToEveryTarget) {
+  for (Target t : {Target::Blender, Target::Mitsuba3, Target::PbrtV4, Target::MaterialX, Target::Gltf}) {
+    for (const auto& [ax, ay] : {std::pair{0.3, 0.1}, std::pair{0.05, 0.2}}) {
+      json p;
+      const TargetBrdf m = target_model(t, ggx(ax, ay), &p);
+      // Targets with the major axis along the tangent turn the tangent by 90 degrees instead of
+      // swapping: the model's own (alpha along its tangent, across) is then (max, min).
+      const bool swaps = (t == Target::Blender || t == Target::MaterialX || t == Target::Gltf) && ax < ay;
+      EXPECT_NEAR(m.lobe.alpha_x, swaps ? ay : ax, 1e-9) << p.dump();
+      EXPECT_NEAR(m.lobe.alpha_y, swaps ? ax : ay, 1e-9) << p.dump();
+    }
+  }
+}
+
+TEST(ExportExact, RotationGoesToEachTargetsInputWithItsSign) {
+  json p;
+  target_model(Target::Blender, ggx(0.3, 0.1, 30.0), &p);
+  EXPECT_NEAR(p["Anisotropic Rotation"].get<double>(), 30.0 / 360.0, 1e-12);  // counter-clockwise, x 2 pi
+  target_model(Target::Blender, ggx(0.1, 0.3, 30.0), &p);
+  EXPECT_NEAR(p["Anisotropic Rotation"].get<double>(), 120.0 / 360.0, 1e-12);
+  target_model(Target::MaterialX, ggx(0.3, 0.1, 30.0), &p);
+  EXPECT_NEAR(p["specular_rotation"].get<double>(), 1.0 - 30.0 / 360.0, 1e-12);  // rotate3d turns clockwise
+  target_model(Target::Gltf, ggx(0.1, 0.3, 30.0), &p);
+  EXPECT_NEAR(p["anisotropyRotation"].get<double>(), glm::radians(120.0), 1e-12);
+  std::vector<std::string> notes;
+  target_model(Target::Mitsuba3, ggx(0.3, 0.1, 30.0), &p, &notes);
+  bool says = false;
+  for (const std::string& n : notes) says |= n.find("no rotation input") != std::string::npos;
+  EXPECT_TRUE(says);
+}
+
+ExportOptions quick(const std::string& target) {
+  ExportOptions o;
+  o.target = target;
+  o.grid = 3;
+  o.starts = 2;
+  return o;
+}
+
+// rotation_deg (not in the parameter tables yet: the exporter reads it when it is there, default 0)
+// reaches the targets' inputs through the exact path.
+TEST(ExportExact, RotationDegOfTheMaterialIsRead) {
+  MaterialDesc d = load_material(R"({"model": "ggx", "kd": 0.1, "f0": 0.04, "alpha_x": 0.3, "alpha_y": 0.1})");
+  d.params.values["rotation_deg"] = 30.0;
+  ExportOptions o = quick("blender");
+  const ExportResult r = export_material(d, "ggx", o);
+  EXPECT_NEAR(r.report.parameters["Anisotropic Rotation"].get<double>(), 30.0 / 360.0, 1e-12);
+  // The source is compared unrotated against the target model in the target's own frame.
+  EXPECT_LT(r.report.errors.relative_l2cos, 0.2);
+}
+
+TEST(ExportExact, NamedSpectraWhenTheMetalMatches) {
+  GgxSource g = ggx(0.1, 0.1);
+  g.metal = "gold", g.symbol = "Au";
+  json p;
+  target_model(Target::PbrtV4, g, &p);
+  EXPECT_EQ(p["eta"], "metal-Au-eta");
+  EXPECT_EQ(p["remaproughness"], false);
+  target_model(Target::Mitsuba3, g, &p);
+  EXPECT_EQ(p["material"], "Au");
+  g.metal = "nickel", g.symbol = "Ni";  // not among either renderer's names: values
+  target_model(Target::PbrtV4, g, &p);
+  EXPECT_TRUE(p["eta"].is_array());
+}
+
+
+TEST(ExportExact, GgxSourceToPbrtIsExactUpToItsMaskingAndFresnel) {
+  const MaterialDesc d = load_material(R"({"model": "metal", "metal": "gold", "lobe": {"model": "ggx", "alpha_x": 0.2, "alpha_y": 0.08}})");
+  const ExportResult r = export_material(d, "gold", quick("pbrt-v4"));
+  EXPECT_TRUE(r.report.exact);
+  // pbrt-v4's conductor is aniso's metal with a GGX lobe, term for term.
+  EXPECT_LT(r.report.errors.relative_l2cos, 1e-9);
+  EXPECT_LT(r.report.max_albedo_difference, 1e-9);
+  const ExportResult m = export_material(d, "gold", quick("mitsuba3"));
+  EXPECT_GT(m.report.errors.relative_l2cos, 1e-4);  // separable masking differs
+  EXPECT_LT(m.report.errors.relative_l2cos, 0.1);
+}
+
+// ---- fitted path: the standard materials' errors per target, pinned -------------------------------
+
+// Each row: the error of the written target model against the source samples (relative l2cos and
+// log), measured at grid 3, 2 starts and the refinement on 1500 samples (docs/export.md gives the default grid's); a regression of
+// more than 10 % (plus 0.005) fails.
+struct Pinned {
+  const char* material;
+  const char* target;
+  double relative_l2cos, log;
+};
+
+constexpr const char* kWard = R"({"model": "ward", "kd": 0.05, "ks": 0.4, "alpha_x": 0.05, "alpha_y": 0.3, "normalization": "balanced"})";
+constexpr const char* kAS = R"({"model": "ashikhmin-shirley", "rd": 0.3, "rs": 0.05, "n_u": 100, "n_v": 10})";
+
+TEST(ExportFit, StandardMaterialsPerTarget) {
+  const std::vector<Pinned> pinned = {
+#include "export_pinned.inc"
+  };
+  const bool print = std::getenv("ANISO_EXPORT_PRINT") != nullptr;
+  for (const char* material : {kWard, kAS, "matte-steel", "brushed-gold"}) {
+    const MaterialDesc d = load_material(material);
+    const MaterialD m = build_material<double>(d);
+    const SampleSet samples = sample_source(m, 3);
+    ExportOptions o;
+    o.grid = 3, o.starts = 2, o.refine_samples = 1500;
+    const GgxSource g = ggx_source(d, samples, o);
+    EXPECT_FALSE(g.exact);
+    for (const TargetInfo& t : targets()) {
+      const TargetBrdf tm = target_model(t.target, refine_for_target(t.target, g, samples, o));
+      const FitErrors e = target_errors(tm, samples);
+      const std::string label = std::string(material).substr(0, 20);
+      if (print) std::printf("    {%s, \"%s\", %.4f, %.4f},\n", d.model == "lafortune" ? "\"matte-steel\"" : d.model == "metal" ? "\"brushed-gold\"" : d.model == "ward" ? "kWard" : "kAS", std::string(t.name).c_str(), e.relative_l2cos, e.log_all);
+      int found = 0;
+      for (const Pinned& p : pinned) {
+        if (std::string(p.target) != t.name || std::string(p.material) != material) continue;
+        ++found;
+        EXPECT_LE(e.relative_l2cos, 1.1 * p.relative_l2cos + 0.005) << label << " " << t.name;
+        EXPECT_LE(e.log_all, 1.1 * p.log + 0.005) << label << " " << t.name;
+      }
+      EXPECT_EQ(found, 1) << label << " " << t.name << ": no pinned row";
+    }
+  }
+}
+
+// ---- the written files -----------------------------------------------------------------------------
+
+using ExportCli = Cli;
+
+// A tiny XML well-formedness check: tags nest and close, attributes are quoted; returns the element
+// names with their attribute "name" values (MaterialX inputs).
+bool xml_well_formed(const std::string& s, std::vector<std::pair<std::string, std::string>>* elements, std::string* why) {
+  std::vector<std::string> stack;
+  size_t i = 0;
+  while ((i = s.find('<', i)) != std::string::npos) {
+    if (s.compare(i, 4, "<!--") == 0) {
+      const size_t e = s.find("-->", i + 4);
+      if (e == std::string::npos) return *why = "unclosed comment", false;
+      if (s.substr(i + 4, e - i - 4).find("--") != std::string::npos) return *why = "-- inside a comment", false;
+      i = e + 3;
+      continue;
+    }
+    if (s.compare(i, 2, "<?") == 0) {
+      i = s.find("?>", i) + 2;
+      continue;
+    }
+    const size_t e = s.find('>', i);
+    if (e == std::string::npos) return *why = "unclosed tag", false;
+    std::string tag = s.substr(i + 1, e - i - 1);
+    i = e + 1;
+    if (tag[0] == '/') {
+      if (stack.empty() || stack.back() != tag.substr(1)) return *why = "mismatched </" + tag.substr(1) + ">", false;
+      stack.pop_back();
+      continue;
+    }
+    const bool empty = tag.back() == '/';
+    if (empty) tag.pop_back();
+    static const std::regex head(R"re(^([A-Za-z_][\w.-]*)((\s+[A-Za-z_][\w.-]*="[^"<&]*")*)\s*$)re");
+    std::smatch m;
+    if (!std::regex_match(tag, m, head)) return *why = "malformed tag <" + tag + ">", false;
+    std::smatch nm;
+    static const std::regex name_attr(R"re(\bname="([^"]*)")re");
+    const std::string attrs = m[2].str();
+    elements->push_back({m[1].str(), std::regex_search(attrs, nm, name_attr) ? nm[1].str() : ""});
+    if (!empty) stack.push_back(m[1].str());
+  }
+  if (!stack.empty()) return *why = "unclosed <" + stack.back() + ">", false;
+  return true;
+}
+
+TEST_F(ExportCli, MitsubaXmlParses) {
+  for (const char* material : {"gold", "clay"}) {
+    const Result r = run({"export", "--to", "mitsuba3", "--material", material, "-o", (dir_ / "m.xml").string(), "--starts", "1", "--grid", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string x = read_file(dir_ / "m.xml");
+    std::vector<std::pair<std::string, std::string>> el;
+    std::string why;
+    ASSERT_TRUE(xml_well_formed(x, &el, &why)) << why << "\n" << x;
+    ASSERT_FALSE(el.empty());
+    EXPECT_EQ(el[0].first, "scene");
+    std::set<std::string> bsdf_types;
+    for (size_t i = 0; i < el.size(); ++i) EXPECT_TRUE(el[i].first == "scene" || el[i].first == "bsdf" || el[i].first == "float" ||
+                                                      el[i].first == "rgb" || el[i].first == "string") << el[i].first;
+    EXPECT_TRUE(contains(x, "type=\"roughconductor\"")) << x;
+    EXPECT_TRUE(contains(x, "<string name=\"distribution\" value=\"ggx\"/>")) << x;
+    EXPECT_TRUE(contains(x, "Exported by aniso from")) << x;
+  }
+}
+
+// pbrt-v4's scene grammar for the statements written: MakeNamedMaterial "name" followed by
+// "type name" value pairs, a value being a quoted string, a number, true / false or a bracketed list.
+TEST_F(ExportCli, PbrtStatementsParse) {
+  for (const char* material : {"gold", "clay", "brushed-copper"}) {
+    const Result r = run({"export", "--to", "pbrt-v4", "--material", material, "-o", (dir_ / "m.pbrt").string(), "--starts", "1", "--grid", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::string text;
+    std::istringstream in(read_file(dir_ / "m.pbrt"));
+    for (std::string line; std::getline(in, line);) text += line.substr(0, line.find('#')) + "\n";
+    static const std::regex token(R"re(\s*("[^"]*"|\[[^\]]*\]|[A-Za-z]+|[-+0-9.eE]+))re");
+    std::vector<std::string> toks;
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), token); it != std::sregex_iterator(); ++it) toks.push_back((*it)[1]);
+    size_t i = 0, statements = 0;
+    static const std::set<std::string> types = {"string", "float", "rgb", "spectrum", "bool"};
+    while (i < toks.size()) {
+      ASSERT_EQ(toks[i], "MakeNamedMaterial") << "token " << i;
+      ASSERT_LT(i + 1, toks.size());
+      ASSERT_EQ(toks[i + 1].front(), '"');
+      i += 2, ++statements;
+      while (i < toks.size() && toks[i].front() == '"') {
+        const std::string decl = toks[i].substr(1, toks[i].size() - 2);
+        const std::string type = decl.substr(0, decl.find(' '));
+        EXPECT_TRUE(types.count(type)) << decl;
+        ASSERT_LT(i + 1, toks.size());
+        const std::string& v = toks[i + 1];
+        if (type == "string" || type == "spectrum") {
+          EXPECT_TRUE(v.front() == '"' || v.front() == '[') << decl << " " << v;
+        }
+        if (type == "bool") {
+          EXPECT_TRUE(v == "false" || v == "true") << decl;
+        }
+        if (type == "rgb") {
+          EXPECT_EQ(v.front(), '[') << decl;
+        }
+        i += 2;
+      }
+    }
+    EXPECT_GE(statements, 1u);
+  }
+}
+
+// MaterialX: element and input names of libraries/bxdf/standard_surface.mtlx (its nodedef inputs)
+// and the stdlib's surfacematerial.
+TEST_F(ExportCli, MaterialXUsesTheSchemasNames) {
+  static const std::set<std::string> inputs = {"base", "base_color", "metalness", "specular", "specular_color",
+                                               "specular_roughness", "specular_IOR", "specular_anisotropy",
+                                               "specular_rotation", "surfaceshader"};
+  for (const char* material : {"gold", "clay"}) {
+    const Result r = run({"export", "--to", "materialx", "--material", material, "-o", (dir_ / "m.mtlx").string(), "--starts", "1", "--grid", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string x = read_file(dir_ / "m.mtlx");
+    std::vector<std::pair<std::string, std::string>> el;
+    std::string why;
+    ASSERT_TRUE(xml_well_formed(x, &el, &why)) << why << "\n" << x;
+    EXPECT_EQ(el[0].first, "materialx");
+    for (const auto& [e, name] : el) {
+      EXPECT_TRUE(e == "materialx" || e == "standard_surface" || e == "surfacematerial" || e == "input") << e;
+      if (e == "input") {
+        EXPECT_TRUE(inputs.count(name)) << name;
+      }
+    }
+  }
+}
+
+// glTF 2.0's required fields (the Khronos JSON schema: asset.version; buffer.byteLength;
+// bufferView.buffer, byteLength; accessor.componentType, count, type; mesh.primitives[].attributes),
+// the buffer's length, and the extension declared in extensionsUsed.
+TEST_F(ExportCli, GltfHasTheSchemasRequiredFieldsAndTangents) {
+  const std::string out = (dir_ / "gold.gltf").string();
+  const Result r = run({"export", "--to", "gltf", "--material", "brushed-gold", "-o", out, "--starts", "1", "--grid", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json g = json::parse(read_file(out));
+  EXPECT_EQ(g["asset"]["version"], "2.0");
+  ASSERT_EQ(g["buffers"].size(), 1u);
+  const std::string bin = read_file(dir_ / g["buffers"][0]["uri"].get<std::string>());
+  EXPECT_EQ(bin.size(), g["buffers"][0]["byteLength"].get<size_t>());
+  for (const json& v : g["bufferViews"]) {
+    ASSERT_TRUE(v.contains("buffer") && v.contains("byteLength"));
+    EXPECT_LE(v.value("byteOffset", 0) + v["byteLength"].get<size_t>(), bin.size());
+  }
+  for (const json& a : g["accessors"]) ASSERT_TRUE(a.contains("componentType") && a.contains("count") && a.contains("type"));
+  const json& attrs = g["meshes"][0]["primitives"][0]["attributes"];
+  EXPECT_TRUE(attrs.contains("POSITION") && attrs.contains("NORMAL") && attrs.contains("TANGENT"));
+  EXPECT_EQ(g["accessors"][attrs["TANGENT"].get<int>()]["type"], "VEC4");
+  EXPECT_EQ(g["extensionsUsed"][0], "KHR_materials_anisotropy");
+  const json& ext = g["materials"][0]["extensions"]["KHR_materials_anisotropy"];
+  EXPECT_GT(ext["anisotropyStrength"].get<double>(), 0.0);
+  EXPECT_TRUE(g["asset"]["extras"].contains("aniso_export"));
+}
+
+TEST(ExportSphere, TangentsAreUnitAndPerpendicularToTheNormals) {
+  const SphereMesh m = uv_sphere(8, 16);
+  for (size_t v = 0; v < m.positions.size() / 3; ++v) {
+    const glm::dvec3 n(m.normals[3 * v], m.normals[3 * v + 1], m.normals[3 * v + 2]);
+    const glm::dvec3 t(m.tangents[4 * v], m.tangents[4 * v + 1], m.tangents[4 * v + 2]);
+    EXPECT_NEAR(glm::length(t), 1.0, 1e-6);
+    EXPECT_NEAR(glm::dot(n, t), 0.0, 1e-6);
+    EXPECT_EQ(m.tangents[4 * v + 3], 1.0f);
+  }
+  for (uint16_t i : m.indices) EXPECT_LT(i, m.positions.size() / 3);
+}
+
+// Blender: the script runs headless (skipped without blender, with the reason).
+TEST_F(ExportCli, BlenderScriptRunsInBlender) {
+  const std::string script = (dir_ / "m.py").string();
+  const Result r = run({"export", "--to", "blender", "--material", "brushed-gold", "-o", script, "--starts", "1", "--grid", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string py = read_file(script);
+  EXPECT_TRUE(contains(py, "bpy.app.version")) << py;
+  EXPECT_TRUE(contains(py, "ShaderNodeBsdfPrincipled")) << py;
+  // The inputs it sets are the Principled BSDF's sockets (node_shader_bsdf_principled.cc,
+  // node_declare): 3.x "Specular" (float), 4.x "Specular IOR Level" and a colour "Specular Tint".
+  static const std::set<std::string> sockets = {"Base Color", "Metallic", "Roughness", "Anisotropic", "Anisotropic Rotation",
+                                                "IOR", "Specular", "Specular IOR Level", "Specular Tint", "Tangent",
+                                                "Extinction", "Anisotropy", "Rotation"};
+  static const std::regex put(R"re(put\("([^"]+)")re");
+  int puts = 0;
+  for (auto it = std::sregex_iterator(py.begin(), py.end(), put); it != std::sregex_iterator(); ++it, ++puts)
+    EXPECT_TRUE(sockets.count((*it)[1])) << (*it)[1];
+  EXPECT_GE(puts, 6);
+  // Valid Python (the syntax, without Blender).
+  if (std::system("command -v python3 > /dev/null 2>&1") == 0) {
+    EXPECT_EQ(std::system(("python3 -c 'import ast, sys; ast.parse(open(sys.argv[1]).read())' " + shell_quote(script)).c_str()), 0);
+  }
+  if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed: the script was not run";
+  // A script that makes an object (with a UV map), then execs the export: the material lands on it.
+  const std::string driver = write("driver.py",
+                                   "import bpy\n"
+                                   "bpy.ops.mesh.primitive_uv_sphere_add()\n"
+                                   "exec(open(r'" + script + "').read())\n"
+                                   "obj = bpy.context.view_layer.objects.active\n"
+                                   "assert obj.data.materials[0].name == NAME, obj.data.materials[0].name\n"
+                                   "nodes = obj.data.materials[0].node_tree.nodes\n"
+                                   "assert any(n.bl_idname == 'ShaderNodeTangent' for n in nodes)\n"
+                                   "print('ANISO_OK')\n");
+  std::string out;
+  if (FILE* p = popen(("blender -b --factory-startup -P " + shell_quote(driver) + " 2>&1").c_str(), "r")) {
+    char buf[4096];
+    for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    pclose(p);
+  }
+  EXPECT_TRUE(contains(out, "ANISO_OK")) << out;
+}
+
+// Where Blender is absent: the script run by Python against a stand-in for bpy with the Principled
+// BSDF's 3.4 and 4.x sockets (tests/export_bpy_stub/bpy.py), with and without a UV map, for a metal
+// and a dielectric: every input it sets exists with its type, the node is single-scattering GGX,
+// the material lands on the active object, the Tangent node comes with the UV map.
+TEST_F(ExportCli, BlenderScriptRunsOnABpyStub) {
+  if (std::system("command -v python3 > /dev/null 2>&1") != 0) GTEST_SKIP() << "python3 is not installed";
+  for (const char* material : {"gold", R"({"model": "ggx", "kd": 0.3, "f0": 0.04, "alpha_x": 0.1, "alpha_y": 0.3})"}) {
+    const std::string script = (dir_ / "m.py").string();
+    const Result r = run({"export", "--to", "blender", "--material", material, "-o", script, "--grid", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string check = write("check.py",
+                                    "import bpy\n"
+                                    "MATERIAL = '" + std::string(material[0] == '{' ? "ggx" : material) + "'\n"
+                                    "exec(open(r'" + script + "').read())\n"
+                                    "obj = bpy.context.view_layer.objects.active\n"
+                                    "assert obj.data.materials[0] is mat\n"
+                                    "assert bsdf.distribution == 'GGX'\n"
+                                    "assert bsdf in nodes and (bsdf.outputs['BSDF'], out.inputs['Surface']) in links\n"
+                                    "want = 'ShaderNodeBsdfMetallic' if bpy.app.version >= (4, 3, 0) and MATERIAL == 'gold' "
+                                    "else 'ShaderNodeBsdfPrincipled'\n"
+                                    "assert bsdf.bl_idname == want, bsdf.bl_idname\n"
+                                    "assert bsdf.bl_idname != 'ShaderNodeBsdfMetallic' or bsdf.fresnel_type == 'PHYSICAL_CONDUCTOR'\n"
+                                    "has_tangent = any(n.bl_idname == 'ShaderNodeTangent' for n in nodes)\n"
+                                    "assert has_tangent == (obj.data.uv_layers.active is not None), has_tangent\n"
+                                    "print('ANISO_OK')\n");
+    for (const char* version : {"3.4", "4.2", "4.3"})
+      for (const char* uv : {"0", "1"}) {
+        const std::string cmd = "PYTHONPATH=" + shell_quote(std::string(ANISO_SOURCE_DIR) + "/tests/export_bpy_stub") +
+                                " ANISO_BPY_VERSION=" + version + " ANISO_BPY_UV=" + uv + " python3 " + shell_quote(check) +
+                                " 2>&1";
+        std::string out;
+        if (FILE* p = popen(cmd.c_str(), "r")) {
+          char buf[4096];
+          for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+          pclose(p);
+        }
+        EXPECT_TRUE(contains(out, "ANISO_OK")) << material << " Blender " << version << " uv " << uv << ":\n" << out;
+      }
+  }
+}
+
+// Measured data (a MERL table, here aniso's tabulation of a Ward material) takes the fitted path.
+TEST_F(ExportCli, MeasuredMerlTableIsFitted) {
+  const std::string merl = (dir_ / "ward.binary").string();
+  write_merl(merl, tabulate_merl(build_material<double>(load_material(
+                       R"({"model": "ward", "kd": 0.1, "ks": 0.2, "alpha_x": 0.1, "alpha_y": 0.25, "normalization": "balanced"})"))));
+  const std::string out = (dir_ / "m.pbrt").string();
+  const Result r = run({"export", "--to", "pbrt-v4", "--material", merl, "-o", out, "--grid", "2", "--starts", "1"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "fitted: aniso's anisotropic GGX")) << r.out;
+  EXPECT_TRUE(contains(read_file(out), "MakeNamedMaterial")) << read_file(out);
+}
+
+// ---- bad input: exit 2, nothing written ---------------------------------------------------------
+
+TEST_F(ExportCli, UnknownTarget) {
+  const std::string out = (dir_ / "x.out").string();
+  const Result r = run({"export", "--to", "renderman", "--material", "gold", "-o", out});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "unknown target \"renderman\"")) << r.err;
+  EXPECT_TRUE(contains(r.err, "\"pbrt-v4\"")) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(ExportCli, ABlackMaterialCannotBeRepresented) {
+  const std::string out = (dir_ / "x.xml").string();
+  const Result r = run({"export", "--to", "mitsuba3", "--material", R"({"model": "lambert", "kd": 0})", "-o", out});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, "black")) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(ExportCli, UnwritableOutputLeavesNothing) {
+  const std::string out = (dir_ / "missing" / "x.gltf").string();
+  const Result r = run({"export", "--to", "gltf", "--material", "gold", "-o", out});
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, "cannot open for writing")) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "missing"));
+  // The .bin is written before the .gltf: a .gltf that cannot be written takes the .bin with it.
+  fs::create_directory(dir_ / "x.gltf");
+  const Result d = run({"export", "--to", "gltf", "--material", "gold", "-o", (dir_ / "x.gltf").string()});
+  EXPECT_EQ(d.code, 2) << d.err;
+  EXPECT_FALSE(fs::exists(dir_ / "x.bin"));
+}
+
+TEST_F(ExportCli, PreviewWritesAPng) {
+  const std::string png = (dir_ / "p.png").string();
+  const Result r = run({"export", "--to", "pbrt-v4", "--material", "gold", "-o", (dir_ / "g.pbrt").string(), "--preview", png,
+                        "--grid", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(read_file(png).substr(1, 3), "PNG");
+  const Result bad = run({"export", "--to", "pbrt-v4", "--material", "gold", "-o", (dir_ / "h.pbrt").string(), "--preview", "x.jpg"});
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "h.pbrt"));
+}
+
+TEST_F(ExportCli, ListAndHelpTargets) {
+  const Result r = run({"export", "--list-targets"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* t : {"blender", "mitsuba3", "pbrt-v4", "materialx", "gltf"}) EXPECT_TRUE(contains(r.out, t)) << r.out;
+  const Result h = run({"export", "--help-target", "pbrt-v4"});
+  ASSERT_EQ(h.code, 0) << h.err;
+  EXPECT_TRUE(contains(h.out, "remaproughness false")) << h.out;
+}
+
+}  // namespace
+}  // namespace aniso
