@@ -493,7 +493,11 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
                                  "other than as black, and a fit has nothing to fit",
                                  d.params.where.empty() ? d.model : d.params.where));
   FitOptions fo;
-  fo.anisotropic = true;
+  // The target is anisotropic whatever the data say (an isotropic source gives equal alphas), and
+  // it follows the source where that gains energy: the export reproduces the source, it does not
+  // correct it.
+  fo.anisotropy = Anisotropy::Yes;
+  fo.allow_energy_gain = true;
   fo.metric = o.metric;
   fo.starts = o.starts;
   fo.seed = o.seed;
@@ -513,6 +517,11 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
   std::optional<GgxSource> e = exact_ggx(fitted);
   if (!e) throw std::logic_error("export: the fitted material is not a GGX");
   g.alpha_x = e->alpha_x, g.alpha_y = e->alpha_y;
+  // The source was sampled unturned, so the fitted turn is 0 or a quarter turn: the fit writes its
+  // canonical form, the narrower direction along the tangent (src/fit/models.h, Orientation), which
+  // for a source wider along the tangent is the swapped pair turned by 90 degrees.
+  if (r.anisotropic && std::abs(std::remainder(r.material.value("rotation_deg", 0.0), 180.0)) > 45.0)
+    std::swap(g.alpha_x, g.alpha_y);
   g.conductor = e->conductor;
   g.kd = e->kd, g.f0 = e->f0, g.eta = e->eta, g.k = e->k;
   if (d.params.has("metal")) {
