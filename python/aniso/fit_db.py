@@ -32,7 +32,7 @@ import warnings
 import numpy as np
 
 # The extensions aniso.fit reads (read_measured: src/measured/samples.h), which a folder is
-# searched for.
+# searched for (a file named on the command line is given to the reader whatever its extension).
 MEASURED_EXTENSIONS = (".binary", ".brdf", ".csv")
 
 # A model spec is NAME or NAME:ARG; ARG is the option of aniso.fit that distinguishes the variants
@@ -544,7 +544,7 @@ def _run_dask(tasks, client, shared_fs, retries, on_result, interrupted):
 
 
 def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=None, shared_fs=False, force=False,
-             retries=2, progress=True, on_result=None, dataframe=True, **fit_options):
+             retries=2, progress=None, on_result=None, dataframe=True, **fit_options):
     """Fits every model to every measured file: the rows of results.csv (docs/fit-db.md).
 
     inputs: files or folders (.binary, .brdf, .csv, folders searched recursively). models: specs
@@ -559,8 +559,8 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
 
     out: a folder to write (materials/, results.csv, report.md, report.png) and to resume from:
     pairs done with the same input bytes, model and options are not fitted again (force=True fits
-    everything). progress: True (done/total and time left on stderr), False, or a callable given
-    each row as it finishes (on_result too). Returns a pandas DataFrame when pandas is installed
+    everything). progress: None (done/total and time left on stderr when it is a terminal, as
+    aniso.fit), True (always), False, or a callable given each row as it finishes (on_result too). Returns a pandas DataFrame when pandas is installed
     (and dataframe=True), else a list of dicts, one per pair in input x model order; failed pairs
     have status "failed" and the reason in "error"."""
     import aniso
@@ -574,10 +574,6 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
     files = find_inputs(inputs)
     version = aniso.__version__
     folder = _Folder(out) if out is not None else None
-    if client is not None and not shared_fs:
-        for name, path in files:
-            if not os.access(path, os.R_OK):
-                raise FitDbError(f"{path}: cannot read the file")
 
     rows, tasks = {}, []
     for name, path in files:
@@ -601,12 +597,12 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
                           "task": {"path": os.path.abspath(path) if shared_fs or client is None else path,
                                    "model_kwargs": kwargs, "fit_options": options}})
     total = len(files) * len(model_list)
-    display = _Progress(total, len(rows), progress is True)
+    display = _Progress(total, len(rows), progress is True or (progress is None and sys.stderr.isatty()))
     display.failed = sum(1 for r in rows.values() if r["status"] != "ok")
     lock = threading.Lock()
 
     def finished(t, result):
-        # Dask may deliver a task twice only through a resubmission we never make; the first stays.
+        # A pair is stored once: a second delivery of it (none is expected) is ignored.
         with lock:
             if (t["material"], t["label"]) in rows:
                 return
