@@ -69,7 +69,7 @@ bench-python: build
 	@PYTHONPATH=build/$(PRESET)/python ANISO_BATCH_EVAL_CPP=$(BIN)/aniso_batch_eval_cpp /usr/bin/python3 python/bench/bench_eval.py $(BENCH_ARGS)
 
 # aniso.fit_many / aniso fit-db on a generated database of 20 materials x 4 models: the thread pool
-# and Dask LocalClusters of 1, 2 and nproc workers (python/bench/bench_fit_db.py, docs/fit-db.md).
+# and Dask LocalClusters of 1, 2 and max(4, nproc) workers (python/bench/bench_fit_db.py, docs/fit-db.md).
 bench-fit-db: build
 	@PYTHONPATH=build/$(PRESET)/python MPLBACKEND=Agg /usr/bin/python3 python/bench/bench_fit_db.py $(BENCH_ARGS)
 

@@ -6,8 +6,8 @@ LocalCluster of 1, 2 and N worker processes (one thread each; the files sent as 
 cluster without a shared file system). Prints a Markdown table: wall time, pairs per second, per
 second per worker, and the bytes moved per task (the input file out, the fitted material back).
 
-    PYTHONPATH=build/release/python /usr/bin/python3 python/bench/bench_fit_db.py [--csv 16] [--merl 4]
-        [--workers 1,2,4] [--keep DIR]
+    PYTHONPATH=build/release/python /usr/bin/python3 python/bench/bench_fit_db.py [--csv 18] [--merl 2]
+        [--workers 1,2,4] [--threads 1,2] [--keep DIR]
 """
 import argparse
 import os
@@ -25,11 +25,12 @@ import aniso  # noqa: E402
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--csv", type=int, default=16)
-    p.add_argument("--merl", type=int, default=4)
+    p.add_argument("--csv", type=int, default=18)
+    p.add_argument("--merl", type=int, default=2)
     p.add_argument("--samples", type=int, default=2000, help="samples per CSV file")
     p.add_argument("--models", default="ward,ashikhmin-shirley,ggx,lafortune:3")
-    p.add_argument("--workers", default=f"1,2,{os.cpu_count()}", help="Dask worker processes to time")
+    # N: every core, and at least 4 (on a 2-core machine that shows oversubscription).
+    p.add_argument("--workers", default=f"1,2,{max(4, os.cpu_count() or 1)}", help="Dask worker processes to time")
     p.add_argument("--threads", default="1,2", help="local thread pool sizes to time")
     p.add_argument("--starts", type=int, default=6)
     p.add_argument("--max-iterations", type=int, default=200)
@@ -54,7 +55,12 @@ def main():
         wall = time.perf_counter() - t0
         failed = sum(1 for r in rows if r["status"] != "ok")
         fit_s = sum(float(r["seconds"]) for r in rows if r["status"] == "ok")
-        results.append((label, count, wall, fit_s, failed))
+        by_kind = {}
+        for r in rows:
+            if r["status"] == "ok":
+                by_kind.setdefault(pathlib.Path(r["input"]).suffix, []).append(float(r["seconds"]))
+        kinds = ", ".join(f"{k} {sum(v) / len(v):.2f} s" for k, v in sorted(by_kind.items()))
+        results.append((label, count, wall, fit_s, failed, os.getloadavg()[1], kinds))
         print(f"{label}: {wall:.1f} s", file=sys.stderr)
         return rows
 
@@ -74,10 +80,13 @@ def main():
             fitted = (root / "out" / r["file"]).read_text()
             sizes_out.append(len(pickle.dumps({"fitted": fitted, "parameters": r["parameters"]})))
     print(f"\n{pairs} pairs ({len(paths)} materials x {len(a.models.split(','))} models)\n")
-    print("| run | workers | wall s | pairs / s | pairs / s / worker | sum of fit times s | failed |")
-    print("|---|---|---|---|---|---|---|")
-    for label, workers, wall, fit_s, failed in results:
-        print(f"| {label} | {workers} | {wall:.1f} | {pairs / wall:.2f} | {pairs / wall / workers:.2f} | {fit_s:.1f} | {failed} |")
+    # The machine's 5-minute load average at the end of each run: others' work on a shared machine
+    # shows there.
+    print("| run | workers | wall s | pairs / s | pairs / s / worker | sum of fit times s | mean fit s by input | failed | load (5 min) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for label, workers, wall, fit_s, failed, load, kinds in results:
+        print(f"| {label} | {workers} | {wall:.1f} | {pairs / wall:.2f} | {pairs / wall / workers:.2f} | {fit_s:.1f} | {kinds} | "
+              f"{failed} | {load:.1f} |")
     print(f"\nbytes per task to the worker (the input file, Dask without --shared-fs): mean {sum(sizes_in) / len(sizes_in):,.0f}, "
           f"CSV {min(sizes_in):,}, MERL {max(sizes_in):,}; back (the fitted material and parameters, pickled): "
           f"mean {sum(sizes_out) / max(1, len(sizes_out)):,.0f}")
