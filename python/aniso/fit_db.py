@@ -125,7 +125,7 @@ def find_inputs(inputs):
             found = []
             for root, dirs, files in os.walk(p):
                 dirs.sort()
-                found += [os.path.join(root, f) for f in sorted(files) if f.lower().endswith(MEASURED_EXTENSIONS)]
+                found += [os.path.join(root, f) for f in sorted(files) if f.endswith(MEASURED_EXTENSIONS)]
             if not found:
                 raise FitDbError(f"{p}: no measured files in this folder (expected {', '.join(MEASURED_EXTENSIONS)})")
             paths += found
@@ -387,17 +387,21 @@ def report_markdown(rows, model_labels, metric, figure):
         for label, e in errs.items():
             if e == best:
                 wins[label] += 1
-    lines += [f"| model | fitted | median {col} | worst {col} | worst material | wins | failed |", "|---|---|---|---|---|---|---|"]
+    lines += [f"| model | fitted | median {col} | worst {col} | worst material | wins | albedo > 1 | failed |",
+              "|---|---|---|---|---|---|---|---|"]
     for label in model_labels:
         errs = [(errs_m[label], m) for m, errs_m in table.items() if label in errs_m]
         nfail = sum(1 for r in failed if r["model"] == label)
+        gain = sum(1 for r in rows if r["model"] == label and r["status"] == "ok" and float(r["largest_albedo"]) > 1)
         if errs:
             worst = max(errs)
             lines.append(f"| {label} | {len(errs)} | {float(np.median([e for e, _ in errs])):.4g} | {worst[0]:.4g} | "
-                         f"{worst[1]} | {wins[label]} | {nfail} |")
+                         f"{worst[1]} | {wins[label]} | {gain} | {nfail} |")
         else:
-            lines.append(f"| {label} | 0 | | | | 0 | {nfail} |")
-    lines += ["", "A win is a material on which the model's error is the smallest (ties count for each)."]
+            lines.append(f"| {label} | 0 | | | | 0 | 0 | {nfail} |")
+    lines += ["", "A win is a material on which the model's error is the smallest (ties count for each). "
+              f"Albedo > 1: fits whose largest directional albedo (results.csv, {ALBEDO_SAMPLES} samples at "
+              f"{ALBEDO_THETA_DEG[0]} to {ALBEDO_THETA_DEG[-1]} degrees) is above 1, so that they gain energy."]
     if table:
         lines += ["", "## Per material", "", "| material | best | " + " | ".join(model_labels) + " |",
                   "|---|---|" + "---|" * len(model_labels)]
@@ -508,8 +512,13 @@ def _run_dask(tasks, client, shared_fs, retries, on_result, interrupted):
                 data = f.read()
         # A fresh key per submission: a key the scheduler still knows (an earlier run's, erred)
         # would hand back its old state.
-        fut = client.submit(fit_pair, t["task"], data, key=f"fit-db-{t['id']}-{uuid.uuid4().hex[:12]}", pure=False,
-                            retries=retries)
+        # The bytes go inside the task, not scattered ahead (Dask's "Large object ... in task graph"
+        # advice): a scattered copy lives on one worker and dies with it, and the task retried
+        # elsewhere would find its data gone. The window bounds what the scheduler holds.
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="Large object of size")
+            fut = client.submit(fit_pair, t["task"], data, key=f"fit-db-{t['id']}-{uuid.uuid4().hex[:12]}", pure=False,
+                                retries=retries)
         by_future[fut] = t
         ac.add(fut)
 
