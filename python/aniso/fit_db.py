@@ -552,6 +552,21 @@ def _run_dask(tasks, client, shared_fs, retries, on_result, interrupted):
         raise
 
 
+def _canonical_options(options):
+    """One spelling per value, so that the same options give the same resume key and options
+    column from Python and from the command line: loss_scale a float, the counts integers (1.0 is
+    1); anything else is left for aniso.fit to accept or refuse with its message."""
+    out = dict(options)
+    for k, v in out.items():
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            continue
+        if k == "loss_scale":
+            out[k] = float(v)
+        elif isinstance(v, float) and v.is_integer():
+            out[k] = int(v)
+    return out
+
+
 def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=None, shared_fs=False, force=False,
              retries=2, progress=None, on_result=None, dataframe=True, **fit_options):
     """Fits every model to every measured file: the rows of results.csv (docs/fit-db.md).
@@ -576,7 +591,7 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
     unknown = set(fit_options) - set(FIT_OPTIONS)
     if unknown:
         raise FitDbError(f"unknown option(s) {', '.join(sorted(unknown))}: expected {', '.join(FIT_OPTIONS)}")
-    options = dict(FIT_OPTIONS, **fit_options)
+    options = _canonical_options(dict(FIT_OPTIONS, **fit_options))
     model_list = parse_models(models)
     labels = [label for label, _ in model_list]
     _check_options(options, model_list)
