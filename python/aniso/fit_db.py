@@ -43,19 +43,14 @@ _SPEC_ARGUMENT = {
     "metal": ("metal_lobe", "ggx | ward | ashikhmin-shirley"),
     "ashikhmin-shirley": (None, None),
     "ggx": (None, None),
+    "principled": (None, None),
 }
 DEFAULT_MODELS = "ward,ashikhmin-shirley,ggx,lafortune:1,lafortune:3"
 
 # The fit options passed through to aniso.fit, with the values fit_many uses by default (those of
 # `aniso fit`, except threads: one per task, the pool runs tasks side by side).
-FIT_OPTIONS = {"anisotropic": False, "metric": "l2cos", "loss": "none", "loss_scale": 0.0, "starts": 6, "seed": 1,
-               "max_iterations": 200, "threads": 1}
-
-# The largest albedo column: the directional albedo (aniso.Material.albedo: importance sampling,
-# the estimator of `aniso albedo`) at these viewing angles, azimuth 0, with this many samples and
-# seed; the largest of every angle and channel. A cheap screen for fits that gain energy (> 1).
-ALBEDO_THETA_DEG = tuple(range(0, 90, 5))
-ALBEDO_SAMPLES = 4096
+FIT_OPTIONS = {"anisotropic": "auto", "allow_energy_gain": False, "metric": "l2cos", "loss": "none", "loss_scale": 0.0,
+               "starts": 6, "seed": 1, "max_iterations": 200, "threads": 1}
 
 CSV_COLUMNS = ["material", "model", "status", "l2cos", "l2cos_r", "l2cos_g", "l2cos_b", "log", "log_r", "log_g", "log_b",
                "relative_l2cos", "largest_albedo", "seconds", "best_start", "iterations", "samples", "parameters", "input",
@@ -204,9 +199,9 @@ def fit_pair(task, data=None, cancel=None):
             return {"status": "failed", "error": message, "seconds": time.perf_counter() - started}
     fitted = r.to_dict()
     fitted["fit"]["data"] = task["path"]
-    theta = np.radians(np.asarray(ALBEDO_THETA_DEG, dtype=np.float64))
-    albedo = float(np.max(r.material.albedo(theta, samples=ALBEDO_SAMPLES, seed=1)))
-    return {"status": "ok", "fitted": fitted, "parameters": dict(r.parameters), "largest_albedo": albedo,
+    # The fitter's own figure: the largest directional albedo over its grid (docs/fitting.md,
+    # "Energy"), also in the fit object.
+    return {"status": "ok", "fitted": fitted, "parameters": dict(r.parameters), "largest_albedo": r.largest_albedo,
             "warnings": [str(w.message) for w in caught], "seconds": time.perf_counter() - started,
             "worker": f"{socket.gethostname()}:{os.getpid()}"}
 
@@ -400,8 +395,8 @@ def report_markdown(rows, model_labels, metric, figure):
         else:
             lines.append(f"| {label} | 0 | | | | 0 | 0 | {nfail} |")
     lines += ["", "A win is a material on which the model's error is the smallest (ties count for each). "
-              f"Albedo > 1: fits whose largest directional albedo (results.csv, {ALBEDO_SAMPLES} samples at "
-              f"{ALBEDO_THETA_DEG[0]} to {ALBEDO_THETA_DEG[-1]} degrees) is above 1, so that they gain energy."]
+              "Albedo > 1: fits whose largest directional albedo (results.csv; the fitter's grid, docs/fitting.md, "
+              "\"Energy\") is above 1: they gain energy (allow_energy_gain, or the constraint could not hold it)."]
     if table:
         lines += ["", "## Per material", "", "| material | best | " + " | ".join(model_labels) + " |",
                   "|---|---|" + "---|" * len(model_labels)]
@@ -557,6 +552,8 @@ def _canonical_options(options):
     column from Python and from the command line: loss_scale a float, the counts integers (1.0 is
     1); anything else is left for aniso.fit to accept or refuse with its message."""
     out = dict(options)
+    if isinstance(out.get("anisotropic"), bool):  # aniso.fit's True / False are "yes" / "no"
+        out["anisotropic"] = "yes" if out["anisotropic"] else "no"
     for k, v in out.items():
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             continue
@@ -574,7 +571,7 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
     inputs: files or folders (.binary, .brdf, .csv, folders searched recursively). models: specs
     such as "ward,ashikhmin-shirley,ggx,lafortune:3" (a text or a list): NAME or NAME:ARG with
     lafortune:LOBES, ward:NORMALIZATION (ward | duer | balanced), metal:LOBE. fit_options: the
-    keywords of aniso.fit (anisotropic, metric, loss, loss_scale, starts, seed, max_iterations,
+    keywords of aniso.fit (anisotropic, allow_energy_gain, metric, loss, loss_scale, starts, seed, max_iterations,
     threads: per task, default 1).
 
     client: a distributed.Client (each pair a Dask task on its workers, which must import aniso;
@@ -705,7 +702,9 @@ def _parser(prog):
                    help="the workers see the inputs at the same paths: send paths, not the files' bytes")
     p.add_argument("--retries", type=int, default=2, help="Dask retries of a task that raised (default %(default)s)")
     fo = p.add_argument_group("fit options (as aniso fit)")
-    fo.add_argument("--anisotropic", action="store_true")
+    fo.add_argument("--anisotropic", default="auto", metavar="auto|yes|no",
+                    help="auto (default): anisotropic where the data show it; yes; no")
+    fo.add_argument("--allow-energy-gain", action="store_true", help="let fits reach a directional albedo above 1")
     fo.add_argument("--metric", default="l2cos", help="l2cos | log (default %(default)s)")
     fo.add_argument("--loss", default="none", help="none | huber | cauchy | soft_l1")
     fo.add_argument("--loss-scale", default="0")
@@ -727,7 +726,8 @@ def main(argv=None, prog="aniso fit-db"):
     """The command: exit 0 when every pair is fitted, 1 when some failed (report.md names them),
     2 for a usage error, 130 after Ctrl-C (DIR holds every pair finished before it)."""
     a = _parser(prog).parse_args(argv)
-    options = {"anisotropic": a.anisotropic, "metric": a.metric, "loss": a.loss, "starts": a.starts, "seed": a.seed,
+    options = {"anisotropic": a.anisotropic, "allow_energy_gain": a.allow_energy_gain, "metric": a.metric, "loss": a.loss,
+               "starts": a.starts, "seed": a.seed,
                "max_iterations": a.max_iterations, "loss_scale": a.loss_scale}
     for k in ("starts", "seed", "max_iterations", "loss_scale"):
         try:

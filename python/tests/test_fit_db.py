@@ -22,8 +22,10 @@ sys.path.insert(0, str(SOURCE_DIR / "python" / "bench"))
 import fitdb_data  # noqa: E402
 
 KRYLON = str(SOURCE_DIR / "data/measured/cornell/krylon_blue.brdf")
-OPTIONS = {"starts": 2, "seed": 3, "max_iterations": 30}
-CLI_OPTIONS = ["--starts", "2", "--seed", "3", "--max-iterations", "30"]
+# Isotropic fits only: "auto" fits every pair twice (isotropic and anisotropic) where the data
+# cover the azimuths, as these CSV files do; the orchestration under test is the same.
+OPTIONS = {"starts": 2, "seed": 3, "max_iterations": 30, "anisotropic": "no"}
+CLI_OPTIONS = ["--starts", "2", "--seed", "3", "--max-iterations", "30", "--anisotropic", "no"]
 MODELS = "ward,lafortune:2"
 SANITIZER = bool(os.environ.get("ANISO_SANITIZER_PRELOAD"))
 
@@ -49,25 +51,25 @@ def csv_rows(path, drop=("seconds",)):
 
 def test_results_equal_aniso_fit_on_each_pair(db, tmp):
     d, paths = db
-    inputs = [str(p) for p in paths]
+    rows = fit_many_quiet([str(p) for p in paths], MODELS, out=tmp / "out", workers=2, **OPTIONS)
+    assert [r["status"] for r in rows] == ["ok"] * 2 * len(paths), [r["error"] for r in rows]
+    merl_rows = []
     if not SANITIZER:  # (under ASan the MERL fits' 1.5 M samples would take minutes; test_merl.cpp reads MERL there)
-        # One MERL table too: the reader of the 35 MB format, weights and subset included.
+        # A MERL table too (Ward alone, to keep the entry short): the 35 MB format, weights and subset.
         merl = tmp / "ward.binary"
         fitdb_data.write_merl(aniso.ward(kd=[0.1, 0.2, 0.3], ks=[0.3, 0.2, 0.1], alpha_x=0.15, alpha_y=0.15), merl)
-        inputs.append(str(merl))
-    rows = fit_many_quiet(inputs, MODELS, out=tmp / "out", workers=2, **OPTIONS)
-    assert [r["status"] for r in rows] == ["ok"] * 2 * len(inputs), [r["error"] for r in rows]
-    for r in rows:
+        merl_rows = fit_many_quiet([str(merl)], "ward", out=tmp / "out-merl", workers=1, **OPTIONS)
+    for r, out in [(r, tmp / "out") for r in rows] + [(r, tmp / "out-merl") for r in merl_rows]:
         spec = {"ward": ["--model", "ward"], "lafortune:2": ["--model", "lafortune", "--lobes", "2"]}[r["model"]]
         rc, _, err = run_cli("fit", r["input"], *spec, *CLI_OPTIONS, "-q", "-o", str(tmp / "one.json"))
         assert rc == 0, err
         alone = json.loads((tmp / "one.json").read_text())
-        ours = json.loads((tmp / "out" / r["file"]).read_text())
+        ours = json.loads((out / r["file"]).read_text())
         assert without_seconds(ours) == without_seconds(alone), (r["material"], r["model"])
         assert float(r["l2cos"]) == alone["fit"]["error"]["l2cos"]
-        # (A short Lafortune fit may gain energy, albedo > 1: the column is there to show it.)
-        assert json.loads(r["parameters"]).keys() and 0 < float(r["largest_albedo"]) < float("inf")
-        assert aniso.Material(str(tmp / "out" / r["file"])) == aniso.Material(str(tmp / "one.json"))
+        assert float(r["largest_albedo"]) == alone["fit"]["largest_albedo"]["value"]
+        assert json.loads(r["parameters"]) and all(isinstance(v, float) for v in json.loads(r["parameters"]).values())
+        assert aniso.Material(str(out / r["file"])) == aniso.Material(str(tmp / "one.json"))
     report = (tmp / "out" / "report.md").read_text()
     assert "![" in report and (tmp / "out" / "report.png").stat().st_size > 1000
     assert "| ward |" in report and "| lafortune:2 |" in report
@@ -141,7 +143,7 @@ def run_fit_db(*args, timeout=120):
 def test_ctrl_c_then_rerun_resumes_and_matches_an_uninterrupted_run(db, tmp):
     _, paths = db
     inputs = [str(p) for p in paths]
-    options = ["--starts", "4", "--seed", "3", "--max-iterations", "60"]
+    options = ["--starts", "4", "--seed", "3", "--max-iterations", "60", "--anisotropic", "no"]
     whole = tmp / "whole"
     rc, out, err = run_fit_db(*inputs, "--models", MODELS, "-o", str(whole), "--threads", "2", *options)
     assert rc == 0, err
