@@ -134,7 +134,8 @@ def find_inputs(inputs):
         if name in by_name:
             if os.path.realpath(by_name[name]) == os.path.realpath(p):
                 continue
-            raise FitDbError(f"two inputs are named \"{name}\": {by_name[name]} and {p} (rename one: the results are named by file)")
+            raise FitDbError(f"two inputs are named \"{name}\": {by_name[name]} and {p} "
+                             "(rename one: the results are named by file)")
         by_name[name] = p
         named.append((name, p))
     if not named:
@@ -570,9 +571,9 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
 
     inputs: files or folders (.binary, .brdf, .csv, folders searched recursively). models: specs
     such as "ward,ashikhmin-shirley,ggx,lafortune:3" (a text or a list): NAME or NAME:ARG with
-    lafortune:LOBES, ward:NORMALIZATION (ward | duer | balanced), metal:LOBE. fit_options: the
-    keywords of aniso.fit (anisotropic, allow_energy_gain, metric, loss, loss_scale, starts, seed, max_iterations,
-    threads: per task, default 1).
+    lafortune:LOBES, ward:NORMALIZATION (ward | duer | balanced), metal:LOBE, ashikhmin-shirley,
+    ggx, principled. fit_options: the keywords of aniso.fit (anisotropic, allow_energy_gain, metric,
+    loss, loss_scale, starts, seed, max_iterations; threads: per task, default 1).
 
     client: a distributed.Client (each pair a Dask task on its workers, which must import aniso;
     shared_fs=True sends paths, otherwise the files' bytes); None: a pool of `workers` threads on
@@ -581,9 +582,11 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
     out: a folder to write (materials/, results.csv, report.md, report.png) and to resume from:
     pairs done with the same input bytes, model and options are not fitted again (force=True fits
     everything). progress: None (done/total and time left on stderr when it is a terminal, as
-    aniso.fit), True (always), False, or a callable given each row as it finishes (on_result too). Returns a pandas DataFrame when pandas is installed
-    (and dataframe=True), else a list of dicts, one per pair in input x model order; failed pairs
-    have status "failed" and the reason in "error"."""
+    aniso.fit), True (always), False, or a callable given each row as it finishes (on_result too).
+
+    Returns a pandas DataFrame when pandas is installed (and dataframe=True), else a list of dicts,
+    one per pair in input x model order; failed pairs have status "failed" and the reason in
+    "error"."""
     import aniso
     unknown = set(fit_options) - set(FIT_OPTIONS)
     if unknown:
@@ -687,8 +690,8 @@ def _parser(prog):
         "material JSON per pair, results.csv and report.md in DIR; a rerun resumes.")
     p.add_argument("inputs", nargs="+", metavar="INPUT", help="measured files (.binary, .brdf, .csv) or folders of them")
     p.add_argument("--models", default=DEFAULT_MODELS,
-                   help="comma-separated model specs: ward[:ward|duer|balanced], ashikhmin-shirley, ggx, lafortune:LOBES, "
-                        "metal[:ggx|ward|ashikhmin-shirley] (default: %(default)s)")
+                   help="comma-separated model specs: ward[:ward|duer|balanced], ashikhmin-shirley, ggx, principled, "
+                        "lafortune:LOBES, metal[:ggx|ward|ashikhmin-shirley] (default: %(default)s)")
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="the output folder (created; resumed when it exists)")
     p.add_argument("--force", action="store_true", help="fit every pair again, even those DIR has")
     g = p.add_mutually_exclusive_group()
