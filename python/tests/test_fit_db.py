@@ -3,7 +3,6 @@ table of analytic materials, a Cornell paint): the same numbers as `aniso fit` o
 a Dask LocalCluster with a worker SIGKILLed mid-job, resume after Ctrl-C, a corrupt file among good
 ones, usage errors. Small fits (few starts and iterations) to keep the entry short."""
 import csv
-import io
 import json
 import os
 import pathlib
@@ -28,6 +27,10 @@ OPTIONS = {"starts": 2, "seed": 3, "max_iterations": 30, "anisotropic": "no"}
 CLI_OPTIONS = ["--starts", "2", "--seed", "3", "--max-iterations", "30", "--anisotropic", "no"]
 MODELS = "ward,lafortune:2"
 SANITIZER = bool(os.environ.get("ANISO_SANITIZER_PRELOAD"))
+# In the sanitizer build every Dask worker process would be another interpreter starting with the
+# ASan runtime preloaded (slow, and not what the sanitizers are there to check); the thread pool's
+# tests run there, the task function (fit_pair) and the CLI's launcher included.
+NO_DASK_UNDER_ASAN = "sanitizer build: Dask worker processes are not started under the ASan preload"
 
 
 @pytest.fixture(scope="module")
@@ -80,8 +83,7 @@ def fit_many_quiet(inputs, models, **kw):
     return aniso.fit_many(inputs, models, progress=False, dataframe=False, **kw)
 
 
-@pytest.mark.skipif(SANITIZER, reason="Dask worker processes are not started under the ASan preload (slow start, "
-                                      "an uninstrumented interpreter per worker): the local pool covers fit_pair there")
+@pytest.mark.skipif(SANITIZER, reason=NO_DASK_UNDER_ASAN)
 def test_dask_local_cluster_survives_a_killed_worker(db, tmp):
     distributed = pytest.importorskip("distributed")
     _, paths = db
@@ -122,7 +124,7 @@ def test_dask_local_cluster_survives_a_killed_worker(db, tmp):
         assert [r["l2cos"] for r in rows] == [r["l2cos"] for r in local[:len(rows)]]
 
 
-@pytest.mark.skipif(SANITIZER, reason="Dask worker processes are not started under the ASan preload (see above)")
+@pytest.mark.skipif(SANITIZER, reason=NO_DASK_UNDER_ASAN)
 def test_cli_workers_starts_a_local_cluster(db, tmp):
     pytest.importorskip("distributed")
     _, paths = db
