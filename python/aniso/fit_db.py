@@ -276,6 +276,8 @@ class _Folder:
 
     def __init__(self, out):
         self.out = os.fspath(out)
+        if os.path.exists(self.out) and not os.path.isdir(self.out):
+            raise FitDbError(f"{self.out}: exists and is not a folder (-o names the output folder)")
         self.materials = os.path.join(self.out, "materials")
         self.state = os.path.join(self.out, STATE_DIR)
         for d in (self.out, self.materials, self.state):

@@ -232,6 +232,9 @@ def test_usage_errors(db, tmp):
         assert err.startswith("aniso: error: ") and expected in err, (args, err)
     rc, _, err = run_fit_db(str(tmp / "nothing"), "-o", str(tmp / "o"))
     assert rc == 2 and f"{tmp / 'nothing'}: no such file or folder" in err
+    (tmp / "file").write_text("")
+    rc, _, err = run_fit_db(str(paths[0]), "-o", str(tmp / "file"), "--models", "ward")
+    assert rc == 2 and "file: exists and is not a folder" in err
     (tmp / "empty").mkdir()
     rc, _, err = run_fit_db(str(tmp / "empty"), "-o", str(tmp / "o"))
     assert rc == 2 and "no measured files in this folder" in err
