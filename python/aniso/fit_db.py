@@ -36,14 +36,12 @@ import numpy as np
 MEASURED_EXTENSIONS = (".binary", ".brdf", ".csv")
 
 # A model spec is NAME or NAME:ARG; ARG is the option of aniso.fit that distinguishes the variants
-# of NAME (as `aniso fit --compare` fits them: src/fit/fit.cpp, compare_models).
+# of NAME (as `aniso fit --compare` fits them: src/fit/fit.cpp, compare_models). Any other NAME
+# is passed to aniso.fit as it is (without :ARG), which accepts every fittable model or names them.
 _SPEC_ARGUMENT = {
     "lafortune": ("lobes", "the number of lobes, 1 to 8"),
     "ward": ("normalization", "ward | duer | balanced"),
     "metal": ("metal_lobe", "ggx | ward | ashikhmin-shirley"),
-    "ashikhmin-shirley": (None, None),
-    "ggx": (None, None),
-    "principled": (None, None),
 }
 DEFAULT_MODELS = "ward,ashikhmin-shirley,ggx,lafortune:1,lafortune:3"
 
@@ -70,14 +68,14 @@ def parse_model_spec(spec):
     as written (lafortune without a count is lafortune:1)."""
     text = spec.strip()
     name, _, arg = text.partition(":")
-    if name not in _SPEC_ARGUMENT:
-        raise FitDbError(f"--models: unknown model \"{name}\" in \"{spec}\": expected one of "
-                         f"{', '.join(_SPEC_ARGUMENT)} (with :ARG for lafortune:LOBES, ward:NORMALIZATION, metal:LOBE)")
-    key, what = _SPEC_ARGUMENT[name]
+    if not name:
+        raise FitDbError(f"--models: \"{spec}\": expected NAME or NAME:ARG")
+    key, what = _SPEC_ARGUMENT.get(name, (None, None))
     kwargs = {"model": name}
     if arg:
         if key is None:
-            raise FitDbError(f"--models: \"{spec}\": {name} takes no :ARG")
+            raise FitDbError(f"--models: \"{spec}\": {name} takes no :ARG (lafortune:LOBES, ward:NORMALIZATION and "
+                             "metal:LOBE do)")
         if key == "lobes":
             if not arg.isdigit():
                 raise FitDbError(f"--models: \"{spec}\": expected {name}:N, N {what}")
@@ -692,8 +690,9 @@ def _parser(prog):
         "material JSON per pair, results.csv and report.md in DIR; a rerun resumes.")
     p.add_argument("inputs", nargs="+", metavar="INPUT", help="measured files (.binary, .brdf, .csv) or folders of them")
     p.add_argument("--models", default=DEFAULT_MODELS,
-                   help="comma-separated model specs: ward[:ward|duer|balanced], ashikhmin-shirley, ggx, principled, "
-                        "lafortune:LOBES, metal[:ggx|ward|ashikhmin-shirley] (default: %(default)s)")
+                   help="comma-separated model specs: any model aniso fit fits (ashikhmin-shirley, ggx, principled, ...), "
+                        "ward[:ward|duer|balanced], lafortune:LOBES, metal[:ggx|ward|ashikhmin-shirley] "
+                        "(default: %(default)s)")
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="the output folder (created; resumed when it exists)")
     p.add_argument("--force", action="store_true", help="fit every pair again, even those DIR has")
     g = p.add_mutually_exclusive_group()
