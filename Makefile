@@ -3,7 +3,7 @@ PRESET ?= release
 JOBS   ?= $(shell nproc)
 BIN    := build/$(PRESET)/bin
 
-.PHONY: all deps configure build test bench bench-python clean format render sanitize-build test-sanitize fuzz-build fuzz fuzz-ci
+.PHONY: all deps configure build test bench bench-python bench-fit-db clean format render sanitize-build test-sanitize fuzz-build fuzz fuzz-ci
 
 all: build
 
@@ -67,6 +67,11 @@ bench: build
 # Python bindings vs the C++ batch path on a million pairs (python/bench/bench_eval.py, docs/python.md).
 bench-python: build
 	@PYTHONPATH=build/$(PRESET)/python ANISO_BATCH_EVAL_CPP=$(BIN)/aniso_batch_eval_cpp /usr/bin/python3 python/bench/bench_eval.py $(BENCH_ARGS)
+
+# aniso.fit_many / aniso fit-db on a generated database of 20 materials x 4 models: the thread pool
+# and Dask LocalClusters of 1, 2 and max(4, nproc) workers (python/bench/bench_fit_db.py, docs/fit-db.md).
+bench-fit-db: build
+	@PYTHONPATH=build/$(PRESET)/python MPLBACKEND=Agg /usr/bin/python3 python/bench/bench_fit_db.py $(BENCH_ARGS)
 
 format:
 	@clang-format -i $$(git ls-files '*.h' '*.cpp' '*.cu')

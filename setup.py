@@ -42,6 +42,8 @@ setup(
     ext_modules=[Extension("aniso._aniso", sources=[])],
     cmdclass={"build_ext": CMakeBuild},
     install_requires=["numpy"],
+    # aniso.fit_many on a Dask cluster (docs/fit-db.md); its report's figure.
+    extras_require={"dask": ["distributed"], "report": ["matplotlib"]},
     python_requires=">=3.9",
     zip_safe=False,
 )

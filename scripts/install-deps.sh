@@ -44,7 +44,8 @@ if [[ $render_only == 0 ]]; then packages+=(
   # tested with pytest; the example plots with matplotlib.
   python3-dev pybind11-dev python3-numpy
   python3-pytest      # python/tests, run by ctest
-  python3-matplotlib  # examples/python (and its test, headless: MPLBACKEND=Agg)
+  python3-matplotlib  # examples/python (and its test, headless: MPLBACKEND=Agg); fit-db's report figure
+  python3-distributed # Dask's distributed scheduler: aniso fit-db --workers / --scheduler, aniso.fit_many(client=)
   # The sanitizer build and the fuzz targets (make test-sanitize, make fuzz; docs/testing.md).
   clang               # clang++ 14: the sanitize build, so the fuzz targets can link libFuzzer
   libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes for clang (only "recommended" by clang)

@@ -35,6 +35,11 @@ template <typename Fn> void run_command(Fn&& fn) {
 // fit and fit --compare (cmd_fit.cpp, docs/fitting.md).
 void add_fit_command(CLI::App& app);
 
+// fit-db: every model on every material of a database (cmd_fit_db.cpp, docs/fit-db.md). main()
+// calls run_fit_db for `aniso fit-db ...` before parsing: it runs python/aniso/fit_db.py.
+void add_fit_db_command(CLI::App& app);
+int run_fit_db(int argc, char** argv);
+
 // export-glsl and export-brdf (cmd_export.cpp, docs/glsl.md).
 void add_export_commands(CLI::App& app);
 

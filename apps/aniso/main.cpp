@@ -777,6 +777,7 @@ int main(int argc, char** argv) {
   add_export_target_command(app);
   add_rgl_command(app);
   add_fit_command(app);
+  add_fit_db_command(app);
   add_view_command(app);
   add_web_commands(app);
 
@@ -786,6 +787,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "aniso: error: no command given\n{}", command_list(app));
     return 2;
   }
+  if (std::string_view(argv[1]) == "fit-db") return run_fit_db(argc, argv);
   if (argv[1][0] != '-') {
     std::vector<std::string> names;
     const CLI::App* cmd = nullptr;

@@ -37,6 +37,8 @@ from ._aniso import (  # noqa: F401  (re-exported)
 
 __version__ = "0.1.0"
 
+from .fit_db import fit_many  # noqa: E402,F401  (every model on every material: docs/fit-db.md)
+
 
 def direction(theta, phi):
     """Unit directions from spherical angles in radians (docs/conventions.md): theta from the
@@ -88,5 +90,5 @@ for _cls in (Material, Frame, FitResult):
 del _cls
 
 __all__ = ["Material", "Frame", "FitResult", "presets", "preset_source", "models", "metals", "fresnel", "render",
-           "save_image", "fit", "read_measured", "export_glsl", "export_brdf", "export", "simd_target", "direction", "angles",
+           "save_image", "fit", "fit_many", "read_measured", "export_glsl", "export_brdf", "export", "simd_target", "direction", "angles",
            *_MODEL_CONSTRUCTORS]
