@@ -53,6 +53,10 @@ if [[ $render_only == 0 ]]; then packages+=(
   # through SwiftShader) driven by playwright-core from npm. About 2 minutes and 393 MB (chromium and the
   # 22 libraries it adds to the rest of this list); the npm package adds 14 MB and a few seconds.
   chromium
+  # Blender 3.4 with Cycles, run headless (blender -b): `aniso export --to blender`'s script runs in
+  # it (tests/test_export.cpp, ExportCli.BlenderScriptRunsInBlender). About 4 minutes on the shared
+  # 2-core machine with the libraries it adds (288 packages without recommends).
+  blender
 ); fi
 # Node and npm: Debian's, unless a node is already installed (NodeSource's nodejs bundles npm and
 # conflicts with Debian's npm package).
