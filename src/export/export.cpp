@@ -275,26 +275,7 @@ SampleSet sample_source(const MaterialD& m, int grid) {
 }
 
 FitErrors target_errors(const TargetBrdf& t, const SampleSet& data) {
-  // fit_errors (fit.cpp) with the target model in place of a material: the same sums.
-  FitErrors e;
-  double wsum = 0.0, data_norm = 0.0;
-  glm::dvec3 l2(0.0), lg(0.0);
-  for (const MeasuredSample& s : data.samples) {
-    const glm::dvec3 f = t.f(s.wi, s.wo);
-    const double c = s.wi.z;
-    wsum += s.weight;
-    for (int k = 0; k < 3; ++k) {
-      l2[k] += s.weight * sqr((f[k] - s.value[k]) * c);
-      lg[k] += s.weight * sqr(std::log1p(f[k] * c) - std::log1p(std::max(s.value[k] * c, 0.0)));
-      data_norm += s.weight * sqr(s.value[k] * c);
-    }
-  }
-  if (!(wsum > 0.0)) return e;
-  for (int k = 0; k < 3; ++k) e.l2cos[k] = std::sqrt(l2[k] / wsum), e.log[k] = std::sqrt(lg[k] / wsum);
-  e.l2cos_all = std::sqrt((l2.x + l2.y + l2.z) / (3.0 * wsum));
-  e.log_all = std::sqrt((lg.x + lg.y + lg.z) / (3.0 * wsum));
-  e.relative_l2cos = data_norm > 0.0 ? std::sqrt((l2.x + l2.y + l2.z) / data_norm) : 0.0;
-  return e;
+  return fit_errors([&t](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(t.f(wi, wo)); }, data);
 }
 
 namespace {

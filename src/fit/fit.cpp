@@ -837,12 +837,12 @@ double lafortune_parts_jacobian_difference(int lobes, bool anisotropic, bool sha
 
 }  // namespace fit_detail
 
-FitErrors fit_errors(const MaterialD& m, const SampleSet& data) {
+FitErrors fit_errors(const std::function<glm::dvec3(const Vec3d& wi, const Vec3d& wo)>& f_of, const SampleSet& data) {
   FitErrors e;
   double wsum = 0.0, data_norm = 0.0;
   glm::dvec3 l2(0.0), lg(0.0);
   for (const MeasuredSample& s : data.samples) {
-    const RGBT<double> f = m.f(s.wi, s.wo);
+    const glm::dvec3 f = f_of(s.wi, s.wo);
     const double c = s.wi.z;
     wsum += s.weight;
     for (int k = 0; k < 3; ++k) {
@@ -857,6 +857,10 @@ FitErrors fit_errors(const MaterialD& m, const SampleSet& data) {
   e.log_all = std::sqrt((lg.x + lg.y + lg.z) / (3.0 * wsum));
   e.relative_l2cos = data_norm > 0.0 ? std::sqrt((l2.x + l2.y + l2.z) / data_norm) : 0.0;
   return e;
+}
+
+FitErrors fit_errors(const MaterialD& m, const SampleSet& data) {
+  return fit_errors([&m](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(m.f(wi, wo)); }, data);
 }
 
 namespace {

@@ -136,6 +136,8 @@ std::vector<std::string_view> fittable_models();
 
 // Both metrics of a material against the data (every sample).
 FitErrors fit_errors(const MaterialD& m, const SampleSet& data);
+// The same for any BRDF given as f(wi, wo) (RGB, no cosine): a renderer's target model (src/export).
+FitErrors fit_errors(const std::function<glm::dvec3(const Vec3d& wi, const Vec3d& wo)>& f, const SampleSet& data);
 
 // The "fit" object stored beside the material in fitted.json (ignored by the material reader).
 nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const FitOptions& o);
