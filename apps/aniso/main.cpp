@@ -526,13 +526,7 @@ int cmd_render(RenderArgs a) {
     return 0;
   }
   Scene scene = parse_scene(doc, source, base_dir);
-  // One of --width and --height alone keeps the scene's aspect ratio (the camera's field of view
-  // spans the film: changing one side alone would crop or stretch the view).
-  const double aspect = double(scene.film.width) / double(scene.film.height);
-  if (a.width > 0) scene.film.width = a.width;
-  if (a.height > 0) scene.film.height = a.height;
-  if (a.width > 0 && a.height == 0) scene.film.height = std::clamp(int(std::lround(a.width / aspect)), 1, 16384);
-  if (a.height > 0 && a.width == 0) scene.film.width = std::clamp(int(std::lround(a.height * aspect)), 1, 16384);
+  resize_film(scene.film, a.width, a.height);  // one side alone keeps the scene's aspect ratio
   if (a.spp > 0) scene.film.spp = a.spp;
   if (a.max_depth > 0) scene.integrator.max_depth = a.max_depth;
   if (a.noise_threshold >= 0.0) scene.film.noise_threshold = float(a.noise_threshold);

@@ -866,8 +866,8 @@ py::array_t<float> render_py(const py::object& scene_in, const py::object& mater
     throw py::value_error("render(): expected a scene (a dict or a path to a scene file) or material=");
   }
   scene.film.spp = int_arg(spp, "spp", 1, 1 << 20, scene.film.spp);
-  scene.film.width = int_arg(width, "width", 16, 16384, scene.film.width);
-  scene.film.height = int_arg(height, "height", 16, 16384, scene.film.height);
+  // One of width and height alone keeps the scene's aspect ratio, as `aniso render --width`.
+  resize_film(scene.film, int_arg(width, "width", 16, 16384, 0), int_arg(height, "height", 16, 16384, 0));
   scene.integrator.max_depth = int_arg(max_depth, "max_depth", 1, 1024, scene.integrator.max_depth);
   if (strategy) {
     if (*strategy == "mis") scene.integrator.strategy = Strategy::Mis;

@@ -38,6 +38,11 @@ def test_render_of_a_scene_file_and_dict(tmp):
     import json
     img2 = aniso.render(json.loads(doc), spp=1, width=32, height=16, seed=3)
     assert img2.shape == (16, 32, 3) and np.isfinite(img2).all()
+    # One side alone keeps the scene's aspect ratio, as `aniso render --width` (the film is 640 x 360).
+    scene_doc = json.loads(doc)
+    scene_doc["film"].update(width=64, height=36)
+    assert aniso.render(scene_doc, spp=1, width=32).shape == (18, 32, 3)
+    assert aniso.render(scene_doc, spp=1, height=18).shape == (18, 32, 3)
 
 
 def test_render_errors():

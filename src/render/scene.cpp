@@ -3,6 +3,7 @@
 #include "render/scene.h"
 
 #include <cerrno>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -569,6 +570,14 @@ std::shared_ptr<Mesh> make_torus(const Vec3& center, float R, float r, int nu, i
       m->indices.insert(m->indices.end(), {a, b, d, a, d, c});
     }
   return m;
+}
+
+void resize_film(Film& film, int width, int height) {
+  const double aspect = double(film.width) / double(film.height);
+  if (width > 0) film.width = width;
+  if (height > 0) film.height = height;
+  if (width > 0 && height == 0) film.height = std::clamp(int(std::lround(width / aspect)), 1, 16384);
+  if (height > 0 && width == 0) film.width = std::clamp(int(std::lround(height * aspect)), 1, 16384);
 }
 
 Scene parse_scene(const json& doc, const std::string& source, const std::string& base_dir) {

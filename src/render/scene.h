@@ -36,6 +36,12 @@ struct Film {
   float time_s = 0.0f;           // time budget in seconds (render/integrator.h); 0: none
 };
 
+// The film's size from a command line or a keyword (`aniso render --width`, Python render(width=)):
+// 0 keeps a side; one side alone keeps the film's aspect ratio (the camera's field of view spans
+// the film: changing one side alone would crop or stretch the view), the other clamped to
+// [1, 16384].
+void resize_film(Film& film, int width, int height);
+
 // Next-event estimation (render/integrator.h): one emitter per vertex chosen by power, every emitter
 // at every vertex, or (auto, the default) every emitter when there are at most
 // kAutoAllCandidates of them (lights plus the environment), one by power otherwise.
