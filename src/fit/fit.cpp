@@ -333,11 +333,6 @@ struct AlbedoAt {
   Vec3d wo{0.0, 0.0, 1.0};
 };
 
-Vec3d direction_deg(double theta_deg, double phi_deg) {
-  const double t = theta_deg * M_PI / 180.0, p = phi_deg * M_PI / 180.0;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
-
 // Every grid direction's albedo (largest channel), largest first.
 std::vector<AlbedoAt> albedo_grid(const MaterialD& m, bool anisotropic) {
   std::vector<AlbedoAt> out;
@@ -345,7 +340,7 @@ std::vector<AlbedoAt> albedo_grid(const MaterialD& m, bool anisotropic) {
   for (double theta : kAlbedoThetaDeg)
     for (int k = 0; k < (anisotropic ? kAlbedoPhiSteps : 1); ++k) {
       AlbedoAt a;
-      a.theta_deg = theta, a.phi_deg = 180.0 * k / kAlbedoPhiSteps, a.wo = direction_deg(a.theta_deg, a.phi_deg);
+      a.theta_deg = theta, a.phi_deg = 180.0 * k / kAlbedoPhiSteps, a.wo = direction_from_angles(a.theta_deg * M_PI / 180.0, a.phi_deg * M_PI / 180.0);
       const AlbedoEstimate e = albedo_importance(m, a.wo, kAlbedoSamples, seed++);
       a.value = std::max({e.mean.x, e.mean.y, e.mean.z});
       out.push_back(a);
@@ -742,9 +737,13 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   // Energy: the largest directional albedo on the grid; above kAlbedoLimit (and unless allowed),
   // refit with the penalty on the offending directions, up to kEnergyRounds times, each round
   // watching the directions found so far and any new offender.
-  std::vector<AlbedoAt> grid = albedo_grid(build_fitted(final_fit.x), ri >= 0);
-  r.unconstrained_l2cos = fit_errors(build_fitted(final_fit.x), data).relative_l2cos;
-  if (!o.allow_energy_gain && grid.front().value > kAlbedoLimit && r.unconstrained_anisotropy.empty()) {
+  // A fit whose anisotropy the data do not constrain is replaced by the isotropic one (fit_samples):
+  // its albedo is never reported, so it is not measured.
+  const bool replaced = !r.unconstrained_anisotropy.empty();
+  const MaterialD unconstrained = build_fitted(final_fit.x);
+  std::vector<AlbedoAt> grid = replaced ? std::vector<AlbedoAt>{AlbedoAt{}} : albedo_grid(unconstrained, ri >= 0);
+  r.unconstrained_l2cos = fit_errors(unconstrained, data).relative_l2cos;
+  if (!o.allow_energy_gain && grid.front().value > kAlbedoLimit && !replaced) {
     constexpr int kEnergyRounds = 4, kWatchSamples = 512;
     std::vector<Vec3d> watched;
     for (int round = 0; round < kEnergyRounds && grid.front().value > kAlbedoLimit; ++round) {
@@ -773,7 +772,7 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   r.largest_albedo_phi_deg = grid.front().phi_deg;
 
   r.material = material_of(final_fit.x);
-  const MaterialD built = build_fitted(final_fit.x);
+  const MaterialD built = build_material<double>(parse_material(r.material, "fitted material"));
   r.errors = fit_errors(built, data);
   model.canonicalize(final_fit.x.data());
   for (const ParamDef& d : model.defs) r.parameter_names.push_back(d.name);

@@ -46,8 +46,6 @@ std::optional<double> in_plane_angle(const MeasuredSample& s) {
 
 namespace {
 
-Vec3d dir(double theta, double phi) { return Vec3d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)); }
-
 // The slices of a panel row, for light at theta_i in the plane phi = 0 of the fitted material's
 // frame: the in-plane one (signed theta_o, + towards the mirror direction), the one through the
 // mirror direction r across the plane of incidence (wo = cos t r + sin t b, t signed towards +y),
@@ -56,12 +54,12 @@ enum class Slice { InPlane, Across, Cone };
 
 Vec3d slice_direction(Slice slice, double theta_i, double a) {
   switch (slice) {
-    case Slice::InPlane: return dir(std::abs(a), a > 0 ? M_PI : 0.0);
+    case Slice::InPlane: return direction_from_angles(std::abs(a), a > 0 ? M_PI : 0.0);
     case Slice::Across: {
-      const Vec3d r = dir(theta_i, M_PI);
+      const Vec3d r = direction_from_angles(theta_i, M_PI);
       return std::cos(a) * r + std::sin(a) * Vec3d(0, 1, 0);
     }
-    case Slice::Cone: return dir(theta_i, M_PI + a);
+    case Slice::Cone: return direction_from_angles(theta_i, M_PI + a);
   }
   return Vec3d(0, 0, 1);
 }
@@ -75,7 +73,7 @@ std::optional<double> slice_coordinate(Slice slice, const MeasuredSample& s, dou
   if (anisotropic && std::abs(phi_i) > 5.0 * kDeg) return std::nullopt;
   if (slice == Slice::InPlane) return in_plane_angle(s);
   if (slice == Slice::Across) {
-    const Vec3d r = dir(theta_i, M_PI), across(0, 1, 0), normal = glm::cross(r, across);
+    const Vec3d r = direction_from_angles(theta_i, M_PI), across(0, 1, 0), normal = glm::cross(r, across);
     if (std::abs(glm::dot(s.wo, normal)) > std::sin(kInPlaneTolerance)) return std::nullopt;
     return std::atan2(glm::dot(s.wo, across), glm::dot(s.wo, r));
   }
@@ -122,7 +120,7 @@ void write_slices_plot(const std::string& path, const SampleSet& data, const std
 
   // What a curve shows: each channel for one material, the mean of the channels for several.
   const auto values = [&](const Curve& c, Slice slice, int deg, double a) {
-    const RGBT<double> f = c.material.f(dir(deg * kDeg, 0.0), slice_direction(slice, deg * kDeg, a));
+    const RGBT<double> f = c.material.f(direction_from_angles(deg * kDeg, 0.0), slice_direction(slice, deg * kDeg, a));
     return several ? glm::dvec3((f.x + f.y + f.z) / 3.0) : glm::dvec3(f);
   };
   const auto measured = [&](const MeasuredSample& s) {
