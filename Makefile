@@ -3,7 +3,7 @@ PRESET ?= release
 JOBS   ?= $(shell nproc)
 BIN    := build/$(PRESET)/bin
 
-.PHONY: all deps configure build test bench bench-python bench-fit-db clean format render sanitize-build test-sanitize fuzz-build fuzz fuzz-ci
+.PHONY: all deps configure build test bench bench-python bench-fit-db clean format render sanitize-build test-sanitize fuzz-build fuzz fuzz-ci install package
 
 all: build
 
@@ -29,6 +29,17 @@ render:
 
 test: build
 	@ctest --preset $(PRESET) -j $(JOBS)
+
+# The headers, libraries, CMake package, pkg-config files, CLI, Python package and docs under
+# PREFIX (docs/cpp.md, "Install"; cmake/install.cmake). Without PREFIX: the configured prefix
+# (/usr/local).
+install: build
+	@cmake --install build/$(PRESET) $(if $(PREFIX),--prefix $(PREFIX))
+
+# The Debian package build/$(PRESET)/aniso_<version>_amd64.deb (CPack; cmake/install.cmake):
+# `apt-get install ./build/release/aniso_*.deb` on Debian 12.
+package: build
+	@cd build/$(PRESET) && cpack -G DEB >/dev/null && ls $$(pwd)/aniso_*.deb
 
 # The sanitizer build (build/sanitize, preset `sanitize`): ASan + UBSan, asserts on, no benchmarks.
 # clang when installed (then the fuzz targets link libFuzzer), g++ otherwise (they replay the

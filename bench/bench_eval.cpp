@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "aniso/brdf/material.h"
-#include "io/materials.h"
+#include "aniso/io/materials.h"
 #include "stats/rng.h"
 
 using namespace aniso;

@@ -6,8 +6,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "fit/fit.h"
-#include "io/materials.h"
+#include "aniso/fit/fit.h"
+#include "aniso/io/materials.h"
 #include "stats/rng.h"
 
 namespace aniso {

@@ -19,11 +19,11 @@
 #pragma GCC diagnostic pop
 
 #include "gl/gl_context.h"
-#include "gl/glsl_export.h"
-#include "gl/glsl_library.h"
-#include "gl/glsl_material.h"
+#include "aniso/gl/glsl_export.h"
+#include "aniso/gl/glsl_library.h"
+#include "aniso/gl/glsl_material.h"
 #include "gl/scene_raster.h"
-#include "io/materials.h"
+#include "aniso/io/materials.h"
 #include "stats/rng.h"
 
 using namespace aniso;

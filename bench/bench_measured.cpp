@@ -6,8 +6,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "io/materials.h"
-#include "measured/measured.h"
+#include "aniso/io/materials.h"
+#include "aniso/measured/measured.h"
 #include "stats/rng.h"
 
 using namespace aniso;

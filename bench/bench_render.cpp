@@ -46,10 +46,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "render/gallery.h"
-#include "render/image.h"
-#include "render/integrator.h"
-#include "render/scene.h"
+#include "aniso/render/gallery.h"
+#include "aniso/render/image.h"
+#include "aniso/render/integrator.h"
+#include "aniso/render/scene.h"
 
 using namespace aniso;
 using namespace aniso::render;

@@ -7,7 +7,7 @@
 #include <array>
 
 #include "fuzz_util.h"
-#include "io/materials.h"
+#include "aniso/io/materials.h"
 #include "io/text_input.h"
 
 namespace {

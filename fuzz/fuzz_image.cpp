@@ -5,8 +5,8 @@
 // 8-bit data as linear. An accepted image must have a positive size, width * height * 3 values, each
 // finite and >= 0 (read_image's contract, image.h).
 #include "fuzz_util.h"
-#include "io/params.h"
-#include "render/image.h"
+#include "aniso/io/params.h"
+#include "aniso/render/image.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

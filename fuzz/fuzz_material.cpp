@@ -6,7 +6,7 @@
 // input giving the same material.
 #include "fuzz_util.h"
 #include "io/json_read.h"
-#include "io/materials.h"
+#include "aniso/io/materials.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

@@ -5,8 +5,8 @@
 // allocation from an unchecked size, no hang); the table's value checks are the unit tests'
 // (tests/test_merl.cpp, tests/test_measured.cpp).
 #include "fuzz_util.h"
-#include "io/params.h"
-#include "measured/merl.h"
+#include "aniso/io/params.h"
+#include "aniso/measured/merl.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "fuzz_util.h"
-#include "render/integrator.h"
-#include "render/scene.h"
+#include "aniso/render/integrator.h"
+#include "aniso/render/scene.h"
 
 namespace aniso::fuzz {
 

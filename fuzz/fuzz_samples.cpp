@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "fuzz_util.h"
-#include "io/params.h"
-#include "measured/samples.h"
+#include "aniso/io/params.h"
+#include "aniso/measured/samples.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

@@ -8,9 +8,9 @@
 #include "fuzz_render.h"
 #include "fuzz_util.h"
 #include "io/json_read.h"
-#include "io/params.h"
-#include "render/integrator.h"
-#include "render/scene.h"
+#include "aniso/io/params.h"
+#include "aniso/render/integrator.h"
+#include "aniso/render/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

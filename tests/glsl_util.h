@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 
 #include "gl/gl_context.h"
-#include "gl/glsl_library.h"
-#include "gl/glsl_material.h"
+#include "aniso/gl/glsl_library.h"
+#include "aniso/gl/glsl_material.h"
 
 namespace aniso::test {
 

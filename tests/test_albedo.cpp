@@ -5,8 +5,8 @@
 
 #include <cstdio>
 
-#include "io/presets.h"
-#include "stats/albedo.h"
+#include "aniso/io/presets.h"
+#include "aniso/stats/albedo.h"
 #include "test_util.h"
 
 namespace aniso::test {

@@ -18,7 +18,7 @@
 
 #include "aniso/batch/batch.h"
 #include "chi2.h"
-#include "io/presets.h"
+#include "aniso/io/presets.h"
 #include "test_util.h"
 
 namespace aniso::test {

@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_fixture.h"
-#include "io/materials.h"
-#include "io/params.h"
+#include "aniso/io/materials.h"
+#include "aniso/io/params.h"
 #include "view/explorer.h"
 
 namespace aniso {

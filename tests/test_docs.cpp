@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/params.h"
+#include "aniso/io/params.h"
 
 namespace aniso {
 namespace {
@@ -55,6 +55,51 @@ TEST(Docs, ReadmeStartsWithTheTwoCommands) {
       << "README.md's first 15 lines must give `make render` (the main job):\n" << head;
   EXPECT_TRUE(head.find("make test") != std::string::npos)
       << "README.md's first 15 lines must give `make test`:\n" << head;
+}
+
+// docs/cpp.md and the README's "Use from C++" quote compiled code: every ```cpp (or ```cuda / ```cmake)
+// block is preceded by `<!-- examples/cpp/FILE -->` and is a contiguous run of that file's lines,
+// which tests/package builds and runs (package_find_package).
+TEST(Docs, CppGuideQuotesTheCompiledExamples) {
+  int blocks = 0;
+  for (const char* rel : {"docs/cpp.md", "README.md"}) {
+    bool ok = false;
+    const std::string page = read_text(std::string(ANISO_SOURCE_DIR) + "/" + rel, ok);
+    ASSERT_TRUE(ok) << rel << " is missing";
+    std::istringstream in(page);
+    std::string line, previous;
+    int number = 0;
+    while (std::getline(in, line)) {
+      ++number;
+      const bool code = line == "```cpp" || line == "```c++" || line == "```cuda" || line == "```cmake";
+      if (!code) {
+        previous = line;
+        continue;
+      }
+      const int fence = number;
+      std::string block;
+      while (std::getline(in, line) && line != "```") {
+        ++number;
+        block += line + "\n";
+      }
+      ++number;
+      const std::string open = "<!-- ", close = " -->";
+      ASSERT_TRUE(previous.starts_with(open) && previous.ends_with(close))
+          << rel << ":" << fence << ": a code block must follow a line <!-- examples/cpp/FILE --> naming the file it quotes";
+      const std::string file = previous.substr(open.size(), previous.size() - open.size() - close.size());
+      EXPECT_TRUE(file.starts_with("examples/cpp/")) << rel << ":" << fence << ": " << file << " is not under examples/cpp/";
+      bool file_ok = false;
+      const std::string source = read_text(std::string(ANISO_SOURCE_DIR) + "/" + file, file_ok);
+      ASSERT_TRUE(file_ok) << rel << ":" << fence << ": " << file << " does not exist";
+      // A run of whole lines: the block starts at a line start of the file.
+      const size_t at = source.find(block);
+      EXPECT_TRUE(at != std::string::npos && (at == 0 || source[at - 1] == '\n'))
+          << rel << ":" << fence << ": the block is not a run of whole lines of " << file << ":\n" << block;
+      ++blocks;
+      previous.clear();
+    }
+  }
+  EXPECT_GE(blocks, 8) << "docs/cpp.md quotes every example (kernels, materials, loop, batch, tangents, CUDA, GLSL, fit, errors)";
 }
 
 // GitHub's heading anchors: lower case, punctuation other than '-' and '_' dropped, spaces to '-'.

@@ -11,7 +11,7 @@
 #include <boost/math/special_functions/gamma.hpp>
 #include <gtest/gtest.h>
 
-#include "render/environment.h"
+#include "aniso/render/environment.h"
 #include "stats/rng.h"
 
 namespace aniso::render {

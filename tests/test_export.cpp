@@ -12,10 +12,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "aniso/version.h"
 #include "cli_fixture.h"
-#include "export/export.h"
-#include "io/materials.h"
-#include "measured/merl.h"
+#include "aniso/export/export.h"
+#include "aniso/io/materials.h"
+#include "aniso/measured/merl.h"
 
 namespace aniso {
 namespace {
@@ -365,7 +366,7 @@ TEST_F(ExportCli, MitsubaXmlParses) {
                                                       el[i].first == "rgb" || el[i].first == "string") << el[i].first;
     EXPECT_TRUE(contains(x, "type=\"roughconductor\"")) << x;
     EXPECT_TRUE(contains(x, "<string name=\"distribution\" value=\"ggx\"/>")) << x;
-    EXPECT_TRUE(contains(x, "Exported by aniso from")) << x;
+    EXPECT_TRUE(contains(x, "Exported by aniso " ANISO_VERSION " from")) << x;
   }
 }
 

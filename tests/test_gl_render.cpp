@@ -18,9 +18,9 @@
 #include "cli_fixture.h"
 #include "gl/scene_raster.h"
 #include "glsl_util.h"
-#include "measured/merl.h"
-#include "render/geometry.h"
-#include "render/integrator.h"
+#include "aniso/measured/merl.h"
+#include "aniso/render/geometry.h"
+#include "aniso/render/integrator.h"
 #include "test_util.h"
 
 namespace aniso::test {

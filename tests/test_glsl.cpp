@@ -10,7 +10,7 @@
 
 #include "chi2.h"
 #include "glsl_util.h"
-#include "io/presets.h"
+#include "aniso/io/presets.h"
 #include "test_util.h"
 
 namespace aniso::test {

@@ -11,7 +11,7 @@
 
 #include "aniso/core/frame.h"
 #include "glsl_util.h"
-#include "io/presets.h"
+#include "aniso/io/presets.h"
 #include "test_util.h"
 
 namespace aniso::test {

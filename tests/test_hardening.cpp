@@ -14,10 +14,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_fixture.h"
-#include "data/metals.h"
+#include "aniso/data/metals.h"
 #include "io/json_read.h"
-#include "io/materials.h"
-#include "io/presets.h"
+#include "aniso/io/materials.h"
+#include "aniso/io/presets.h"
 #include "io/text_input.h"
 #include "stats/rng.h"
 

@@ -9,7 +9,7 @@
 #include <limits>
 #include <vector>
 
-#include "io/presets.h"
+#include "aniso/io/presets.h"
 #include "test_util.h"
 
 namespace aniso::test {

@@ -15,8 +15,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "io/params.h"
-#include "render/image.h"
+#include "aniso/io/params.h"
+#include "aniso/render/image.h"
 #include "temp_dir.h"
 
 namespace aniso::render {

@@ -17,11 +17,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "data/metals.h"
-#include "io/materials.h"
-#include "io/params.h"
-#include "io/presets.h"
-#include "stats/albedo.h"
+#include "aniso/data/metals.h"
+#include "aniso/io/materials.h"
+#include "aniso/io/params.h"
+#include "aniso/io/presets.h"
+#include "aniso/stats/albedo.h"
 #include "test_util.h"
 
 namespace aniso {

@@ -1,4 +1,4 @@
-// A measured BRDF as a material (aniso/brdf/measured.h, src/measured/measured.h): the tabulated
+// A measured BRDF as a material (aniso/brdf/measured.h, include/aniso/measured/measured.h): the tabulated
 // sampler against its pdf (chi-square, tests/chi2.h), the sample record, albedo by sampling
 // against uniform integration, the batch API, load_material and the CLI (eval, sample, albedo,
 // presets --show, render, export-glsl, bad files).
@@ -14,8 +14,8 @@
 #include "aniso/batch/batch.h"
 #include "chi2.h"
 #include "cli_fixture.h"
-#include "measured/measured.h"
-#include "stats/albedo.h"
+#include "aniso/measured/measured.h"
+#include "aniso/stats/albedo.h"
 #include "test_util.h"
 
 namespace aniso::test {

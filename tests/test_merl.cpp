@@ -1,4 +1,4 @@
-// MERL .binary files (src/measured/merl.h): the bin lookup against an independent transcription of
+// MERL .binary files (include/aniso/measured/merl.h): the bin lookup against an independent transcription of
 // MERL's BRDFRead.cpp, the lookup of a file written from an analytic model against the model,
 // the bitwise round trip, and every kind of bad file.
 #include <unistd.h>
@@ -13,7 +13,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "measured/merl.h"
+#include "aniso/measured/merl.h"
 #include "test_util.h"
 
 namespace aniso::test {

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "aniso/brdf/fresnel.h"
-#include "data/metals.h"
-#include "io/presets.h"
+#include "aniso/data/metals.h"
+#include "aniso/io/presets.h"
 #include "reference/reference_brdfs.h"
 #include "test_util.h"
 

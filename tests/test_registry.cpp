@@ -21,9 +21,9 @@
 
 #include "aniso/batch/batch.h"
 #include "aniso/brdf/material.h"
-#include "gl/glsl_library.h"
-#include "io/materials.h"
-#include "io/params.h"
+#include "aniso/gl/glsl_library.h"
+#include "aniso/io/materials.h"
+#include "aniso/io/params.h"
 #include "test_util.h"
 
 namespace aniso {

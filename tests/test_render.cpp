@@ -16,8 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "reference/reference_brdfs.h"
-#include "render/integrator.h"
-#include "render/scene.h"
+#include "aniso/render/integrator.h"
+#include "aniso/render/scene.h"
 
 namespace aniso::render {
 namespace {

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "render/image.h"
+#include "aniso/render/image.h"
 
 namespace aniso {
 namespace {

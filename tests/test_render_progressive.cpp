@@ -18,9 +18,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "render/gallery.h"
-#include "render/integrator.h"
-#include "render/scene.h"
+#include "aniso/render/gallery.h"
+#include "aniso/render/integrator.h"
+#include "aniso/render/scene.h"
 
 namespace aniso::render {
 namespace {

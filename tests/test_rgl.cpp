@@ -14,12 +14,12 @@
 
 #include "chi2.h"
 #include "cli_fixture.h"
-#include "io/materials.h"
-#include "io/params.h"
-#include "measured/measured.h"
-#include "rgl/rgl_export.h"
-#include "rgl/rgl_material.h"
-#include "rgl/tensor.h"
+#include "aniso/io/materials.h"
+#include "aniso/io/params.h"
+#include "aniso/measured/measured.h"
+#include "aniso/rgl/rgl_export.h"
+#include "aniso/rgl/rgl_material.h"
+#include "aniso/rgl/tensor.h"
 #include "test_util.h"
 
 namespace aniso::test {

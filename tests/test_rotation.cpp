@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "aniso/core/frame.h"
-#include "io/input_error.h"
-#include "io/materials.h"
+#include "aniso/io/input_error.h"
+#include "aniso/io/materials.h"
 #include "stats/rng.h"
 #include "test_util.h"
 

@@ -1,14 +1,14 @@
-// tests/test_samples.cpp: the measured-data readers (src/measured/samples.h) and the spectral
-// reduction (src/measured/spectral.h): reference values, every bad-input case, and the CLI's exit 2.
+// tests/test_samples.cpp: the measured-data readers (include/aniso/measured/samples.h) and the spectral
+// reduction (include/aniso/measured/spectral.h): reference values, every bad-input case, and the CLI's exit 2.
 #include <cmath>
 #include <fstream>
 
 #include <gtest/gtest.h>
 
 #include "cli_fixture.h"
-#include "io/params.h"
-#include "measured/samples.h"
-#include "measured/spectral.h"
+#include "aniso/io/params.h"
+#include "aniso/measured/samples.h"
+#include "aniso/measured/spectral.h"
 
 namespace aniso {
 namespace {

@@ -10,10 +10,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "io/params.h"
-#include "render/geometry.h"
-#include "render/integrator.h"
-#include "render/scene.h"
+#include "aniso/io/params.h"
+#include "aniso/render/geometry.h"
+#include "aniso/render/integrator.h"
+#include "aniso/render/scene.h"
 
 namespace aniso::render {
 namespace {

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "aniso/brdf/material.h"
-#include "io/materials.h"
+#include "aniso/io/materials.h"
 #include "stats/rng.h"
 
 namespace aniso::test {

@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
-#include "io/materials.h"
-#include "render/integrator.h"
-#include "stats/albedo.h"
+#include "aniso/io/materials.h"
+#include "aniso/render/integrator.h"
+#include "aniso/stats/albedo.h"
 #include "test_util.h"
 #include "view/explorer.h"
 #include "view/plots.h"

@@ -11,8 +11,8 @@
 
 #include "cli_fixture.h"
 #include "io/json_read.h"
-#include "io/materials.h"
-#include "render/image.h"
+#include "aniso/io/materials.h"
+#include "aniso/render/image.h"
 
 namespace aniso {
 namespace {

@@ -10,9 +10,9 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "gl/glsl_export.h"
+#include "aniso/gl/glsl_export.h"
 #include "io/atomic_file.h"
-#include "io/materials.h"
+#include "aniso/io/materials.h"
 
 namespace aniso {
 

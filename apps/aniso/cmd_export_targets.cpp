@@ -1,6 +1,6 @@
 // apps/aniso/cmd_export_targets.cpp: `aniso export --to TARGET` (docs/export.md): a material in the
 // native format of Blender, Mitsuba 3, pbrt-v4, MaterialX or glTF, with the target's conventions
-// (src/export/targets.h) and a report of how close it is (src/export/export.h).
+// (include/aniso/export/targets.h) and a report of how close it is (include/aniso/export/export.h).
 //
 // Everything is computed before anything is written; each file goes through the one atomic writer
 // (io/atomic_file.h). glTF writes two files: the .bin first, then the .gltf; if the .gltf cannot be
@@ -11,8 +11,8 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "export/export.h"
-#include "io/materials.h"
+#include "aniso/export/export.h"
+#include "aniso/io/materials.h"
 
 namespace aniso {
 

@@ -11,9 +11,9 @@
 #include <unistd.h>
 
 #include "commands.h"
-#include "fit/fit.h"
-#include "fit/plot.h"
-#include "io/materials.h"
+#include "aniso/fit/fit.h"
+#include "aniso/fit/plot.h"
+#include "aniso/io/materials.h"
 #include "io/text_input.h"
 
 namespace aniso {

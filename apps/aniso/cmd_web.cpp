@@ -23,12 +23,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "aniso/version.h"
 #include "commands.h"
-#include "data/metals.h"
-#include "gl/glsl_library.h"
-#include "gl/glsl_material.h"
-#include "io/materials.h"
-#include "io/presets.h"
+#include "aniso/data/metals.h"
+#include "aniso/gl/glsl_library.h"
+#include "aniso/gl/glsl_material.h"
+#include "aniso/io/materials.h"
+#include "aniso/io/presets.h"
 
 namespace aniso {
 namespace {
@@ -172,7 +173,7 @@ const char* slot_type(gl::GlslSlot::Type t) {
 }
 
 json web_data() {
-  json data = {{"generator", "aniso web-data (apps/aniso/cmd_web.cpp)"}};
+  json data = {{"generator", "aniso " ANISO_VERSION " web-data (apps/aniso/cmd_web.cpp)"}};
   data["models"] = json::array();
   for (const ModelSpec* m : model_specs()) data["models"].push_back(table_json(*m));
   data["metals"] = json::array();
@@ -284,8 +285,10 @@ void serve(const std::string& root_arg, int port) {
   namespace fs = std::filesystem;
   fs::path root = root_arg;
   if (root.empty()) {
-    // The page built beside the binary: build/<preset>/bin/aniso serves build/<preset>/web.
-    root = fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "web";
+    // The page built beside the binary: build/<preset>/bin/aniso serves build/<preset>/web; an
+    // installed one (cmake/install.cmake) serves <prefix>/share/aniso/web.
+    const fs::path prefix = fs::read_symlink("/proc/self/exe").parent_path().parent_path();
+    root = fs::is_regular_file(prefix / "web" / "index.html") ? prefix / "web" : prefix / "share" / "aniso" / "web";
   }
   if (!fs::is_regular_file(root / "index.html"))
     throw InputError(fmt::format("--root {}: no index.html (build the page: cmake --build ... --target aniso_web)", root.string()));

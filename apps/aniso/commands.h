@@ -8,7 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "io/params.h"
+#include "aniso/io/params.h"
 #include "io/text_input.h"
 
 namespace aniso {

@@ -21,10 +21,10 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "data/metals.h"
-#include "gl/glsl_export.h"
-#include "io/params.h"
-#include "render/image.h"
+#include "aniso/data/metals.h"
+#include "aniso/gl/glsl_export.h"
+#include "aniso/io/params.h"
+#include "aniso/render/image.h"
 #include "view/explorer.h"
 #include "view/plots.h"
 #include "view/preview.h"

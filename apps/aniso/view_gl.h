@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "render/image.h"
+#include "aniso/render/image.h"
 #include "view/plots.h"
 
 namespace aniso::viewgl {

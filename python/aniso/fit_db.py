@@ -31,7 +31,7 @@ import warnings
 
 import numpy as np
 
-# The extensions aniso.fit reads (read_measured: src/measured/samples.h), which a folder is
+# The extensions aniso.fit reads (read_measured: include/aniso/measured/samples.h), which a folder is
 # searched for (a file named on the command line is given to the reader whatever its extension).
 MEASURED_EXTENSIONS = (".binary", ".brdf", ".csv")
 

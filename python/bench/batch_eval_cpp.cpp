@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "aniso/batch/batch.h"
-#include "io/materials.h"
+#include "aniso/io/materials.h"
 
 using namespace aniso;
 

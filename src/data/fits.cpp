@@ -1,8 +1,8 @@
-#include "data/fits.h"
+#include "aniso/data/fits.h"
 
 #include <fmt/format.h>
 
-#include "io/input_error.h"
+#include "aniso/io/input_error.h"
 
 namespace aniso {
 namespace embedded {

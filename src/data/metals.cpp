@@ -1,4 +1,4 @@
-#include "data/metals.h"
+#include "aniso/data/metals.h"
 
 #include <vector>
 

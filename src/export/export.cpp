@@ -1,6 +1,7 @@
 // export/export.cpp: see export.h; the conventions of each target are in targets.h, with the
 // source lines they come from, and in docs/export.md.
-#include "export/export.h"
+#include "aniso/version.h"
+#include "aniso/export/export.h"
 
 #include <algorithm>
 #include <cctype>
@@ -11,9 +12,9 @@
 
 #include <fmt/format.h>
 
-#include "data/metals.h"
-#include "io/input_error.h"
-#include "render/image.h"
+#include "aniso/data/metals.h"
+#include "aniso/io/input_error.h"
+#include "aniso/render/image.h"
 
 namespace aniso::exporter {
 
@@ -813,7 +814,7 @@ std::string ExportReport::text(std::string_view pre) const {
 namespace {
 
 std::string comment_block(const ExportReport& r, const std::string& source, std::string_view pre) {
-  return std::string(pre) + "Exported by aniso from " + source + "\n" + r.text(pre);
+  return std::string(pre) + "Exported by aniso " ANISO_VERSION " from " + source + "\n" + r.text(pre);
 }
 
 double num(const json& p, const char* k) { return p.at(k).get<double>(); }
@@ -1014,7 +1015,7 @@ void write_gltf(const std::string& name, const json& p, const ExportReport& r, c
        {{"KHR_materials_anisotropy",
          {{"anisotropyStrength", num(p, "anisotropyStrength")}, {"anisotropyRotation", num(p, "anisotropyRotation")}}}}}};
   json doc = {
-      {"asset", {{"version", "2.0"}, {"generator", "aniso export --to gltf"},
+      {"asset", {{"version", "2.0"}, {"generator", "aniso " ANISO_VERSION " export --to gltf"},
                  {"extras", {{"source", source}, {"aniso_export", r.to_json()}}}}},
       {"extensionsUsed", {"KHR_materials_anisotropy"}},
       {"scene", 0},

@@ -1,7 +1,7 @@
 // fit/fit.cpp: the Ceres problem, the starts and the error figures (fit.h, docs/fitting.md).
 #include "fit/jet.h"  // first: the kernels' constants for ceres::Jet
 
-#include "fit/fit.h"
+#include "aniso/fit/fit.h"
 
 #include <algorithm>
 #include <array>
@@ -25,9 +25,9 @@
 #include "aniso/core/sampling.h"
 #include "fit/models.h"
 #include "io/enum_names.h"
-#include "stats/albedo.h"
-#include "io/materials.h"
-#include "io/presets.h"
+#include "aniso/stats/albedo.h"
+#include "aniso/io/materials.h"
+#include "aniso/io/presets.h"
 #include "io/text_input.h"
 
 namespace aniso {

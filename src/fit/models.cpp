@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "data/metals.h"
+#include "aniso/data/metals.h"
 #include "io/enum_names.h"
 
 namespace aniso::fit_detail {

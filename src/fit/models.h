@@ -16,8 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "aniso/brdf/material.h"
-#include "fit/fit.h"
-#include "io/materials.h"
+#include "aniso/fit/fit.h"
+#include "aniso/io/materials.h"
 #include "stats/rng.h"
 
 namespace aniso::fit_detail {

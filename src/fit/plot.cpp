@@ -1,6 +1,6 @@
 // fit/plot.cpp: the in-plane slices of `aniso fit --plot` (plot.h), drawn with the renderer's image
 // and label-font code (render/image.h).
-#include "fit/plot.h"
+#include "aniso/fit/plot.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "io/materials.h"
-#include "render/image.h"
+#include "aniso/io/materials.h"
+#include "aniso/render/image.h"
 
 namespace aniso {
 namespace {

@@ -1,5 +1,5 @@
 // gl/glsl_library.cpp: the embedded GLSL library and the name handling the exports use.
-#include "gl/glsl_library.h"
+#include "aniso/gl/glsl_library.h"
 
 #include <cctype>
 #include <regex>

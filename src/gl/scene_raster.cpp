@@ -13,9 +13,9 @@
 #include "aniso/core/sampling.h"
 #include "gl/gl_context.h"
 #include "gl/gl_shader.h"
-#include "gl/glsl_library.h"
-#include "gl/glsl_material.h"
-#include "render/geometry.h"
+#include "aniso/gl/glsl_library.h"
+#include "aniso/gl/glsl_material.h"
+#include "aniso/render/geometry.h"
 
 namespace aniso::gl {
 namespace {

@@ -53,9 +53,9 @@
 #include <string>
 #include <vector>
 
-#include "io/materials.h"
-#include "render/image.h"
-#include "render/scene.h"
+#include "aniso/io/materials.h"
+#include "aniso/render/image.h"
+#include "aniso/render/scene.h"
 
 namespace aniso::gl {
 

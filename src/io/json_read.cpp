@@ -11,7 +11,7 @@
 
 #include <fmt/format.h>
 
-#include "io/params.h"
+#include "aniso/io/params.h"
 
 namespace aniso {
 

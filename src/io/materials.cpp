@@ -1,5 +1,5 @@
 // io/materials.cpp: the JSON reader (generic, driven by the tables) and one builder per model.
-#include "io/materials.h"
+#include "aniso/io/materials.h"
 
 #include <cmath>
 #include <filesystem>
@@ -7,12 +7,12 @@
 
 #include <fmt/format.h>
 
-#include "data/metals.h"
+#include "aniso/data/metals.h"
 #include "io/enum_names.h"
 #include "io/json_read.h"
-#include "io/presets.h"
-#include "measured/measured.h"
-#include "rgl/rgl_material.h"
+#include "aniso/io/presets.h"
+#include "aniso/measured/measured.h"
+#include "aniso/rgl/rgl_material.h"
 
 namespace aniso {
 

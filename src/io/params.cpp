@@ -1,6 +1,6 @@
 // io/params.cpp: the parameter table of every model. Ranges are what the kernels are defined and
 // tested on; each bound says why it is there.
-#include "io/params.h"
+#include "aniso/io/params.h"
 
 #include <cmath>
 

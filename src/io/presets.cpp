@@ -1,4 +1,4 @@
-#include "io/presets.h"
+#include "aniso/io/presets.h"
 
 #include <cmath>
 #include <map>
@@ -6,10 +6,10 @@
 #include <fmt/format.h>
 
 #include "aniso/brdf/fresnel.h"
-#include "data/fits.h"
-#include "data/metals.h"
+#include "aniso/data/fits.h"
+#include "aniso/data/metals.h"
 #include "io/names.h"
-#include "io/params.h"
+#include "aniso/io/params.h"
 
 namespace aniso {
 namespace {

@@ -13,7 +13,7 @@
 #include <fmt/format.h>
 
 #include "io/json_read.h"
-#include "io/params.h"
+#include "aniso/io/params.h"
 
 namespace aniso {
 

@@ -1,5 +1,5 @@
 // measured/measured.cpp: sampling tables, the registry of loaded files, recognition by sha256.
-#include "measured/measured.h"
+#include "aniso/measured/measured.h"
 
 #include <algorithm>
 #include <chrono>
@@ -13,7 +13,7 @@
 #include <openssl/evp.h>
 #include <tbb/parallel_for.h>
 
-#include "io/input_error.h"
+#include "aniso/io/input_error.h"
 
 namespace aniso {
 namespace embedded {

@@ -1,5 +1,5 @@
 // measured/merl.cpp: MERL .binary read / write / tabulate (format: merl.h, docs/measured.md).
-#include "measured/merl.h"
+#include "aniso/measured/merl.h"
 
 #include <bit>
 #include <cerrno>
@@ -14,7 +14,7 @@
 #include <tbb/parallel_for.h>
 
 #include "io/atomic_file.h"
-#include "io/input_error.h"
+#include "aniso/io/input_error.h"
 
 namespace aniso {
 

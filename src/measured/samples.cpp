@@ -1,5 +1,5 @@
 // measured/samples.cpp: the CSV and Cornell readers (samples.h).
-#include "measured/samples.h"
+#include "aniso/measured/samples.h"
 
 #include <cmath>
 #include <filesystem>
@@ -9,10 +9,10 @@
 #include <fmt/format.h>
 
 #include "io/json_read.h"
-#include "io/input_error.h"
+#include "aniso/io/input_error.h"
 #include "io/text_input.h"
-#include "measured/merl.h"
-#include "measured/spectral.h"
+#include "aniso/measured/merl.h"
+#include "aniso/measured/spectral.h"
 
 namespace aniso {
 

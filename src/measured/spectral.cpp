@@ -1,5 +1,5 @@
 // measured/spectral.cpp: the C++ twin of scripts/reduce_ior.py's rgb_weights() (see spectral.h).
-#include "measured/spectral.h"
+#include "aniso/measured/spectral.h"
 
 #include <cmath>
 #include <stdexcept>

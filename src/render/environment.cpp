@@ -9,7 +9,7 @@
 // texel's latitude band). Bilinear radiance would make radiance / pdf vary inside a texel and, at
 // the edge of a bright texel next to a black one, put radiance where the texel grid has little
 // density: exactly the high-weight samples MIS is meant to avoid.
-#include "render/environment.h"
+#include "aniso/render/environment.h"
 
 #include <algorithm>
 #include <cmath>

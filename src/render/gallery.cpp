@@ -1,5 +1,5 @@
 // render/gallery.cpp: the embedded default gallery and the material preview scene.
-#include "render/gallery.h"
+#include "aniso/render/gallery.h"
 
 #include <algorithm>
 

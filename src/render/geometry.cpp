@@ -1,5 +1,5 @@
 // render/geometry.cpp: Embree 3 scene construction and hit shading.
-#include "render/geometry.h"
+#include "aniso/render/geometry.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 //
 // This translation unit owns the stb implementations (stb_image, stb_image_write, stb_truetype):
 // they are compiled here, static to this file, and nowhere else.
-#include "render/image.h"
+#include "aniso/render/image.h"
 
 #include <algorithm>
 #include <array>
@@ -27,7 +27,7 @@
 #include <ImfOutputFile.h>
 
 #include "io/atomic_file.h"
-#include "io/params.h"
+#include "aniso/io/params.h"
 #include "io/text_input.h"
 
 // Third-party single-header libraries: their own code is not held to the project's warning flags.

@@ -1,5 +1,5 @@
 // render/integrator.cpp: path tracing with next-event estimation and MIS (see integrator.h).
-#include "render/integrator.h"
+#include "aniso/render/integrator.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,5 +1,5 @@
 // render/sampler.cpp: Owen-scrambled, index-shuffled Sobol' points and PCG32 (see sampler.h).
-#include "render/sampler.h"
+#include "aniso/render/sampler.h"
 
 namespace aniso::render {
 namespace {

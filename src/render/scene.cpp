@@ -1,6 +1,6 @@
 // render/scene.cpp: the scene reader. Every key is checked once here, with its JSON path in the
 // message (docs/scenes.md is the reference for the keys); the renderer trusts what it gets.
-#include "render/scene.h"
+#include "aniso/render/scene.h"
 
 #include <cerrno>
 #include <algorithm>
@@ -15,10 +15,10 @@
 #include <tiny_obj_loader.h>
 
 #include "io/json_read.h"
-#include "io/materials.h"
-#include "io/presets.h"
+#include "aniso/io/materials.h"
+#include "aniso/io/presets.h"
 #include "io/text_input.h"
-#include "render/image.h"
+#include "aniso/render/image.h"
 
 namespace aniso::render {
 namespace {

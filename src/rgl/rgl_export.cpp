@@ -1,5 +1,5 @@
 // rgl/rgl_export.cpp: an RGL tensor file from any BRDF (rgl/rgl_export.h; docs/rgl.md).
-#include "rgl/rgl_export.h"
+#include "aniso/rgl/rgl_export.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "measured/spectral.h"
-#include "rgl/rgl_material.h"
+#include "aniso/measured/spectral.h"
+#include "aniso/rgl/rgl_material.h"
 #include "stats/rng.h"
 
 namespace aniso::rgl {

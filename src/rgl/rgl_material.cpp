@@ -1,5 +1,5 @@
 // rgl/rgl_material.cpp: reading an RGL tensor file into pbrt-v4's interpolants (rgl/rgl_material.h).
-#include "rgl/rgl_material.h"
+#include "aniso/rgl/rgl_material.h"
 
 #include <cmath>
 #include <map>
@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "io/params.h"
-#include "measured/spectral.h"
+#include "aniso/io/params.h"
+#include "aniso/measured/spectral.h"
 
 namespace aniso::rgl {
 

@@ -1,5 +1,5 @@
 // rgl/tensor.cpp: the tensor file container (rgl/tensor.h; docs/rgl.md "The container").
-#include "rgl/tensor.h"
+#include "aniso/rgl/tensor.h"
 
 #include <algorithm>
 #include <bit>
@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "io/params.h"
+#include "aniso/io/params.h"
 
 namespace aniso::rgl {
 

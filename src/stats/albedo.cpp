@@ -1,4 +1,4 @@
-#include "stats/albedo.h"
+#include "aniso/stats/albedo.h"
 
 #include <cmath>
 #include <vector>

@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 
 #include "io/json_read.h"
-#include "io/presets.h"
+#include "aniso/io/presets.h"
 
 namespace aniso::view {
 

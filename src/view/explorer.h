@@ -16,9 +16,9 @@
 #include <nlohmann/json.hpp>
 
 #include "aniso/brdf/material.h"
-#include "io/materials.h"
-#include "io/params.h"
-#include "render/scene.h"
+#include "aniso/io/materials.h"
+#include "aniso/io/params.h"
+#include "aniso/render/scene.h"
 
 namespace aniso::view {
 

@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "render/integrator.h"
+#include "aniso/render/integrator.h"
 
 namespace aniso::view {
 

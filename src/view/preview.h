@@ -10,8 +10,8 @@
 #include <mutex>
 #include <thread>
 
-#include "render/image.h"
-#include "render/scene.h"
+#include "aniso/render/image.h"
+#include "aniso/render/scene.h"
 
 namespace aniso::view {
 

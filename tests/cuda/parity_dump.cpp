@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "../test_util.h"
-#include "io/presets.h"
+#include "aniso/io/presets.h"
 #include "parity_data.h"
 
 using namespace aniso;

@@ -21,7 +21,7 @@
 namespace aniso {
 
 // Every model of the registry (aniso/brdf/registry.h); Measured's tables are host-owned arrays
-// the kernel only points to (lifetime: src/measured/measured.h).
+// the kernel only points to (lifetime: include/aniso/measured/measured.h).
 // The turn of the frame by a about the normal: (cos a, sin a). Directions of the frame have the
 // coordinates x' = c x + s y, y' = -s x + c y in the turned one (to_model), and back (from_model).
 // The identity (s = 0, the default) returns the direction unchanged, bit for bit.

@@ -4,7 +4,7 @@
 // the sampling tables; src/measured/ reads, writes and builds them.
 //
 // The kernel sees plain data: pointers to host-owned arrays and their sizes, no containers. The
-// arrays belong to a MeasuredData (src/measured/measured.h) held by a shared_ptr; every file that
+// arrays belong to a MeasuredData (include/aniso/measured/measured.h) held by a shared_ptr; every file that
 // load_material() opens stays in a process-wide registry until the program ends, so a MaterialT
 // built from it never dangles (lifetime rule: docs/measured.md, "Lifetime").
 //

@@ -7,7 +7,7 @@
 // PL2D is pbrt-v4's PiecewiseLinear2D<Dimension> (src/pbrt/util/sampling.h:1299-1760, Mitsuba 3's
 // Marginal2D): a bilinear density on a regular grid over [0,1]^2, possibly conditioned on up to
 // three extra parameters (each on its own grid, linear between slices), with Sample, Invert and
-// Evaluate. Kernels see plain pointers into host-owned tables (src/rgl/rgl_material.h builds them,
+// Evaluate. Kernels see plain pointers into host-owned tables (include/aniso/rgl/rgl_material.h builds them,
 // with the constructor's normalisation and cdfs).
 //
 // Directions: aniso's wo (towards the viewer, the direction given to sample()) is pbrt-v4's wo, the

@@ -1,0 +1,248 @@
+// aniso/export/targets.h: the BRDFs of the renderers aniso exports to ("target models"), each
+// transcribed from that renderer's own source and cited by file and line (docs/export.md has the
+// same table). A target model is the specular lobe the renderer evaluates for the parameters the
+// exporter writes, plus the diffuse term it adds, so that the exporter can say how far the export
+// is from the source (export.h) before anybody renders it.
+//
+// Sources read (the commit each line number refers to):
+//   Blender     blender/blender, intern/cycles/kernel/svm/closure.h @ 02e6985c (4.x/5.x: the
+//               Principled BSDF and the Glossy BSDF cases of svm_node_closure_bsdf),
+//               intern/cycles/kernel/closure/bsdf_microfacet.h @ 014f6e43 (bsdf_aniso_D,
+//               bsdf_aniso_lambda, the height-correlated G in bsdf_microfacet_eval),
+//               intern/cycles/kernel/closure/bsdf_util.h (fresnel_f82tint_B, fresnel_f82).
+//   Mitsuba 3   mitsuba-renderer/mitsuba3 @ b45b0a93: src/bsdfs/roughconductor.cpp,
+//               include/mitsuba/render/microfacet.h.
+//   pbrt-v4     mmp/pbrt-v4 @ 5f7a6068: src/pbrt/util/scattering.h (TrowbridgeReitzDistribution),
+//               src/pbrt/bxdfs.h (ConductorBxDF::f), src/pbrt/materials.{h,cpp}.
+//   MaterialX   AcademySoftwareFoundation/MaterialX @ 4177b2cb: libraries/pbrlib/genglsl/
+//               mx_roughness_anisotropy.glsl, mx_conductor_bsdf.glsl, mx_artistic_ior.glsl,
+//               lib/mx_microfacet_specular.glsl; libraries/bxdf/standard_surface.mtlx.
+//   glTF        KhronosGroup/glTF @ 77b44be7: extensions/2.0/Khronos/KHR_materials_anisotropy/README.md.
+//
+// Frames: aniso's local frame (docs/conventions.md): z the normal, x the tangent, y = z x x.
+// Every renderer here uses the same right-handed tangent frame (Cycles' make_orthonormals_tangent
+// takes Y = N x T; glTF's bitangent is cross(normal, tangent.xyz) tangent.w with w = +1; Mitsuba 3
+// and pbrt-v4 shade in (dp/du, n x dp/du, n)).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "aniso/brdf/fresnel.h"
+#include "aniso/brdf/ggx.h"
+
+namespace aniso::exporter {
+
+// The Smith masking-shadowing each target multiplies D by.
+enum class Masking {
+  HeightCorrelated,  // 1 / (1 + L(wi) + L(wo)): Cycles >= 3.5, pbrt-v4, glTF (Heitz 2014 Eq. 99)
+  Separable,         // G1(wi) G1(wo): Mitsuba 3 (microfacet.h:329-331)
+  // MaterialX: the isotropic height-correlated G2 at the mean alpha sqrt(ax ay)
+  // (mx_conductor_bsdf.glsl:23, 38; mx_microfacet_specular.glsl:82-88, 177-180)
+  HeightCorrelatedMeanAlpha,
+};
+
+// The Fresnel factor of the specular lobe.
+enum class FresnelModel {
+  Schlick,     // f0 + (1 - f0)(1 - cos)^5 (glTF; Cycles' F82-tint with tint 1)
+  Conductor,   // the exact unpolarised conductor Fresnel with eta, k (Mitsuba 3, pbrt-v4, MaterialX)
+  Dielectric,  // the exact dielectric Fresnel at the index ior (conductor Fresnel with k = 0)
+  F82Tint,     // Cycles 4.x metallic: Schlick(f0) - b cos (1 - cos)^6, clamped to [0, 1]
+};
+
+struct TargetLobe {
+  double alpha_x = 0.1, alpha_y = 0.1;  // GGX roughness along the tangent and the bitangent
+  Masking masking = Masking::HeightCorrelated;
+  FresnelModel fresnel = FresnelModel::Schlick;
+  glm::dvec3 f0{0.04};     // Schlick, F82Tint
+  glm::dvec3 f82_b{0.0};   // F82Tint's b (cycles_f82tint_b)
+  glm::dvec3 eta{1.5}, k{0.0};  // Conductor; Dielectric uses eta.x
+  glm::dvec3 weight{1.0};  // a colour or mix weight the lobe is multiplied by
+};
+
+// The target's BRDF for the written parameters: weight F D G / (4 cos_i cos_o) + diffuse / pi,
+// where glTF's dielectric weights its diffuse term by 1 - F(v.h) (diffuse_times_one_minus_f).
+struct TargetBrdf {
+  std::string name;  // "Cycles 4.x Principled BSDF (metallic)"
+  TargetLobe lobe;
+  glm::dvec3 diffuse{0.0};
+  bool diffuse_times_one_minus_f = false;
+  // The target's tangent, turned from aniso's x axis towards y by this angle (the targets that want
+  // the larger alpha along the tangent turn it by 90 degrees instead of swapping the alphas); f()
+  // takes directions in aniso's frame.
+  double tangent_turn_deg = 0.0;
+
+  glm::dvec3 fresnel(double cos_theta) const;
+  glm::dvec3 f(const Vec3d& wi, const Vec3d& wo) const;
+};
+
+// --- Blender Cycles -----------------------------------------------------------------------------
+
+// Principled BSDF, closure.h @ 02e6985c, svm_node_closure_bsdf, CLOSURE_BSDF_PRINCIPLED_ID:
+//   float alpha_x = sqr(roughness), alpha_y = sqr(roughness);
+//   if (anisotropic > 0.0f) { float aspect = sqrtf(1.0f - anisotropic * 0.9f);
+//                             alpha_x /= aspect; alpha_y *= aspect; ... }
+// roughness and anisotropic are saturatef()'d first. Cycles 3.4 computes the same alphas without
+// the `if` (aspect = safe_sqrtf(1 - anisotropic 0.9), alpha_x = r^2 / aspect, alpha_y = r^2 aspect).
+inline glm::dvec2 cycles_principled_alpha(double roughness, double anisotropic) {
+  const double r = std::clamp(roughness, 0.0, 1.0), a = std::clamp(anisotropic, 0.0, 1.0);
+  glm::dvec2 alpha(r * r);
+  if (a > 0.0) {
+    const double aspect = std::sqrt(1.0 - a * 0.9);
+    alpha.x /= aspect, alpha.y *= aspect;
+  }
+  return alpha;
+}
+
+// Glossy (Anisotropic in 3.x) BSDF, closure.h @ 02e6985c, CLOSURE_BSDF_MICROFACET_GGX_ID:
+//   float roughness = sqr(saturatef(param1)); float anisotropy = clamp(param2, -0.99f, 0.99f);
+//   if (anisotropy < 0.0f) { alpha_x = roughness / (1.0f + anisotropy); alpha_y = roughness * (1.0f + anisotropy); }
+//   else { alpha_x = roughness * (1.0f - anisotropy); alpha_y = roughness / (1.0f - anisotropy); }
+// (isotropic when |anisotropy| <= 1e-4 or no tangent is connected). Note the sign: a positive
+// anisotropy stretches the highlight along the bitangent (alpha_y > alpha_x), the Principled
+// BSDF's along the tangent.
+inline glm::dvec2 cycles_glossy_alpha(double roughness, double anisotropy) {
+  const double r = std::clamp(roughness, 0.0, 1.0), r2 = r * r;
+  const double a = std::clamp(anisotropy, -0.99, 0.99);
+  if (std::abs(a) <= 1e-4) return glm::dvec2(r2);
+  if (a < 0.0) return {r2 / (1.0 + a), r2 * (1.0 + a)};
+  return {r2 * (1.0 - a), r2 / (1.0 - a)};
+}
+
+// F82-tint (bsdf_util.h, fresnel_f82tint_B and fresnel_f82): with f = 6/7,
+//   B = mix(F0, 1, f^5) * (7 / (f^5 f)) * (1 - tint),
+//   F(cos) = saturate(mix(F0, 1, (1 - cos)^5) - B cos (1 - cos)^6),
+// so that F(1/7) = Schlick(F0, 1/7) * tint. The Principled BSDF passes f82 = min(Specular Tint, 1)
+// (closure.h, the metallic component) and F0 = min(Base Color, 1).
+inline glm::dvec3 cycles_f82tint_b(const glm::dvec3& f0, const glm::dvec3& tint) {
+  const double f = 6.0 / 7.0, f5 = f * f * f * f * f;
+  const glm::dvec3 schlick = f0 + (glm::dvec3(1.0) - f0) * f5;
+  return schlick * (7.0 / (f5 * f)) * (glm::dvec3(1.0) - tint);
+}
+inline glm::dvec3 cycles_f82(double cos_theta, const glm::dvec3& f0, const glm::dvec3& b) {
+  const double s = std::clamp(1.0 - cos_theta, 0.0, 1.0), s5 = s * s * s * s * s;
+  const glm::dvec3 schlick = f0 + (glm::dvec3(1.0) - f0) * s5;
+  return glm::clamp(schlick - b * (cos_theta * s5 * s), 0.0, 1.0);
+}
+
+// The Specular Tint that makes F82-tint pass through the source's reflectance at cos = 1/7
+// (about 82 degrees): tint = F_source(1/7) / Schlick(F0, 1/7), clamped to [0, 1] as Cycles does.
+inline glm::dvec3 cycles_tint_for(const glm::dvec3& f0, const glm::dvec3& f_at_82) {
+  const double s = 6.0 / 7.0, s5 = s * s * s * s * s;
+  const glm::dvec3 schlick = f0 + (glm::dvec3(1.0) - f0) * s5;
+  return glm::clamp(f_at_82 / schlick, 0.0, 1.0);
+}
+
+// --- Mitsuba 3 principled (for reference: the exporter writes roughconductor) -----------------------
+
+// src/bsdfs/principledhelpers.h:320-331, calc_dist_params: roughness_2 = roughness^2;
+//   isotropic: a = max(0.001, roughness_2); else aspect = sqrt(1 - 0.9 anisotropic),
+//   { max(0.001, roughness_2 / aspect), max(0.001, roughness_2 * aspect) }.
+// The same mapping as aniso's principled (principled.h) and Blender's Principled BSDF, with
+// aniso's 0.001 clamp.
+inline glm::dvec2 mitsuba_principled_alpha(double roughness, double anisotropic, bool has_anisotropic) {
+  const double r2 = roughness * roughness;
+  if (!has_anisotropic) return glm::dvec2(std::max(0.001, r2));
+  const double aspect = std::sqrt(1.0 - 0.9 * anisotropic);
+  return {std::max(0.001, r2 / aspect), std::max(0.001, r2 * aspect)};
+}
+
+// --- MaterialX ---------------------------------------------------------------------------------
+
+// mx_roughness_anisotropy.glsl:1-15:
+//   float roughness_sqr = clamp(roughness*roughness, M_FLOAT_EPS, 1.0);
+//   if (anisotropy > 0.0) { float aspect = sqrt(1.0 - clamp(anisotropy, 0.0, 0.98));
+//       result.x = min(roughness_sqr / aspect, 1.0); result.y = roughness_sqr * aspect; }
+//   else { result.x = roughness_sqr; result.y = roughness_sqr; }
+// M_FLOAT_EPS is 1e-8 in MaterialX's GLSL (mx_math.glsl).
+inline glm::dvec2 materialx_alpha(double roughness, double anisotropy) {
+  const double r2 = std::clamp(roughness * roughness, 1e-8, 1.0);
+  if (anisotropy > 0.0) {
+    const double aspect = std::sqrt(1.0 - std::clamp(anisotropy, 0.0, 0.98));
+    return {std::min(r2 / aspect, 1.0), r2 * aspect};
+  }
+  return glm::dvec2(r2);
+}
+
+// mx_artistic_ior.glsl:1-17 (Gulbrandsen 2014): reflectivity r and edge colour g to n, k.
+//   r = clamp(reflectivity, 0, 0.99); n_min = (1 - r) / (1 + r); n_max = (1 + sqrt r) / (1 - sqrt r);
+//   n = mix(n_max, n_min, g); k^2 = ((n + 1)^2 r - (n - 1)^2) / (1 - r), k = sqrt(max(k^2, 0)).
+inline void materialx_artistic_ior(const glm::dvec3& reflectivity, const glm::dvec3& edge, glm::dvec3& n, glm::dvec3& k) {
+  const glm::dvec3 r = glm::clamp(reflectivity, 0.0, 0.99), rs = glm::sqrt(r);
+  const glm::dvec3 n_min = (glm::dvec3(1.0) - r) / (glm::dvec3(1.0) + r);
+  const glm::dvec3 n_max = (glm::dvec3(1.0) + rs) / (glm::dvec3(1.0) - rs);
+  n = n_max * (glm::dvec3(1.0) - edge) + n_min * edge;
+  const glm::dvec3 np1 = n + 1.0, nm1 = n - 1.0;
+  k = glm::sqrt(glm::max((np1 * np1 * r - nm1 * nm1) / (glm::dvec3(1.0) - r), 0.0));
+}
+// Its inverse (Gulbrandsen 2014, Eq. 10): g = (n_max - n) / (n_max - n_min), r = F(0; n, k),
+// clamped to [0, 1] (an n outside [n_min, n_max] has no edge colour in this model).
+inline void materialx_artistic_from_ior(const glm::dvec3& n, const glm::dvec3& k, glm::dvec3& reflectivity,
+                                        glm::dvec3& edge) {
+  reflectivity = glm::clamp(((n - 1.0) * (n - 1.0) + k * k) / ((n + 1.0) * (n + 1.0) + k * k), 0.0, 0.99);
+  const glm::dvec3 r = reflectivity, rs = glm::sqrt(r);
+  const glm::dvec3 n_min = (glm::dvec3(1.0) - r) / (glm::dvec3(1.0) + r);
+  const glm::dvec3 n_max = (glm::dvec3(1.0) + rs) / (glm::dvec3(1.0) - rs);
+  edge = glm::clamp((n_max - n) / glm::max(n_max - n_min, 1e-12), 0.0, 1.0);
+}
+
+// --- glTF (KHR_materials_anisotropy) ------------------------------------------------------------
+
+// README.md:88-100, 156-157: alpha = roughness^2 (the material's alphaRoughness);
+//   at = mix(alphaRoughness, 1.0, anisotropy * anisotropy); ab = alphaRoughness;
+// along the anisotropy direction (the tangent rotated by anisotropyRotation, counter-clockwise
+// towards the bitangent, README.md:68) and across it.
+inline glm::dvec2 gltf_alpha(double roughness, double strength) {
+  const double a = roughness * roughness, s2 = strength * strength;
+  return {a * (1.0 - s2) + s2, a};
+}
+
+// --- the shared evaluation ----------------------------------------------------------------------
+
+inline glm::dvec3 TargetBrdf::fresnel(double c) const {
+  switch (lobe.fresnel) {
+    case FresnelModel::Schlick: return F_Schlick(RGBT<double>(lobe.f0), c);
+    case FresnelModel::Conductor: return F_Conductor(c, RGBT<double>(lobe.eta), RGBT<double>(lobe.k));
+    case FresnelModel::Dielectric: return glm::dvec3(F_Conductor(c, lobe.eta.x, 0.0));
+    case FresnelModel::F82Tint: return cycles_f82(c, lobe.f0, lobe.f82_b);
+  }
+  return glm::dvec3(1.0);
+}
+
+inline glm::dvec3 TargetBrdf::f(const Vec3d& wi_in, const Vec3d& wo_in) const {
+  if (!(wi_in.z > 0.0) || !(wo_in.z > 0.0)) return glm::dvec3(0.0);
+  Vec3d wi = wi_in, wo = wo_in;
+  if (tangent_turn_deg != 0.0) {
+    // Components along the turned tangent t' = cos a x + sin a y and b' = -sin a x + cos a y.
+    const double a = tangent_turn_deg * kPi<double> / 180.0, c = std::cos(a), s = std::sin(a);
+    wi = Vec3d(c * wi_in.x + s * wi_in.y, -s * wi_in.x + c * wi_in.y, wi_in.z);
+    wo = Vec3d(c * wo_in.x + s * wo_in.y, -s * wo_in.x + c * wo_in.y, wo_in.z);
+  }
+  const Vec3d h = glm::normalize(wi + wo);
+  const double ax = lobe.alpha_x, ay = lobe.alpha_y;
+  const double D = D_GGX_Aniso(h.x, h.y, h.z, ax, ay);
+  double G = 0.0;
+  switch (lobe.masking) {
+    case Masking::HeightCorrelated:
+      G = G2_SmithGGX_HeightCorrelated(Lambda_GGX_Aniso(wi, ax, ay), Lambda_GGX_Aniso(wo, ax, ay));
+      break;
+    case Masking::Separable:
+      G = G1_SmithGGX(Lambda_GGX_Aniso(wi, ax, ay)) * G1_SmithGGX(Lambda_GGX_Aniso(wo, ax, ay));
+      break;
+    case Masking::HeightCorrelatedMeanAlpha: {
+      const double a = std::sqrt(ax * ay);
+      G = G2_SmithGGX_HeightCorrelated(Lambda_GGX_Aniso(wi, a, a), Lambda_GGX_Aniso(wo, a, a));
+      break;
+    }
+  }
+  const glm::dvec3 F = fresnel(glm::dot(wi, h));
+  glm::dvec3 out = lobe.weight * F * (D * G / (4.0 * wi.z * wo.z));
+  glm::dvec3 d = diffuse * kInvPi<double>;
+  if (diffuse_times_one_minus_f) d *= glm::dvec3(1.0) - F;
+  return out + d;
+}
+
+}  // namespace aniso::exporter

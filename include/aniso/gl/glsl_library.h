@@ -1,0 +1,51 @@
+// aniso/gl/glsl_library.h: the GLSL twin of include/aniso (the .glsl files beside the headers), embedded
+// in the binary at build time, in the order a shader concatenates them (docs/glsl.md).
+#pragma once
+
+#include <set>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace aniso::gl {
+
+struct GlslFile {
+  std::string_view path;    // relative to the repository root, e.g. "include/aniso/brdf/ward.glsl"
+  std::string_view source;  // the file's text
+};
+
+// The GLSL Material (the twin of material.h: a struct with one member per model and the tag
+// dispatch of f, pdf and sample), generated from the registry (aniso/brdf/registry.h).
+std::string glsl_material_dispatch();
+
+// Every library file, dependencies first: the core, the models' twins in registry order, the
+// generated Material dispatch, the tangent fields.
+std::span<const GlslFile> glsl_library_files();
+
+// The concatenation of every library file (no #version, no main).
+std::string glsl_library_source();
+
+// The library items (functions, structs, constants, each with the comment above it) that the
+// GLSL `used` refers to, and everything they refer to, in library order: what a shader using only
+// those names needs. Overloads are kept together.
+std::string glsl_library_subset(std::string_view used);
+
+enum class GlslDialect { Core330, Es300, Core450Compute };
+
+// The #version line (and for ES, the precision statements) a shader puts in front of the library.
+std::string glsl_preamble(GlslDialect dialect);
+
+// The names the library declares at file scope (structs, functions, constants).
+std::set<std::string> glsl_library_names();
+
+// Renames every identifier in `source` that the library declares to prefix + name (token by token,
+// comments included), so that the library can sit in another program's namespace: the exports
+// use the prefix "aniso_".
+std::string glsl_prefix_names(std::string_view source, std::string_view prefix);
+
+// Names declared at file scope in `source` (functions, structs, constants, uniforms): what the
+// prefix check of the exports reads.
+std::set<std::string> glsl_declared_names(std::string_view source);
+
+}  // namespace aniso::gl

@@ -1,0 +1,119 @@
+// aniso/render/environment.h: light arriving from infinitely far away (the "environment" of a scene),
+// importance-sampled.
+//
+// World space is y-up (the default camera's up is +y). Directions `w` point from the scene
+// towards the environment. Latitude-longitude mapping of environment maps (equirectangular, as
+// .hdr light probes are stored), before `rotation_deg`:
+//   phi   = atan2(w.x, -w.z) in (-pi, pi],   u = 0.5 + phi / (2 pi)   (u = 0.5 looks along -z)
+//   theta = acos(w.y) in [0, pi],             v = theta / pi            (v = 0 is the zenith, row 0)
+// rotation_deg rotates the map about +y (positive = counter-clockwise seen from above, the
+// right-hand rule): what the unrotated map shows at (u, v) appears at (u - rotation_deg / 360
+// mod 1, v); e.g. +90 moves the map's centre (u = 0.5, looking along -z) to u = 0.25 (along -x).
+// Maps are looked up nearest-texel (piecewise-constant radiance, matching the piecewise-constant
+// sampling density; environment.cpp says why not bilinear).
+//
+// Every environment is sampled in proportion to its radiance (luminance) times sin(theta) over a
+// tabulated lat-long grid (a piecewise-constant 2D distribution: pbrt-v4 lights.cpp,
+// ImageInfiniteLight; Pharr et al., PBR 4th ed., Sec. 12.5), so that eval(), pdf() and sample()
+// agree exactly: pdf(w) is the density sample() draws w with, in solid angle. Every texel that is
+// not black gets at least 1e-3 of the mean luminance as its weight, so pdf(w) > 0 wherever
+// eval(w) > 0 (needed for unbiased MIS). eval, pdf and sample are const and thread-safe.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "aniso/core/math.h"
+#include "aniso/render/image.h"
+
+namespace aniso::render {
+
+// Piecewise-constant 1D distribution over [0, 1) (pbrt-v4 PiecewiseConstant1D).
+class Distribution1D {
+ public:
+  Distribution1D() = default;
+  explicit Distribution1D(std::vector<float> f);  // f >= 0 (others count as 0); all zero or empty -> uniform
+  // Continuous sample in [0, 1) (O(log n)); *pdf is the density w.r.t. [0, 1) (func / integral, or 1
+  // when uniform), *offset the bin. Zero-weight bins are never returned. Either pointer may be null.
+  float sample(float u, float* pdf, int* offset) const;
+  float integral() const { return integral_; }
+  int size() const { return int(func_.size()); }
+  float func(int i) const { return func_[size_t(i)]; }
+
+ private:
+  std::vector<float> func_, cdf_;
+  float integral_ = 0.0f;
+};
+
+// Piecewise-constant 2D distribution over [0, 1)^2: marginal in v (rows), conditional in u.
+// Default-constructed ones (and default Distribution1D) give no sample: pdf 0.
+class Distribution2D {
+ public:
+  Distribution2D() = default;
+  Distribution2D(const std::vector<float>& f, int nu, int nv);  // f[v * nu + u]
+  Vec2 sample(const Vec2& u, float* pdf) const;                 // returns (u, v) in [0, 1)^2
+  float pdf(const Vec2& uv) const;                              // density w.r.t. [0, 1)^2, as sample()'s
+
+ private:
+  std::vector<Distribution1D> conditional_;
+  Distribution1D marginal_;
+};
+
+struct SkyParams {
+  Vec3 sun_to{0.3f, 0.8f, 0.5f};                 // direction towards the sun (normalised by the reader)
+  RGB sun_radiance{0.0f};                         // radiance of the sun's disc; 0 = no sun
+  float sun_radius_deg = 0.5f;                    // angular radius of the disc
+  RGB zenith{0.25f, 0.45f, 0.9f};                 // sky radiance straight up
+  RGB horizon{0.9f, 0.95f, 1.0f};                 // sky radiance at the horizon
+  RGB ground{0.25f, 0.22f, 0.2f};                 // radiance below the horizon
+  int resolution = 1024;                          // width of the tabulated lat-long grid (height = width / 2)
+};
+
+struct EnvSample {
+  Vec3 w{0.0f};     // direction towards the environment (unit)
+  RGB radiance{0.0f};
+  float pdf = 0.0f;  // solid-angle density; 0 = no sample
+};
+
+class Environment {
+ public:
+  // No environment: black, never sampled. uniform(0), an all-black map and a sky whose colours and
+  // sun are all zero are this too (is_black()).
+  Environment() = default;
+  // Constant radiance; sampled uniformly over the sphere (pdf 1 / (4 pi)).
+  static Environment uniform(const RGB& radiance);
+  // Gradient sky (zenith -> horizon blend in elevation, see environment.cpp for the formula) with
+  // an optional sun disc of constant radiance, tabulated at params.resolution for sampling; each
+  // texel holds the solid-angle mean over it, so the sun's power is kept even for a disc a few
+  // texels wide. Looked up like a map afterwards.
+  static Environment sky(const SkyParams& params);
+  // An equirectangular map (mapping above); `scale` multiplies it.
+  static Environment from_image(Image img, float scale, float rotation_deg);
+
+  bool is_black() const { return kind_ == Kind::None; }
+  // The integral of its luminance (Rec.709) over the sphere of directions, in solid angle: the
+  // environment's weight in light selection (integrator.h). Maps: the texels' sum weighted by their
+  // solid angle, sin(theta_centre) (2 pi / w) (pi / h).
+  float luminance_integral() const { return luminance_integral_; }
+  // Constant to within kNearlyConstant in every channel ((max - min) / max over the directions):
+  // the integrator does not light-sample such an environment (integrator.h, "Environment").
+  static constexpr float kNearlyConstant = 0.02f;
+  bool nearly_constant() const { return kind_ != Kind::None && variation_ <= kNearlyConstant; }
+  RGB eval(const Vec3& w) const;      // radiance arriving from direction w
+  float pdf(const Vec3& w) const;     // density of sample() producing w (solid angle)
+  // radiance == eval(w) and pdf == pdf(w) exactly. pdf = 0 means no sample: always for black
+  // environments, otherwise only when rounding puts w on a pole or into a black neighbour texel.
+  EnvSample sample(const Vec2& u) const;
+
+ private:
+  enum class Kind { None, Uniform, Map };
+  Kind kind_ = Kind::None;
+  RGB uniform_{0.0f};
+  Image map_;
+  float rotation_rad_ = 0.0f;
+  float luminance_integral_ = 0.0f;
+  float variation_ = 0.0f;  // max over channels of (max - min) / max over the texels (0: uniform)
+  std::shared_ptr<const Distribution2D> dist_;
+};
+
+}  // namespace aniso::render

@@ -1,0 +1,41 @@
+// aniso/render/gallery.h: the built-in scenes: the default gallery (`aniso render` with no arguments)
+// and the material preview (`aniso render --material M`). Both are ordinary scene documents
+// (docs/scenes.md), compiled into the binary and read by the same reader as a user's file.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "aniso/render/image.h"
+#include "aniso/render/integrator.h"
+
+namespace aniso::render {
+
+// The gallery document: {"common": {...scene keys...}, "columns": C, "cells": [{"label", "detail",
+// ...scene keys...}]}; each cell's scene is `common` with the cell's keys laid over it.
+const nlohmann::json& gallery_document();
+nlohmann::json gallery_cell_scene(size_t cell);
+
+struct GalleryOptions {
+  int width = 1024;        // the whole figure; cells are laid out in gallery_document()'s columns
+  int height = 0;          // 0: from the width (square cells plus label strips)
+  int spp = 0;             // 0: the document's film.spp
+  std::string sampler;     // empty: the document's integrator.sampler; else "sobol" or "independent"
+  RenderOptions render;    // threads, seed, cancel, progress (fraction of the whole gallery)
+  ToneMapOptions tonemap;
+};
+
+struct GalleryResult {
+  DisplayImage image;
+  RenderStats stats;  // summed over cells
+  int cells = 0, cell_width = 0, cell_height = 0;
+};
+
+GalleryResult render_gallery(const GalleryOptions& opt);
+
+// The preview scene for one material: a sphere and a torus brushed along its circle, under the
+// gallery's lighting. `material` is a preset name, a file name or a material object.
+nlohmann::json preview_scene(const nlohmann::json& material);
+
+}  // namespace aniso::render

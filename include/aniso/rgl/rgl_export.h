@@ -1,0 +1,81 @@
+// aniso/rgl/rgl_export.h: writing any BRDF as an RGL tensor file (Dupuy & Jakob 2018), the tables the
+// readers' interpolants (aniso/brdf/rgl.h = pbrt-v4's MeasuredBxDF) reproduce. docs/rgl.md
+// "How each table is computed".
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "aniso/brdf/material.h"
+#include "aniso/brdf/rgl.h"
+#include "aniso/rgl/tensor.h"
+
+namespace aniso::rgl {
+
+struct ExportOptions {
+  bool spectral = true;  // spectra + wavelengths (pbrt-v4, spectral Mitsuba) or rgb (Mitsuba RGB variants)
+  int colour = 32;       // colour and luminance grid n x n on the VNDF-warped square
+  int theta_i = 16;      // incident elevations (placed by inverting sigma)
+  int phi_i = 17;        // incident azimuths over [-pi, pi] (anisotropic materials only)
+  int ndf = 64;          // ndf, sigma and vndf grid, n x n over (u_theta, u_phi)
+  int power_iterations = 8;
+
+};
+
+struct BrdfSource {
+  // f(wi, wo) without the cosine, aniso's convention (aniso/brdf/material.h).
+  std::function<glm::dvec3(const Vec3d& wi, const Vec3d& wo)> f;
+  // The microfacet distribution when it is known exactly (GGX with alpha_x, alpha_y), mixed with a
+  // uniform distribution of weight `uniform_weight` for a diffuse part; absent: D from
+  // retro-reflection by power iteration (Dupuy et al. 2015).
+  std::optional<glm::dvec2> ggx_alpha;
+  double uniform_weight = 0.0;
+  std::string description;  // written verbatim (the material JSON and the aniso version)
+};
+
+struct ExportReport {
+  bool isotropic = true;
+  std::string d_method;     // "exact GGX" or "power iteration (N steps)"
+  double seconds = 0.0;     // CPU time of the export
+};
+
+// The source material as a BrdfSource (exact D for GGX and GGX metal lobes); `description` is
+// filled by the caller.
+BrdfSource brdf_source(const MaterialD& m);
+
+// f is isotropic when rotating both directions about the normal leaves it unchanged (checked at
+// fixed pseudo-random pairs and angles, relative tolerance 1e-6).
+bool is_isotropic(const BrdfSource& src);
+
+std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& opt, ExportReport* report = nullptr);
+
+// The three non-negative box spectra (blue < 490 nm <= green < 590 nm <= red) and the wavelengths
+// of spectral files, and the 3x3 inverse of their reduction (measured/spectral.h), so that a
+// spectral file reduces back to the RGB it was made from. docs/rgl.md "Spectral files".
+std::vector<float> export_wavelengths();
+glm::dmat3 rgb_to_box_coefficients();
+
+// How well a read file reproduces its source, at incident (viewing) elevations 0 to 80 degrees in
+// 20-degree steps and azimuths 0, 60, 120, 210 and 300 degrees:
+//   l1:     cosine-weighted relative L1 of f over the hemisphere, sum over channels of
+//           integral |f_file - f_src| cos / integral f_src cos (the worst direction, and the mean);
+//   albedo: directional albedo (luminance) of the file against the source's, worst relative error.
+// Integrals by importance sampling (half the source's sampler, half cosine; fixed seed).
+struct RoundTripStats {
+  double l1_max = 0.0, l1_mean = 0.0, albedo_max = 0.0;
+  double worst_theta_deg = 0.0, worst_phi_deg = 0.0;
+  double l1_by_theta[5] = {0, 0, 0, 0, 0};  // worst over the azimuths at 0, 20, 40, 60, 80 degrees
+};
+struct SourceModel {
+  std::function<glm::dvec3(const Vec3d& wi, const Vec3d& wo)> f;
+  std::function<double(const Vec3d& wi, const Vec3d& wo)> pdf;
+  std::function<BSDFSampleT<double>(const Vec3d& wo, double uc, const Vec2T<double>& u)> sample;
+};
+SourceModel source_model(const MaterialD& m);
+RoundTripStats compare_rgl(const SourceModel& src, const RglT<double>& file, int samples = 20000);
+
+}  // namespace aniso::rgl

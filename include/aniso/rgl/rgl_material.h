@@ -1,0 +1,71 @@
+// aniso/rgl/rgl_material.h: an RGL tensor file (.bsdf) as a material: the checks every reader makes, the
+// interpolants pbrt-v4 builds from the fields, and the kernel view (aniso/brdf/rgl.h). docs/rgl.md.
+//
+// Lifetime: RglT<T> points into an RglData, held by shared_ptr as a MeasuredData is
+// (include/aniso/measured/measured.h): keep one beside every kernel built from it.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "aniso/brdf/rgl.h"
+#include "aniso/rgl/tensor.h"
+
+namespace aniso::rgl {
+
+// The tables of one PL2D and the constructor of pbrt-v4's PiecewiseLinear2D
+// (src/pbrt/util/sampling.h:1335-1455): per slice, conditional cdfs along x, the marginal cdf
+// along y, normalised (build_cdf) or scaled so that evaluate() returns the stored values
+// (normalize = false, build_cdf = false: ndf, sigma, spectra).
+struct PL2DTables {
+  std::vector<float> data, marginal_cdf, conditional_cdf;
+  std::array<std::vector<float>, 3> param_values;
+  PL2D view;  // points into the vectors above: do not copy a PL2DTables after building it
+
+  PL2DTables() = default;
+  PL2DTables(const PL2DTables&) = delete;
+  PL2DTables& operator=(const PL2DTables&) = delete;
+  // data: slices x size_y x size_x (C order, slices in the order of params, last fastest).
+  void build(const float* in, int size_x, int size_y, const std::vector<std::vector<float>>& params, bool normalize,
+             bool build_cdf);
+};
+
+struct RglData {
+  std::string source;       // the file, or a label
+  std::string description;  // the file's description field
+  bool spectral = false;    // wavelengths + spectra (reduced to RGB at load), else rgb
+  bool isotropic = true;
+  bool jacobian = true;
+  std::vector<float> theta_i, phi_i, wavelengths;
+  int ndf_shape[2] = {0, 0}, sigma_shape[2] = {0, 0}, vndf_grid[2] = {0, 0}, colour_grid = 0;
+  std::vector<std::string> field_summary;  // "name dtype [shape]" per field, in file order
+  uint64_t file_size = 0;
+  PL2DTables ndf, sigma, vndf, luminance, rgb;
+  RglTables tables;  // the views of the five above, what the kernel points to
+};
+
+// Checks the fields as pbrt-v4 (MeasuredBxDFData::Create, bxdfs.cpp:885-937) and Mitsuba 3
+// (measured.cpp:98-188) do, plus what both assume without checking (finite, non-negative tables,
+// increasing angle grids within range, a full phi circle when anisotropic, a positive vndf and
+// luminance mass in every slice, sigma > 0), and builds the interpolants. InputError naming the
+// file, the field and the problem.
+std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t);
+// read_tensor_file + rgl_from_tensor; each path read once per process (a registry, as
+// load_measured()'s), so a kernel built from it stays valid for the whole run.
+std::shared_ptr<const RglData> load_rgl(const std::string& path);
+
+// A path ending in .bsdf (any case).
+bool is_rgl_file_name(const std::string& spec);
+
+template <typename T> RglT<T> rgl_kernel(const RglData& d) {
+  RglT<T> k;
+  k.t = &d.tables;
+  return k;
+}
+
+// What `aniso presets --show file.bsdf` prints: fields, grids, isotropic or not, the description.
+std::string describe_rgl(const RglData& d);
+
+}  // namespace aniso::rgl
