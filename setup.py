@@ -6,6 +6,7 @@ the package (python/aniso). Offline, with Debian's packages: see docs/python.md,
 """
 import os
 import pathlib
+import re
 import shutil
 import subprocess
 import sys
@@ -14,6 +15,8 @@ from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 ROOT = pathlib.Path(__file__).resolve().parent
+# The one version: project(aniso VERSION x.y.z) in CMakeLists.txt.
+VERSION = re.search(r"project\(aniso VERSION ([0-9.]+)", (ROOT / "CMakeLists.txt").read_text()).group(1)
 
 
 class CMakeBuild(build_ext):
@@ -34,7 +37,7 @@ class CMakeBuild(build_ext):
 
 setup(
     name="aniso",
-    version="0.1.0",
+    version=VERSION,
     description="Anisotropic and measured reflectance: BRDF models, sampling, metals, a path tracer",
     packages=["aniso"],
     package_dir={"": "python"},

@@ -18,12 +18,12 @@
 #include <stb_image_write.h>
 #pragma GCC diagnostic pop
 
-#include "gl/gl_context.h"
+#include "aniso/gl/gl_context.h"
 #include "aniso/gl/glsl_export.h"
 #include "aniso/gl/glsl_library.h"
 #include "aniso/gl/glsl_material.h"
-#include "gl/scene_raster.h"
 #include "aniso/io/materials.h"
+#include "gl/scene_raster.h"
 #include "stats/rng.h"
 
 using namespace aniso;

@@ -22,7 +22,7 @@ install(FILES ${PROJECT_BINARY_DIR}/include/aniso/version.h DESTINATION ${CMAKE_
 #   kernels: aniso::kernels                      header-only, glm
 #   host:    aniso::batch, aniso::host, aniso::measured
 #   render:  aniso::render                        Embree 3, OpenEXR, tinyobjloader
-#   gl:      aniso::gl                            libepoxy
+#   gl:      aniso::gl                            GLSL export, headless GL host; libepoxy
 #   fit:     aniso::fit, aniso::export            Ceres (fitting writes its plots: needs render)
 #   aniso::aniso, all of them (every component)
 set(ANISO_COMPONENT_kernels aniso_kernels)
@@ -34,8 +34,7 @@ set(ANISO_COMPONENT_all aniso_all)
 foreach(component kernels host render gl fit all)
   install(TARGETS ${ANISO_COMPONENT_${component}} EXPORT aniso_${component}
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev
-          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime NAMELINK_COMPONENT dev
-          INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime NAMELINK_COMPONENT dev)
   install(EXPORT aniso_${component} NAMESPACE aniso:: FILE aniso-${component}-targets.cmake
           DESTINATION ${ANISO_CMAKE_DIR} COMPONENT dev)
 endforeach()
@@ -52,11 +51,12 @@ install(FILES ${PROJECT_BINARY_DIR}/anisoConfig.cmake ${PROJECT_BINARY_DIR}/anis
 # Embree have no .pc file in Debian and are named with -l.
 if(BUILD_SHARED_LIBS)
   set(ANISO_PC_REQUIRES "aniso-kernels fmt nlohmann_json")
-  set(ANISO_PC_REQUIRES_PRIVATE "tbb libhwy libhwy-contrib libcrypto OpenEXR tinyobjloader epoxy")
+  set(ANISO_PC_REQUIRES_PRIVATE "tbb libhwy libhwy-contrib libcrypto OpenEXR tinyobjloader epoxy libglog")
   set(ANISO_PC_LIBS_PRIVATE "-lceres -lembree3")
   set(ANISO_PC_LIBS_PRIVATE_STATIC "")
 else()
-  set(ANISO_PC_REQUIRES "aniso-kernels fmt nlohmann_json tbb libhwy libhwy-contrib libcrypto OpenEXR tinyobjloader epoxy")
+  # libglog: the fit library calls google::InitGoogleLogging (Ceres' logging) itself.
+  set(ANISO_PC_REQUIRES "aniso-kernels fmt nlohmann_json tbb libhwy libhwy-contrib libcrypto OpenEXR tinyobjloader epoxy libglog")
   set(ANISO_PC_REQUIRES_PRIVATE "")
   set(ANISO_PC_LIBS_PRIVATE "")
   set(ANISO_PC_LIBS_PRIVATE_STATIC "-lceres -lembree3")
@@ -79,19 +79,10 @@ install(DIRECTORY examples/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples COMPONE
         PATTERN "build*" EXCLUDE)
 install(FILES README.md DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT doc)
 
-# Shared libraries (-DBUILD_SHARED_LIBS=ON): an SONAME of major.minor (0.x breaks at each minor
-# version) and only the aniso namespace exported (cmake/aniso.map): fmt, Highway, TBB and the
-# standard library's instances stay inside each library.
-if(BUILD_SHARED_LIBS)
-  foreach(lib aniso_batch aniso_host aniso_measured aniso_render aniso_gl aniso_fit aniso_export)
-    set_target_properties(${lib} PROPERTIES VERSION ${PROJECT_VERSION}
-                          SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
-    target_link_options(${lib} PRIVATE -Wl,--version-script=${PROJECT_SOURCE_DIR}/cmake/aniso.map)
-    set_property(TARGET ${lib} APPEND PROPERTY LINK_DEPENDS ${PROJECT_SOURCE_DIR}/cmake/aniso.map)
-  endforeach()
-  if(ANISO_BUILD_APPS)
-    set_target_properties(aniso PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
-  endif()
+# A shared build's executable finds the libraries under the prefix (their SONAME, version script
+# and RPATH: the top-level CMakeLists.txt).
+if(BUILD_SHARED_LIBS AND ANISO_BUILD_APPS)
+  set_target_properties(aniso PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
 endif()
 
 # The Debian package: `make package` -> build/<preset>/aniso_<version>_amd64.deb, everything above

@@ -6,8 +6,8 @@
 // double and float. The tokens are also fed to the number rule's parse_decimal / parse_integer.
 #include <array>
 
-#include "fuzz_util.h"
 #include "aniso/io/materials.h"
+#include "fuzz_util.h"
 #include "io/text_input.h"
 
 namespace {

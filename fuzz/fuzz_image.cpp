@@ -4,9 +4,9 @@
 // rest is the file. Selector byte: (b & 0x7f) % 5 picks .png .hdr .exr .pfm .jpg; b & 0x80 reads
 // 8-bit data as linear. An accepted image must have a positive size, width * height * 3 values, each
 // finite and >= 0 (read_image's contract, image.h).
-#include "fuzz_util.h"
 #include "aniso/io/params.h"
 #include "aniso/render/image.h"
+#include "fuzz_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

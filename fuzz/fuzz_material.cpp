@@ -4,9 +4,9 @@
 // fuzz_util.cpp. Every material the reader accepts must give finite, non-negative output in both
 // precisions (issue 13), and its resolved form (`aniso presets --show`) must read back as valid
 // input giving the same material.
+#include "aniso/io/materials.h"
 #include "fuzz_util.h"
 #include "io/json_read.h"
-#include "aniso/io/materials.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

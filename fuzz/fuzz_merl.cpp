@@ -4,9 +4,9 @@
 // their messages, on arbitrary bytes. Every input must be rejected with an InputError (no crash, no
 // allocation from an unchecked size, no hang); the table's value checks are the unit tests'
 // (tests/test_merl.cpp, tests/test_measured.cpp).
-#include "fuzz_util.h"
 #include "aniso/io/params.h"
 #include "aniso/measured/merl.h"
+#include "fuzz_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

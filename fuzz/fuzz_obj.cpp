@@ -5,12 +5,12 @@
 // of it must stay finite.
 #include <fmt/format.h>
 
-#include "fuzz_render.h"
-#include "fuzz_util.h"
-#include "io/json_read.h"
 #include "aniso/io/params.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
+#include "fuzz_render.h"
+#include "fuzz_util.h"
+#include "io/json_read.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

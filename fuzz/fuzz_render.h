@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "fuzz_util.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
+#include "fuzz_util.h"
 
 namespace aniso::fuzz {
 

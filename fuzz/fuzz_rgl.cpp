@@ -6,9 +6,9 @@
 // fuzz/make_seeds.py) are small valid files, isotropic and anisotropic, and broken variants.
 #include <cmath>
 
-#include "fuzz_util.h"
 #include "aniso/io/params.h"
 #include "aniso/rgl/rgl_material.h"
+#include "fuzz_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

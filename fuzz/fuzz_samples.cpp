@@ -6,9 +6,9 @@
 // finite positive weights.
 #include <cmath>
 
-#include "fuzz_util.h"
 #include "aniso/io/params.h"
 #include "aniso/measured/samples.h"
+#include "fuzz_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace aniso;

@@ -5,12 +5,12 @@
 // object's material satisfies the kernel contract (fuzz_util.h), a tangent map looks up finite
 // unit directions, and a tiny render (8 x 8 pixels, 1 sample, 3 vertices, one thread) drops no
 // NaN / Inf sample and gives a finite, non-negative image.
-#include "fuzz_render.h"
-#include "fuzz_util.h"
-#include "io/json_read.h"
 #include "aniso/io/params.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
+#include "fuzz_render.h"
+#include "fuzz_util.h"
+#include "io/json_read.h"
 
 namespace {
 using namespace aniso;

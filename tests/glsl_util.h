@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "gl/gl_context.h"
+#include "aniso/gl/gl_context.h"
 #include "aniso/gl/glsl_library.h"
 #include "aniso/gl/glsl_material.h"
 

@@ -17,8 +17,8 @@
 #include <gtest/gtest.h>
 
 #include "aniso/batch/batch.h"
-#include "chi2.h"
 #include "aniso/io/presets.h"
+#include "chi2.h"
 #include "test_util.h"
 
 namespace aniso::test {

@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli_fixture.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/params.h"
+#include "cli_fixture.h"
 #include "view/explorer.h"
 
 namespace aniso {

@@ -12,11 +12,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "aniso/version.h"
-#include "cli_fixture.h"
 #include "aniso/export/export.h"
 #include "aniso/io/materials.h"
 #include "aniso/measured/merl.h"
+#include "aniso/version.h"
+#include "cli_fixture.h"
 
 namespace aniso {
 namespace {

@@ -9,13 +9,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli_fixture.h"
 #include "aniso/fit/fit.h"
-#include "fit/models.h"
 #include "aniso/fit/plot.h"
 #include "aniso/io/materials.h"
 #include "aniso/measured/merl.h"
 #include "aniso/stats/albedo.h"
+#include "cli_fixture.h"
+#include "fit/models.h"
 #include "stats/rng.h"
 
 namespace aniso {

@@ -15,12 +15,12 @@
 
 #include <epoxy/gl.h>
 
-#include "cli_fixture.h"
-#include "gl/scene_raster.h"
-#include "glsl_util.h"
 #include "aniso/measured/merl.h"
 #include "aniso/render/geometry.h"
 #include "aniso/render/integrator.h"
+#include "cli_fixture.h"
+#include "gl/scene_raster.h"
+#include "glsl_util.h"
 #include "test_util.h"
 
 namespace aniso::test {

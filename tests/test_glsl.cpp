@@ -8,9 +8,9 @@
 #include <cstring>
 #include <sstream>
 
+#include "aniso/io/presets.h"
 #include "chi2.h"
 #include "glsl_util.h"
-#include "aniso/io/presets.h"
 #include "test_util.h"
 
 namespace aniso::test {

@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "aniso/core/frame.h"
-#include "glsl_util.h"
 #include "aniso/io/presets.h"
+#include "glsl_util.h"
 #include "test_util.h"
 
 namespace aniso::test {

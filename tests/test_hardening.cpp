@@ -13,11 +13,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli_fixture.h"
 #include "aniso/data/metals.h"
-#include "io/json_read.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/presets.h"
+#include "cli_fixture.h"
+#include "io/json_read.h"
 #include "io/text_input.h"
 #include "stats/rng.h"
 

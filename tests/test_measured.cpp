@@ -12,10 +12,10 @@
 #include <gtest/gtest.h>
 
 #include "aniso/batch/batch.h"
-#include "chi2.h"
-#include "cli_fixture.h"
 #include "aniso/measured/measured.h"
 #include "aniso/stats/albedo.h"
+#include "chi2.h"
+#include "cli_fixture.h"
 #include "test_util.h"
 
 namespace aniso::test {

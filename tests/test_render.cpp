@@ -15,9 +15,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "reference/reference_brdfs.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
+#include "reference/reference_brdfs.h"
 
 namespace aniso::render {
 namespace {

@@ -12,14 +12,14 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "chi2.h"
-#include "cli_fixture.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/params.h"
 #include "aniso/measured/measured.h"
 #include "aniso/rgl/rgl_export.h"
 #include "aniso/rgl/rgl_material.h"
 #include "aniso/rgl/tensor.h"
+#include "chi2.h"
+#include "cli_fixture.h"
 #include "test_util.h"
 
 namespace aniso::test {

@@ -5,10 +5,10 @@
 
 #include <gtest/gtest.h>
 
-#include "cli_fixture.h"
 #include "aniso/io/params.h"
 #include "aniso/measured/samples.h"
 #include "aniso/measured/spectral.h"
+#include "cli_fixture.h"
 
 namespace aniso {
 namespace {

@@ -9,10 +9,10 @@
 
 #include <unistd.h>
 
-#include "cli_fixture.h"
-#include "io/json_read.h"
 #include "aniso/io/materials.h"
 #include "aniso/render/image.h"
+#include "cli_fixture.h"
+#include "io/json_read.h"
 
 namespace aniso {
 namespace {

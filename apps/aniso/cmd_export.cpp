@@ -9,10 +9,10 @@
 
 #include <fmt/format.h>
 
-#include "commands.h"
 #include "aniso/gl/glsl_export.h"
-#include "io/atomic_file.h"
 #include "aniso/io/materials.h"
+#include "commands.h"
+#include "io/atomic_file.h"
 
 namespace aniso {
 

@@ -10,9 +10,9 @@
 
 #include <fmt/format.h>
 
-#include "commands.h"
 #include "aniso/export/export.h"
 #include "aniso/io/materials.h"
+#include "commands.h"
 
 namespace aniso {
 

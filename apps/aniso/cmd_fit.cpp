@@ -10,10 +10,10 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
-#include "commands.h"
 #include "aniso/fit/fit.h"
 #include "aniso/fit/plot.h"
 #include "aniso/io/materials.h"
+#include "commands.h"
 #include "io/text_input.h"
 
 namespace aniso {

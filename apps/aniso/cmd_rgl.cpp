@@ -4,12 +4,12 @@
 
 #include <fmt/format.h>
 
-#include "aniso/version.h"
-#include "commands.h"
 #include "aniso/io/materials.h"
-#include "io/text_input.h"
 #include "aniso/rgl/rgl_export.h"
 #include "aniso/rgl/rgl_material.h"
+#include "aniso/version.h"
+#include "commands.h"
+#include "io/text_input.h"
 
 namespace aniso {
 

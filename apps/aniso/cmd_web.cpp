@@ -23,13 +23,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "aniso/version.h"
-#include "commands.h"
 #include "aniso/data/metals.h"
 #include "aniso/gl/glsl_library.h"
 #include "aniso/gl/glsl_material.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/presets.h"
+#include "aniso/version.h"
+#include "commands.h"
 
 namespace aniso {
 namespace {
@@ -173,7 +173,7 @@ const char* slot_type(gl::GlslSlot::Type t) {
 }
 
 json web_data() {
-  json data = {{"generator", "aniso " ANISO_VERSION " web-data (apps/aniso/cmd_web.cpp)"}};
+  json data = {{"generator", "aniso " ANISO_VERSION " web-data (apps/aniso/cmd_web.cpp)"}, {"version", ANISO_VERSION}};
   data["models"] = json::array();
   for (const ModelSpec* m : model_specs()) data["models"].push_back(table_json(*m));
   data["metals"] = json::array();

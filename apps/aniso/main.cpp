@@ -24,22 +24,22 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "aniso/version.h"
 #include "aniso/batch/batch.h"
-#include "commands.h"
 #include "aniso/data/metals.h"
-#include "gl/gl_context.h"
-#include "gl/scene_raster.h"
-#include "io/json_read.h"
+#include "aniso/gl/gl_context.h"
 #include "aniso/io/materials.h"
-#include "io/names.h"
 #include "aniso/io/presets.h"
-#include "io/text_input.h"
 #include "aniso/measured/measured.h"
 #include "aniso/render/gallery.h"
 #include "aniso/render/integrator.h"
 #include "aniso/rgl/rgl_material.h"
 #include "aniso/stats/albedo.h"
+#include "aniso/version.h"
+#include "commands.h"
+#include "gl/scene_raster.h"
+#include "io/json_read.h"
+#include "io/names.h"
+#include "io/text_input.h"
 #include "stats/rng.h"
 
 namespace aniso {

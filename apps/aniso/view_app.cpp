@@ -20,11 +20,11 @@
 
 #include <fmt/format.h>
 
-#include "commands.h"
 #include "aniso/data/metals.h"
 #include "aniso/gl/glsl_export.h"
 #include "aniso/io/params.h"
 #include "aniso/render/image.h"
+#include "commands.h"
 #include "view/explorer.h"
 #include "view/plots.h"
 #include "view/preview.h"

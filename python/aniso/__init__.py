@@ -34,8 +34,7 @@ from ._aniso import (  # noqa: F401  (re-exported)
     save_image,
     simd_target,
 )
-
-__version__ = "0.1.0"
+from ._aniso import __version__  # noqa: E402,F401  (the C++ library's, aniso/version.h)
 
 from .fit_db import fit_many  # noqa: E402,F401  (every model on every material: docs/fit-db.md)
 

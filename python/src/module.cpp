@@ -31,23 +31,24 @@
 #include "aniso/batch/batch.h"
 #include "aniso/brdf/fresnel.h"
 #include "aniso/core/frame.h"
-#include "arrays.h"
-#include "transpose.h"
 #include "aniso/data/metals.h"
 #include "aniso/export/export.h"
-#include "io/atomic_file.h"
 #include "aniso/fit/fit.h"
-#include "aniso/measured/samples.h"
 #include "aniso/gl/glsl_export.h"
-#include "io/json_read.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/params.h"
 #include "aniso/io/presets.h"
-#include "io/text_input.h"
+#include "aniso/measured/samples.h"
 #include "aniso/render/gallery.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
 #include "aniso/stats/albedo.h"
+#include "aniso/version.h"
+#include "arrays.h"
+#include "io/atomic_file.h"
+#include "io/json_read.h"
+#include "io/text_input.h"
+#include "transpose.h"
 
 namespace py = pybind11;
 using nlohmann::json;
@@ -1194,6 +1195,7 @@ PYBIND11_MODULE(_aniso, m) {
   using namespace aniso;
   using namespace aniso::python;
   m.doc() = "aniso: anisotropic and measured reflectance (the compiled part; import aniso)";
+  m.attr("__version__") = ANISO_VERSION;  // aniso/version.h, from project(aniso VERSION ...)
 
   // Every input error of the library (InputError: a bad material, scene or argument) is a
   // ValueError with the message the CLI prints after "aniso: error: ".

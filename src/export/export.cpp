@@ -1,7 +1,7 @@
 // export/export.cpp: see export.h; the conventions of each target are in targets.h, with the
 // source lines they come from, and in docs/export.md.
-#include "aniso/version.h"
 #include "aniso/export/export.h"
+#include "aniso/version.h"
 
 #include <algorithm>
 #include <cctype>

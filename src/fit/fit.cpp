@@ -2,6 +2,7 @@
 #include "fit/jet.h"  // first: the kernels' constants for ceres::Jet
 
 #include "aniso/fit/fit.h"
+#include "aniso/version.h"
 
 #include <algorithm>
 #include <array>
@@ -23,11 +24,11 @@
 #include <Eigen/Dense>
 
 #include "aniso/core/sampling.h"
-#include "fit/models.h"
-#include "io/enum_names.h"
-#include "aniso/stats/albedo.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/presets.h"
+#include "aniso/stats/albedo.h"
+#include "fit/models.h"
+#include "io/enum_names.h"
 #include "io/text_input.h"
 
 namespace aniso {
@@ -1102,6 +1103,7 @@ nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const F
   f["best_start"] = r.best_start;
   f["iterations"] = r.iterations;
   f["solver"] = "Ceres Levenberg-Marquardt, derivatives from the kernels on ceres::Jet";
+  f["aniso_version"] = ANISO_VERSION;
   f["termination"] = r.termination;
   const auto rgb = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
   f["error"] = {{"l2cos", r.errors.l2cos_all}, {"l2cos_rgb", rgb(r.errors.l2cos)}, {"log", r.errors.log_all},

@@ -1,6 +1,6 @@
 // gl/gl_context.cpp: EGL without a window, through libepoxy (which resolves GL entry points with
 // eglGetProcAddress, so it works with EGL contexts and no GLX).
-#include "gl/gl_context.h"
+#include "aniso/gl/gl_context.h"
 #include "gl/gl_shader.h"
 
 #include <cstdlib>

@@ -1,6 +1,6 @@
 // gl/glsl_export.cpp: the two export formats.
-#include "aniso/version.h"
 #include "aniso/gl/glsl_export.h"
+#include "aniso/version.h"
 
 #include <algorithm>
 #include <cmath>

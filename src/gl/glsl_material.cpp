@@ -14,8 +14,8 @@
 
 #include "aniso/brdf/material.h"
 #include "aniso/data/metals.h"
+#include "aniso/gl/gl_context.h"
 #include "io/enum_names.h"
-#include "gl/gl_context.h"
 
 namespace aniso::gl {
 namespace {

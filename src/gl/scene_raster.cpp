@@ -11,11 +11,11 @@
 #include <fmt/format.h>
 
 #include "aniso/core/sampling.h"
-#include "gl/gl_context.h"
-#include "gl/gl_shader.h"
+#include "aniso/gl/gl_context.h"
 #include "aniso/gl/glsl_library.h"
 #include "aniso/gl/glsl_material.h"
 #include "aniso/render/geometry.h"
+#include "gl/gl_shader.h"
 
 namespace aniso::gl {
 namespace {

@@ -8,11 +8,11 @@
 #include <fmt/format.h>
 
 #include "aniso/data/metals.h"
-#include "io/enum_names.h"
-#include "io/json_read.h"
 #include "aniso/io/presets.h"
 #include "aniso/measured/measured.h"
 #include "aniso/rgl/rgl_material.h"
+#include "io/enum_names.h"
+#include "io/json_read.h"
 
 namespace aniso {
 

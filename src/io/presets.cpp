@@ -8,8 +8,8 @@
 #include "aniso/brdf/fresnel.h"
 #include "aniso/data/fits.h"
 #include "aniso/data/metals.h"
-#include "io/names.h"
 #include "aniso/io/params.h"
+#include "io/names.h"
 
 namespace aniso {
 namespace {

@@ -12,8 +12,8 @@
 
 #include <fmt/format.h>
 
-#include "io/json_read.h"
 #include "aniso/io/params.h"
+#include "io/json_read.h"
 
 namespace aniso {
 

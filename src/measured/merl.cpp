@@ -13,8 +13,8 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include "io/atomic_file.h"
 #include "aniso/io/input_error.h"
+#include "io/atomic_file.h"
 
 namespace aniso {
 

@@ -8,11 +8,11 @@
 
 #include <fmt/format.h>
 
-#include "io/json_read.h"
 #include "aniso/io/input_error.h"
-#include "io/text_input.h"
 #include "aniso/measured/merl.h"
 #include "aniso/measured/spectral.h"
+#include "io/json_read.h"
+#include "io/text_input.h"
 
 namespace aniso {
 

@@ -26,8 +26,8 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 
-#include "io/atomic_file.h"
 #include "aniso/io/params.h"
+#include "io/atomic_file.h"
 #include "io/text_input.h"
 
 // Third-party single-header libraries: their own code is not held to the project's warning flags.

@@ -14,11 +14,11 @@
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
-#include "io/json_read.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/presets.h"
-#include "io/text_input.h"
 #include "aniso/render/image.h"
+#include "io/json_read.h"
+#include "io/text_input.h"
 
 namespace aniso::render {
 namespace {

@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "io/json_read.h"
 #include "aniso/io/presets.h"
+#include "io/json_read.h"
 
 namespace aniso::view {
 

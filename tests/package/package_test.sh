@@ -63,8 +63,11 @@ pkgconfig)
   export PKG_CONFIG_PATH="$prefix/lib/pkgconfig"
   ${CXX:-c++} -std=c++20 -O2 "$source_dir/examples/cpp/kernels_only.cpp" $(pkg-config --cflags --libs aniso-kernels) -o "$work/kernels_only"
   ${CXX:-c++} -std=c++20 -O2 "$source_dir/examples/cpp/eval.cpp" $(pkg-config --cflags --libs aniso) -o "$work/eval"
-  "$work/kernels_only" > "$work/kernels_only.txt" || fail "kernels_only (pkg-config) failed"
-  bash "$source_dir/examples/cpp/check_eval.sh" "$work/eval" "$cli"
+  sh "$source_dir/examples/cpp/compare_with_cli.sh" "$cli" 1e-6 "$work/kernels_only" > "$work/kernels_only.txt" \
+    || { cat "$work/kernels_only.txt"; fail "kernels_only (pkg-config) disagrees with $cli"; }
+  sh "$source_dir/examples/cpp/compare_with_cli.sh" "$cli" 1e-6 "$work/eval" brushed-gold 30 0 30 180 45 20 60 200 80 0 80 180 \
+    > "$work/eval.txt" || { cat "$work/eval.txt"; fail "eval (pkg-config) disagrees with $cli"; }
+  tail -n 1 "$work/eval.txt"
   echo "pkg-config: $(pkg-config --modversion aniso); built and checked kernels_only and eval"
   ;;
 subproject)

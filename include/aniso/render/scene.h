@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 
 #include "aniso/brdf/material.h"
-#include "aniso/tangent/fields.h"
 #include "aniso/io/materials.h"
 #include "aniso/render/environment.h"
 #include "aniso/render/sampler.h"
+#include "aniso/tangent/fields.h"
 
 namespace aniso::render {
 

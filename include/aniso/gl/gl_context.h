@@ -1,4 +1,4 @@
-// gl/gl_context.h: a small headless OpenGL host: an EGL context without a window (Mesa's
+// aniso/gl/gl_context.h: a small headless OpenGL host: an EGL context without a window (Mesa's
 // surfaceless platform: llvmpipe on machines without a GPU; the EGL device platform for a
 // vendor's driver), compute programs, and storage buffers. The parity tests, the GLSL benchmark
 // and `aniso render --backend gl` (gl/scene_raster.h, which itself needs only a current GL 3.3
