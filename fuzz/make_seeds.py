@@ -219,6 +219,7 @@ csv_files = {
     "negative.csv": "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.5,0,0.5,3.1,-0.2,0.3,0.4\n",
     "horizon.csv": "theta_i_deg,phi_i,theta_o,phi_o,r,g,b\n90,0,0.5,3.1,0.2,0.3,0.4\n",
     "short-row.csv": "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.5,0,0.5,3.1,0.2\n",
+    "huge-value.csv": "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.5,0,0.5,3.1,1e300,0.3,0.4\n",
     "empty.csv": "",
 }
 for name, text in csv_files.items():
@@ -232,6 +233,7 @@ cornell_files = {
     "no-rows.brdf": "31\n" + wls + "\n",
     "descending-wls.brdf": "3\n600 500 400\n0.5 0 0.5 0 0.1 0.2 0.3\n",
     "nan.brdf": "31\n" + wls + "\n" + row.replace("0.872665", "nan") + "\n",
+    "huge-value.brdf": "31\n" + wls + "\n" + row.replace(" 0.001 ", " 1e300 ", 1) + "\n",
 }
 for name, text in cornell_files.items():
     put("samples", name, "\x01" + text)

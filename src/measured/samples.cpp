@@ -27,7 +27,9 @@ constexpr double kPiD = 3.14159265358979323846;
 // The largest BRDF value a sample may hold: the bound the material reader puts on a Lafortune
 // lobe's peak (docs/models/lafortune.md), the largest value any fitted model can take. Measured
 // BRDFs stay far below (MERL's largest values are about 1e4); far larger ones (1e300) would
-// overflow the fit's squared residuals.
+// overflow the fit's squared residuals. A CSV colour and a Cornell spectral value are held to it
+// alike: the spectral-to-RGB weights sum to 1 per channel with a few small negative ones
+// (spectral.h), so a spectrum within the bound gives channels of the same order, never near overflow.
 constexpr double kMaxSampleValue = 1e30;
 
 std::string_view trim(std::string_view s) {
@@ -244,6 +246,9 @@ SampleSet read_cornell(const std::string& path) {
     for (int j = 0; j < wavelength_count; ++j) {
       const double v = number_at(tokens[4 + size_t(j)], path, lines.number, fmt::format("spectral value {}", j + 1));
       if (!(v >= 0.0)) fail_at(path, lines.number, fmt::format("spectral value {} ({:g} nm) = {:g}: a BRDF value cannot be negative", j + 1, lambda[size_t(j)], v));
+      if (v > kMaxSampleValue)
+        fail_at(path, lines.number, fmt::format("spectral value {} ({:g} nm) = {:g}: expected a BRDF value of at most {:g} (1/sr)", j + 1,
+                                                lambda[size_t(j)], v, kMaxSampleValue));
       spectrum[size_t(j)] = v;
     }
     MeasuredSample s;
