@@ -3,6 +3,7 @@
 // and what was expected, and writes no image at all (not even a partial or temporary one).
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -170,6 +171,32 @@ TEST_F(RenderCli, MaterialPreview) {
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("no-such-preset"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(dir_ / "r.png"));
+}
+
+// The preview scene's frame (render/gallery.cpp, preview_scene): the sky's horizon stays above the
+// top edge and the rim light's disc outside the picture. Looking down by 14.9 degrees put the
+// horizon's band on the top two rows (0.29 and 0.10 against the ground's 0.05) and the rim light's
+// disc, cut by the top edge, in the top right corner (radiance about 35).
+TEST_F(RenderCli, MaterialPreviewFramesNeitherTheHorizonNorTheRimLight) {
+  const CliRun r = run("render --material brushed-gold --width 320 --spp 2 -o p.pfm");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const render::Image img = render::read_image((dir_ / "p.pfm").string(), "p.pfm");
+  ASSERT_EQ(img.width, 320);
+  ASSERT_EQ(img.height, 180);
+  const auto row_mean = [&](int y, int x0, int x1) {
+    double sum = 0.0;
+    for (int x = x0; x < x1; ++x) sum += img.at(x, y).y;
+    return sum / (x1 - x0);
+  };
+  // Above the objects the background is the sky's ground colour (0.05): the top rows no brighter
+  // than the rows below them (the left 60 %, where no light or object reaches the top rows).
+  const double below = row_mean(8, 0, 192);
+  for (int y = 0; y < 4; ++y) EXPECT_LE(row_mean(y, 0, 192), below * 1.02 + 1e-3) << "row " << y;
+  // No light source in the frame: nothing in the top tenth brighter than a lit surface can be.
+  float brightest = 0.0f;
+  for (int y = 0; y < 18; ++y)
+    for (int x = 0; x < 320; ++x) brightest = std::max(brightest, img.at(x, y).y);
+  EXPECT_LT(brightest, 2.0f);
 }
 
 TEST_F(RenderCli, MissingUnreadableAndInvalidFiles) {
