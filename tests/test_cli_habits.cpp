@@ -125,6 +125,29 @@ TEST_F(CliHabits, HelpVersionAndPrintSceneToAFailingStdoutExitOne) {
   }
 }
 
+// The commands that write a file and say so on stdout ("wrote ...", what was fitted or exported),
+// and the exports to stdout: a stdout that fails (a full disk, a closed descriptor) is exit 1 with
+// the documented message, one line (docs/cli.md, "Exit status"), never exit 0 with the line lost,
+// and never the error twice (export-glsl to a full stdout printed it once from the command and
+// once more from the final check).
+TEST_F(CliHabits, FileWritingCommandsWithAFailingStdoutExitOneWithOneMessage) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
+  const std::string data = ward_csv("data.csv");
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"render", "-m", "gold", "--spp", "1", "--width", "32", "-o", at("r.png")},
+           {"export", "--to", "pbrt-v4", "-m", "gold", "-o", at("g.pbrt")},
+           {"fit", data, "--model", "ward", "-q", "--starts", "1", "-o", at("f.json")},
+           {"export-glsl", "-m", "gold"},
+           {"export-brdf", "-m", "gold"}}) {
+    for (const std::string redirect : {"> /dev/full", ">&-"}) {
+      const Result r = run_redirected(args, "< /dev/null " + redirect);
+      EXPECT_EQ(r.code, 1) << args[0] << " " << redirect << ": " << r.err;
+      EXPECT_TRUE(contains(r.err, "aniso: error: stdout: write error: ")) << args[0] << " " << redirect << ": " << r.err;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args[0] << " " << redirect << ": " << r.err;
+    }
+  }
+}
+
 TEST_F(CliHabits, PrintSceneWritesAbsoluteAssetPaths) {
   for (const std::string scene : {"studio-map.json", "tangent-map.json", "brushed-vase.json"}) {
     const Result r = run({"render", std::string(ANISO_SOURCE_DIR) + "/examples/" + scene, "--print-scene"});

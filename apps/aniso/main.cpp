@@ -817,8 +817,10 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {
     // A command run inside CLI11's callback (export-glsl, export-brdf: cmd_export.cpp) has printed
-    // its message and chosen the exit status itself: 2 for bad input, 1 for a write error.
-    return finish(e.get_exit_code());
+    // its message and chosen the exit status itself: 2 for bad input, 1 for a write error. A failed
+    // one is not checked again: its own message may already be stdout's write error (export-glsl
+    // without -o > /dev/full), and one error is one line (docs/cli.md, "Exit status").
+    return e.get_exit_code() == 0 ? finish(0) : e.get_exit_code();
   } catch (const CLI::ParseError& e) {
     // CLI11 prints the message (or the help); every command-line error exits 2, like input errors.
     const int code = app.exit(e);
