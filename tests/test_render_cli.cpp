@@ -174,9 +174,9 @@ TEST_F(RenderCli, MaterialPreview) {
 }
 
 // The preview scene's frame (render/gallery.cpp, preview_scene): the sky's horizon stays above the
-// top edge and the rim light's disc outside the picture. Looking down by 14.9 degrees put the
-// horizon's band on the top two rows (0.29 and 0.10 against the ground's 0.05) and the rim light's
-// disc, cut by the top edge, in the top right corner (radiance about 35).
+// top edge and the rim light's disc outside the picture. A camera looking down by 14.9 degrees puts
+// the horizon's band on the top two rows (0.29 and 0.10 against the ground's 0.05) and the rim
+// light's disc, cut by the top edge, in the top right corner (radiance about 35).
 TEST_F(RenderCli, MaterialPreviewFramesNeitherTheHorizonNorTheRimLight) {
   const CliRun r = run("render --material brushed-gold --width 320 --spp 2 -o p.pfm");
   ASSERT_EQ(r.code, 0) << r.err;

@@ -149,11 +149,10 @@ nlohmann::json preview_scene(const nlohmann::json& material) {
   const nlohmann::json& common = gallery_document().at("common");
   nlohmann::json s = common;
   // The camera looks down by 21 degrees, so that the film's top edge (15 degrees above the axis)
-  // stays 6 degrees below the sky's horizon: looking down by 14.9 degrees put the horizon's bright
-  // band exactly on the top two rows (0.29 against the ground's 0.05). The gallery's rim light sits
-  // inside this wider 16:9 frame (its disc cut by the top edge at the top right): here it is raised
-  // from y = 1.5 to 3, still behind the objects, which puts its disc 0.6 of the half-height above the
-  // frame.
+  // stays 6 degrees below the sky's horizon, whose band (0.3 against the ground's 0.05) would
+  // otherwise be a bright line along the top rows. The gallery's rim light, at y = 1.5, would sit
+  // inside this wider 16:9 frame, its disc cut by the top edge at the top right: here it is at
+  // y = 3, still behind the objects, its disc 0.6 of the half-height above the frame.
   s["camera"] = {{"position", {0.0, 2.2, 6.0}}, {"look_at", {0.0, -0.1, 0.0}}, {"up", {0, 1, 0}}, {"fov_deg", 30}};
   s["lights"][1]["center"] = {3.5, 3.0, -3.5};
   s["film"] = {{"width", 640}, {"height", 360}, {"spp", 64}};
