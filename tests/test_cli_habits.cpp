@@ -128,8 +128,8 @@ TEST_F(CliHabits, HelpVersionAndPrintSceneToAFailingStdoutExitOne) {
 // The commands that write a file and say so on stdout ("wrote ...", what was fitted or exported),
 // and the exports to stdout: a stdout that fails (a full disk, a closed descriptor) is exit 1 with
 // the documented message, one line (docs/cli.md, "Exit status"), never exit 0 with the line lost,
-// and never the error twice (export-glsl to a full stdout printed it once from the command and
-// once more from the final check).
+// and never the error twice (a command's own stdout write error is not reported again by main's
+// final check).
 TEST_F(CliHabits, FileWritingCommandsWithAFailingStdoutExitOneWithOneMessage) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
   const std::string data = ward_csv("data.csv");
