@@ -4,12 +4,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 
 #include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "aniso/io/materials.h"
+#include "aniso/io/params.h"
 #include "aniso/render/integrator.h"
 #include "aniso/stats/albedo.h"
 #include "test_util.h"
@@ -160,6 +163,53 @@ TEST(ViewSliders, FromTheParameterTables) {
   bool lobe_n = false;
   for (const auto& s : laf) lobe_n |= s.key == "lobes[0].n";
   EXPECT_TRUE(lobe_n);
+}
+
+// The window labels a slider by its name within its nested object, under a tree node for that
+// object: within every group of every model's defaults and of the nested presets the labels differ,
+// and group + "." + label is the key (the full keys, cut by the label column, would read
+// "directional_diff" five times for brushed-gold).
+TEST(ViewSliders, NestedKeysHaveDistinctLabelsInTheirGroup) {
+  std::vector<view::MaterialSlot> slots = {view::load_slot("brushed-gold"), view::load_slot("matte-steel")};
+  // Every model's defaults, but for those that need a file (measured, rgl: no defaults to show).
+  for (const ModelSpec* m : model_specs()) {
+    try {
+      slots.push_back(view::default_slot_for_model(std::string(m->name)));
+    } catch (const InputError&) {
+    }
+  }
+  EXPECT_GE(slots.size(), 8u);
+  for (const view::MaterialSlot& slot : slots) {
+    std::map<std::string, std::set<std::string>> labels;
+    for (const view::SliderSpec& s : view::slider_specs(slot)) {
+      EXPECT_EQ(s.group.empty() ? s.label : s.group + "." + s.label, s.key);
+      EXPECT_EQ(s.label.find('.'), std::string::npos) << s.key;
+      EXPECT_TRUE(labels[s.group].insert(s.label).second) << slot.source << ": " << s.key << " repeats its label in " << s.group;
+    }
+  }
+  std::map<std::string, std::vector<std::string>> gold;
+  for (const view::SliderSpec& s : view::slider_specs(view::load_slot("brushed-gold"))) gold[s.group].push_back(s.label);
+  EXPECT_EQ(gold["directional_diffuse"], (std::vector<std::string>{"albedo", "cx", "cy", "cz", "n"}));
+  EXPECT_EQ(gold["lobe"].front(), "model");
+  std::set<std::string> lobes;
+  for (const view::SliderSpec& s : view::slider_specs(view::load_slot("matte-steel"))) lobes.insert(s.group);
+  EXPECT_EQ(lobes, (std::set<std::string>{"", "lobes[0]", "lobes[1]", "lobes[2]"}));
+}
+
+// The A/B captions' shortening: whole characters dropped from the end, "..." appended, never wider
+// than asked (here one unit a byte, as a fixed-width font measures ASCII).
+TEST(ViewText, EllipsizeFitsTheWidth) {
+  const auto bytes = [](std::string_view t) { return float(t.size()); };
+  EXPECT_EQ(view::ellipsize("A gold", 10.0f, bytes), "A gold");
+  EXPECT_EQ(view::ellipsize("A brushed-gold (edited)", 10.0f, bytes), "A brush...");
+  EXPECT_EQ(view::ellipsize("A brushed-gold (edited)", 3.0f, bytes), "...");
+  EXPECT_EQ(view::ellipsize("A brushed-gold (edited)", 2.0f, bytes), "");
+  // A two-byte character is dropped whole: "A caf\xc3\xa9 gris" cut after its 'f' or after the whole 'é', never inside it.
+  for (float w = 3.0f; w < 14.0f; w += 1.0f) {
+    const std::string t = view::ellipsize("A caf\xc3\xa9 gris", w, bytes);
+    EXPECT_LE(float(t.size()), w);
+    EXPECT_EQ(t.find("\xc3..."), std::string::npos) << t;
+  }
 }
 
 TEST(ViewSet, ChangesTheMaterialOrKeepsIt) {

@@ -4,6 +4,7 @@
 // changed from the command line changing the highlight as the parameter says, bad files loaded by
 // the script actions shown as errors with the last good state kept. Without xvfb-run or GLX the
 // tests are skipped with the reason.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -217,6 +218,31 @@ TEST_F(ViewCli, BadFilesShowTheErrorAndKeepTheLastGoodState) {
   EXPECT_GT(red, 100) << "no error text in the window";
   const int cx = kPanel + kPad + (640 - kPanel - 2 * kPad) / 2, cy = kTitle + kPad + (480 - kTitle - 2 * kPad) / 2;
   EXPECT_GT(lum(img.at(cx, cy)), 0.2f) << "the sphere is not drawn";
+}
+
+// The A/B captions stay in their halves of the compare view: "A brushed-gold (edited)" is wider
+// than half of this 296-pixel view and would run into "B gold": it is shortened before the split line.
+TEST_F(ViewCli, CompareCaptionsStayInTheirHalves) {
+  const Result r = view({"--material", "brushed-gold", "--set", "lobe.alpha_x=0.1", "--views", "compare", "--size", "640x480",
+                         "--frames", "4", "--screenshot", "c.png"});
+  VIEW_OR_SKIP(r);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const render::Image img = shot("c.png");
+  const int vx0 = kPanel + kPad, vw = 640 - kPanel - 2 * kPad, split = vx0 + vw / 2;
+  // The captions' colours (kColA, kColB in view_app.cpp: 255, 170, 60 and 110, 190, 255), decoded to
+  // linear: orange has red near 1 and little blue, blue the reverse; the caption rows are above the sphere.
+  int a_left = 0, a_right = 0, b_left = 0, b_right = 0, a_last = 0;
+  for (int y = kTitle + kPad; y < kTitle + kPad + 20; ++y)
+    for (int x = vx0; x < vx0 + vw; ++x) {
+      const RGB c = img.at(x, y);
+      const bool orange = c.x > 0.5f && c.y > 0.12f && c.z < 0.12f, blue = c.z > 0.5f && c.x < 0.3f;
+      if (orange) (x < split ? a_left : a_right) += 1, a_last = std::max(a_last, x);
+      if (blue) (x < split ? b_left : b_right) += 1;
+    }
+  EXPECT_GT(a_left, 30) << "no A caption";
+  EXPECT_GT(b_right, 10) << "no B caption";
+  EXPECT_EQ(a_right, 0) << "the A caption crosses the split line (its last pixel at " << a_last << ", the split at " << split << ")";
+  EXPECT_EQ(b_left, 0);
 }
 
 // Every view open at the default size: each view's area holds a picture (not one flat colour).

@@ -162,9 +162,25 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
     ImGui::EndCombo();
   }
   ImGui::TextDisabled("model %s", slot.desc.model.c_str());
-  for (const view::SliderSpec& s : view::slider_specs(slot)) {
+  // One tree node per nested object (lobe, directional_diffuse, lobes[0], ...), each slider labelled
+  // by its name there; the label column as wide as the widest label, so that none is cut. The
+  // widget's id is the full key (labels repeat across lobes).
+  const std::vector<view::SliderSpec> specs = view::slider_specs(slot);
+  float label_w = 0.0f;
+  for (const view::SliderSpec& s : specs) label_w = std::max(label_w, ImGui::CalcTextSize(s.label.c_str()).x);
+  ImGui::PushItemWidth(-std::max(110.0f, label_w + ImGui::GetStyle().ItemInnerSpacing.x + 4.0f));
+  std::string group;
+  bool group_open = true;
+  for (const view::SliderSpec& s : specs) {
+    if (s.group != group) {
+      if (!group.empty() && group_open) ImGui::TreePop();
+      group = s.group;
+      group_open = group.empty() || ImGui::TreeNodeEx(group.c_str(), ImGuiTreeNodeFlags_DefaultOpen);
+    }
+    if (!group_open) continue;
     std::optional<json> next;
-    const char* label = s.key.c_str();
+    const std::string label_id = s.label + "##" + s.key;
+    const char* label = label_id.c_str();
     switch (s.kind) {
       case ParamKind::Scalar: {
         float v = s.value.is_number() ? s.value.get<float>() : 0.0f;
@@ -202,13 +218,13 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
             if (ImGui::Selectable(std::string(m.name).c_str(), m.name == cur)) next = std::string(m.name);
           ImGui::EndCombo();
         } else if (s.key != "metal") {
-          ImGui::TextDisabled("%s: %s", label, cur.c_str());
+          ImGui::TextDisabled("%s: %s", s.label.c_str(), cur.c_str());
         }
         break;
       }
       default: break;
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", s.doc.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s: %s", s.key.c_str(), s.doc.c_str());
     if (next) {
       try {
         view::set_key(slot, s.key, *next);
@@ -219,6 +235,8 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
       }
     }
   }
+  if (!group.empty() && group_open) ImGui::TreePop();
+  ImGui::PopItemWidth();
   // Lafortune's lobes: one more (a forward-scattering cosine lobe, the table's defaults for C and
   // n = 10) or one fewer, within the table's 1 to 8.
   if (slot.edit.contains("lobes") && slot.edit["lobes"].is_array()) {
@@ -641,8 +659,12 @@ void App::draw_compare(float w, float h) {
   dl->AddImage(tex_id(cmp_a_.display.texture()), p, ImVec2(p.x + w / 2, p.y + h), ImVec2(0, 1), ImVec2(0.5f, 0));
   dl->AddImage(tex_id(cmp_b_.display.texture()), ImVec2(p.x + w / 2, p.y), ImVec2(p.x + w, p.y + h), ImVec2(0.5f, 1), ImVec2(1, 0));
   dl->AddLine(ImVec2(p.x + w / 2, p.y), ImVec2(p.x + w / 2, p.y + h), IM_COL32(255, 255, 255, 160));
-  dl->AddText(ImVec2(p.x + 4, p.y + 4), kColA, ("A " + ex.a.label()).c_str());
-  dl->AddText(ImVec2(p.x + w / 2 + 4, p.y + 4), kColB, ("B " + ex.b.label()).c_str());
+  // Each caption within its own half (4 pixels from each side), shortened with "..." when the
+  // material's name is wider than that: they never run into each other.
+  const auto text_width = [](std::string_view t) { return ImGui::CalcTextSize(t.data(), t.data() + t.size()).x; };
+  const float half = w / 2 - 8.0f;
+  dl->AddText(ImVec2(p.x + 4, p.y + 4), kColA, view::ellipsize("A " + ex.a.label(), half, text_width).c_str());
+  dl->AddText(ImVec2(p.x + w / 2 + 4, p.y + 4), kColB, view::ellipsize("B " + ex.b.label(), half, text_width).c_str());
   for (const LitView* v : {&cmp_a_, &cmp_b_})
     if (!v->error.empty()) dl->AddText(nullptr, 0.0f, ImVec2(p.x + 6, p.y + 24), IM_COL32(255, 110, 110, 255), v->error.c_str(), nullptr, w - 12);
 }

@@ -206,7 +206,26 @@ std::vector<SliderSpec> slider_specs(const MaterialSlot& slot) {
   const ModelSpec* spec = find_model_spec(slot.desc.model);
   if (!spec || slot.desc.model == "measured") return out;
   add_sliders(*spec, slot.edit, "", out);
+  for (SliderSpec& s : out) {
+    const size_t dot = s.key.rfind('.');
+    s.group = dot == std::string::npos ? std::string() : s.key.substr(0, dot);
+    s.label = dot == std::string::npos ? s.key : s.key.substr(dot + 1);
+  }
   return out;
+}
+
+std::string ellipsize(const std::string& text, float max_width, const std::function<float(std::string_view)>& width) {
+  if (width(text) <= max_width) return text;
+  std::string_view kept(text);
+  while (!kept.empty()) {
+    // Drop one UTF-8 character: its continuation bytes (10xxxxxx) and its lead byte.
+    size_t n = kept.size() - 1;
+    while (n > 0 && (static_cast<unsigned char>(kept[n]) & 0xC0) == 0x80) --n;
+    kept = kept.substr(0, n);
+    const std::string shown = std::string(kept) + "...";
+    if (width(shown) <= max_width) return shown;
+  }
+  return width("...") <= max_width ? std::string("...") : std::string();
 }
 
 std::vector<std::string> material_choices() {

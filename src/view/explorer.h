@@ -8,6 +8,7 @@
 // or throws InputError and leaves the state as it was: the last good state is kept.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -52,6 +53,12 @@ nlohmann::json parse_value_text(std::string_view text);
 // (io/params.h: its range, default and doc), at a key of set_key().
 struct SliderSpec {
   std::string key;             // "lobe.alpha_x"
+  // The key split at its last '.': the nested object it belongs to ("" at the top level, "lobe",
+  // "directional_diffuse", "lobes[0]") and its name there ("alpha_x"). The window draws one tree
+  // node per group and labels each slider by its name, so that the five keys of a metal's
+  // directional_diffuse object are five different labels (the full keys, cut by the label column,
+  // would all read "directional_diff").
+  std::string group, label;
   const ParamSpec* spec = nullptr;
   ParamKind kind = ParamKind::Scalar;  // Scalar, Color, Bool, Choice, String (ParamKind::Choice also for a lobe's "model")
   std::vector<std::string> choices;    // Choice
@@ -61,6 +68,11 @@ struct SliderSpec {
   std::string doc;                     // tooltip: the table's doc and its range
 };
 std::vector<SliderSpec> slider_specs(const MaterialSlot& slot);
+
+// `text` shortened to at most `max_width` as measured by `width` (the window's font: ImGui's
+// CalcTextSize): whole UTF-8 characters dropped from the end and "..." appended; "" when not even
+// "..." fits. The A/B compare view's captions, each within its half of the picture.
+std::string ellipsize(const std::string& text, float max_width, const std::function<float(std::string_view)>& width);
 
 // Models and presets to pick from: every preset name (io/presets.h), then every model's name.
 std::vector<std::string> material_choices();
