@@ -138,7 +138,12 @@ TEST_F(ViewCli, ScreenshotShowsTheLitSphere) {
         EXPECT_TRUE(is_background(img.at(int(cx), y))) << "outside at " << f;
       }
     }
-  // The script actions: the material as edited, its exports.
+  // The script actions: the material as edited, its exports, each said on stdout as `aniso render`
+  // says what it wrote (docs/cli.md, "Output streams"); the screenshot too.
+  EXPECT_TRUE(contains(r.out, "wrote saved.json (material A as JSON)\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, "wrote m.glsl (material A as GLSL)\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, "wrote m.brdf (material A as a BRDF Explorer .brdf file)\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, "wrote s.png (640x480 screenshot)\n")) << r.out;
   const MaterialDesc saved = parse_material(read_json_file((dir_ / "saved.json").string()), "saved.json");
   EXPECT_EQ(saved.model, "ward");
   EXPECT_DOUBLE_EQ(saved.params.scalar("alpha_x"), 0.2);

@@ -120,6 +120,17 @@ void App::report(const std::string& action, const std::exception& e) {
 }
 
 
+// A save or export of the window's buttons and of the script actions: the file written atomically
+// (cmd_export.cpp) and one line saying what went where, on stdout as `aniso render` and `aniso
+// export` say it (docs/cli.md, "Output streams"); on stderr when the file itself went to stdout ("-").
+void write_reported(const std::string& path, const std::string& text, const std::string& what) {
+  write_atomically(path, text);
+  const bool to_stdout = path.empty() || path == "-";
+  // Not flushed here: a terminal's stdout is line-buffered, and a failing stdout is found, with its
+  // reason, by the command's final check (main.cpp, stdout_error: exit 1).
+  fmt::print(to_stdout ? stderr : stdout, "wrote {} ({})\n", to_stdout ? "stdout" : path, what);
+}
+
 bool input_path(const char* label, std::string& s) {
   char buf[1024];
   const size_t n = std::min(s.size(), sizeof buf - 1);
@@ -272,7 +283,7 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
     ImGui::SameLine();
     if (ImGui::Button("Save JSON")) {
       try {
-        write_atomically(path_save_, slot.edit.dump(2) + "\n");
+        write_reported(path_save_, slot.edit.dump(2) + "\n", "material A as JSON");
       } catch (const std::exception& e) {
         report("save " + path_save_, e);
       }
@@ -280,7 +291,7 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
     ImGui::SameLine();
     if (ImGui::Button("GLSL")) {
       try {
-        write_atomically(path_glsl_, gl::export_glsl(slot.desc, slot.source));
+        write_reported(path_glsl_, gl::export_glsl(slot.desc, slot.source), "material A as GLSL");
       } catch (const std::exception& e) {
         report("export " + path_glsl_, e);
       }
@@ -288,7 +299,7 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
     ImGui::SameLine();
     if (ImGui::Button(".brdf")) {
       try {
-        write_atomically(path_brdf_, gl::export_brdf(slot.desc, slot.source));
+        write_reported(path_brdf_, gl::export_brdf(slot.desc, slot.source), "material A as a BRDF Explorer .brdf file");
       } catch (const std::exception& e) {
         report("export " + path_brdf_, e);
       }
@@ -746,7 +757,7 @@ void App::save_screenshot(const std::string& path) {
   glfwGetFramebufferSize(window_, &w, &h);
   try {
     render::write_png(path, viewgl::read_window(w, h));  // temp file + rename (render/image.h)
-    fmt::print(stderr, "aniso view: wrote {} ({}x{})\n", path, w, h);
+    fmt::print("wrote {} ({}x{} screenshot)\n", path, w, h);  // as write_reported()
   } catch (const std::exception& e) {
     report("screenshot " + path, e);
   }
@@ -885,12 +896,15 @@ int run_view(const ViewOptions& o) {
     for (const std::string& f : o.load_material_b) act("load material B " + f, [&] { app.ex.load_material_b(f); });
     for (const std::string& f : o.load_obj) act("load OBJ " + f, [&] { app.ex.load_obj(f); });
     for (const std::string& f : o.load_tangent_map) act("load tangent map " + f, [&] { app.ex.load_tangent_map(f); });
+    const view::MaterialSlot& a = app.ex.a;
     if (!o.save_material.empty())
-      act("save " + o.save_material, [&] { write_atomically(o.save_material, app.ex.a.edit.dump(2) + "\n"); });
+      act("save " + o.save_material, [&] { write_reported(o.save_material, a.edit.dump(2) + "\n", "material A as JSON"); });
     if (!o.export_glsl.empty())
-      act("export " + o.export_glsl, [&] { write_atomically(o.export_glsl, gl::export_glsl(app.ex.a.desc, app.ex.a.source)); });
+      act("export " + o.export_glsl,
+          [&] { write_reported(o.export_glsl, gl::export_glsl(a.desc, a.source), "material A as GLSL"); });
     if (!o.export_brdf.empty())
-      act("export " + o.export_brdf, [&] { write_atomically(o.export_brdf, gl::export_brdf(app.ex.a.desc, app.ex.a.source)); });
+      act("export " + o.export_brdf,
+          [&] { write_reported(o.export_brdf, gl::export_brdf(a.desc, a.source), "material A as a BRDF Explorer .brdf file"); });
     rc = app.run();
   }
   ImGui_ImplOpenGL3_Shutdown();
