@@ -17,6 +17,7 @@
 #include "aniso/stats/albedo.h"
 #include "test_util.h"
 #include "view/explorer.h"
+#include "view/frame_times.h"
 #include "view/plots.h"
 #include "view/preview.h"
 
@@ -210,6 +211,21 @@ TEST(ViewText, EllipsizeFitsTheWidth) {
     EXPECT_LE(float(t.size()), w);
     EXPECT_EQ(t.find("\xc3..."), std::string::npos) << t;
   }
+}
+
+// One frame-time figure for the window and the scripted run's stderr line: the first frames left
+// out, the mean of all the others or of the last `window`.
+TEST(ViewFrameTimes, MeanAfterTheFirstFrames) {
+  view::FrameTimes all(2, 0);
+  EXPECT_EQ(all.frames(), 0u);
+  for (double ms : {500.0, 400.0, 10.0, 20.0, 30.0}) all.add(ms);
+  EXPECT_EQ(all.frames(), 3u);
+  EXPECT_DOUBLE_EQ(all.mean_ms(), 20.0);
+  EXPECT_EQ(all.text(), "20.0 ms a frame, 50.0 fps (mean of 3 frames)");
+  view::FrameTimes last(2, 2);
+  for (double ms : {500.0, 400.0, 10.0, 20.0, 30.0}) last.add(ms);
+  EXPECT_EQ(last.frames(), 2u);
+  EXPECT_DOUBLE_EQ(last.mean_ms(), 25.0);
 }
 
 TEST(ViewSet, ChangesTheMaterialOrKeepsIt) {

@@ -227,11 +227,14 @@ TEST_F(ViewCli, BadFilesShowTheErrorAndKeepTheLastGoodState) {
 
 // The A/B captions stay in their halves of the compare view: "A brushed-gold (edited)" is wider
 // than half of this 296-pixel view and would run into "B gold": it is shortened before the split line.
+// The stderr frame-time line is the window's figure: frames 3 to N - 1 (here the third alone).
 TEST_F(ViewCli, CompareCaptionsStayInTheirHalves) {
   const Result r = view({"--material", "brushed-gold", "--set", "lobe.alpha_x=0.1", "--views", "compare", "--size", "640x480",
                          "--frames", "4", "--screenshot", "c.png"});
   VIEW_OR_SKIP(r);
   ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "ms a frame")) << r.err;
+  EXPECT_TRUE(contains(r.err, "(mean of 1 frame)")) << r.err;
   const render::Image img = shot("c.png");
   const int vx0 = kPanel + kPad, vw = 640 - kPanel - 2 * kPad, split = vx0 + vw / 2;
   // The captions' colours (kColA, kColB in view_app.cpp: 255, 170, 60 and 110, 190, 255), decoded to

@@ -26,6 +26,7 @@
 #include "aniso/render/image.h"
 #include "commands.h"
 #include "view/explorer.h"
+#include "view/frame_times.h"
 #include "view/plots.h"
 #include "view/preview.h"
 #include "view_gl.h"
@@ -109,7 +110,7 @@ class App {
   Clock::time_point camera_moved_{}, changed_ = Clock::now() - std::chrono::seconds(1);
   std::string path_a_, path_b_, path_map_, path_obj_, path_save_ = "material.json", path_glsl_ = "material.glsl",
                                                       path_brdf_ = "material.brdf", path_shot_ = "aniso-view.png";
-  std::vector<double> frame_ms_;
+  view::FrameTimes frame_times_;
   std::string pending_screenshot_;
 };
 
@@ -417,8 +418,7 @@ void App::panel_controls(float height) {
   ImGui::SetNextWindowSize(ImVec2(kPanelWidth, height));
   ImGui::Begin("aniso view", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   ImGui::PushItemWidth(-110.0f);
-  const double ms = frame_ms_.empty() ? 0.0 : frame_ms_.back();
-  ImGui::Text("%.1f ms/frame (%.0f fps)", ms, ms > 0 ? 1000.0 / ms : 0.0);
+  ImGui::TextUnformatted(frame_times_.text().c_str());  // the figure a scripted run prints on stderr
   if (!ex.last_error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(255, 110, 110, 255));
     ImGui::TextWrapped("error: %s", ex.last_error.c_str());
@@ -794,6 +794,9 @@ int App::run() {
   times_cos_ = opt_.times_cos;
   camera_moved_ = Clock::now() - std::chrono::seconds(1);
   const bool scripted = opt_.frames > 0;
+  // A scripted run's figure is the mean of every frame after the first two; an interactive one
+  // follows the last 30.
+  frame_times_ = view::FrameTimes(2, scripted ? 0 : 30);
   for (int i = 0; scripted ? i < opt_.frames : !glfwWindowShouldClose(window_); ++i) {
     const bool last = scripted && i == opt_.frames - 1;
     if (opt_.animate) {
@@ -810,21 +813,17 @@ int App::run() {
     const auto t0 = Clock::now();
     frame(last);
     glFinish();  // wall time of the frame's GL work too (GL timer queries are unreliable on llvmpipe)
-    // Every frame's time for the scripted run's figure; an interactive session keeps the last one.
-    if (!scripted) frame_ms_.clear();
-    frame_ms_.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    // A scripted run's last frame is left out: it writes the screenshot (PNG encoding and fsync
+    // inside the timed frame), and the figure it shows is the one printed below.
+    if (!last) frame_times_.add(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     glfwSwapBuffers(window_);
   }
   preview_.pause();
-  if (scripted && frame_ms_.size() > 2) {
-    // The first two frames compile shaders and build the rasterisers: left out of the figure.
-    double sum = 0.0;
-    for (size_t i = 2; i < frame_ms_.size(); ++i) sum += frame_ms_[i];
-    const double mean = sum / double(frame_ms_.size() - 2);
+  if (scripted && frame_times_.frames() > 0) {
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(window_, &fw, &fh);
-    fmt::print(stderr, "aniso view: {} frames at {}x{} ({}): {:.1f} ms a frame, {:.1f} fps ({})\n", frame_ms_.size() - 2, fw, fh,
-               reinterpret_cast<const char*>(glGetString(GL_RENDERER)), mean, 1000.0 / mean,
+    fmt::print(stderr, "aniso view: {}x{} ({}): {} ({}; as the window shows it)\n", fw, fh,
+               reinterpret_cast<const char*>(glGetString(GL_RENDERER)), frame_times_.text(),
                opt_.animate ? "light turning: every view redrawn each frame" : "static: views redrawn only on change");
   }
   return 0;
