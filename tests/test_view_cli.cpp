@@ -42,7 +42,8 @@ class ViewCli : public Cli {
   }
 
   // `xvfb-run -a aniso view ARGS`; skips the test when no GL 3.3 window can be opened there.
-  Result view(const std::vector<std::string>& args) {
+  // stdout goes to a file read back into Result::out, or to `stdout_path` (such as /dev/full).
+  Result view(const std::vector<std::string>& args, const std::string& stdout_path = "") {
     std::string cmd = "cd ";
     // In the sanitizer build the window process runs without LeakSanitizer (ASan's other checks
     // stay on): GLFW unloads Mesa's GLX driver at exit (dlclose), so the driver's and the X
@@ -55,7 +56,7 @@ class ViewCli : public Cli {
     cmd.append(shell_quote(ANISO_CLI)).append(" view");
     for (const std::string& a : args) cmd.append(" ").append(shell_quote(a));
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    cmd.append(" > ").append(shell_quote(out.string())).append(" 2> ").append(shell_quote(err.string())).append(" < /dev/null");
+    cmd.append(" > ").append(shell_quote(stdout_path.empty() ? out.string() : stdout_path)).append(" 2> ").append(shell_quote(err.string())).append(" < /dev/null");
     const int status = std::system(cmd.c_str());
     Result r;
     if (status != -1 && WIFEXITED(status)) r.code = WEXITSTATUS(status);
@@ -251,6 +252,17 @@ TEST_F(ViewCli, CompareCaptionsStayInTheirHalves) {
   EXPECT_GT(b_right, 10) << "no B caption";
   EXPECT_EQ(a_right, 0) << "the A caption crosses the split line (its last pixel at " << a_last << ", the split at " << split << ")";
   EXPECT_EQ(b_left, 0);
+}
+
+// A script action's "wrote" line to a stdout that cannot take it: exit 1 with the message every
+// command gives (docs/cli.md, "Exit status"), the file itself written.
+TEST_F(ViewCli, WroteLineToAFullStdoutExitsOne) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
+  const Result r = view({"--views", "polar", "--size", "640x480", "--frames", "1", "--save-material", "saved.json"}, "/dev/full");
+  VIEW_OR_SKIP(r);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(contains(r.err, "aniso: error: stdout: write error: No space left on device")) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "saved.json"));
 }
 
 // Every view open at the default size: each view's area holds a picture (not one flat colour).
