@@ -2,7 +2,6 @@
 // parameters of every model (noise-free and with 2% noise, random and near-specular directions,
 // anisotropic cases), the four Cornell paints, determinism, and `aniso fit` end to end.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <random>
 
@@ -414,11 +413,7 @@ class FitRgl : public Cli {
 
 TEST_F(FitRgl, AnisotropicFileRecoversAlphasAndRotation) {
   const json m = {{"model", "ggx"}, {"kd", 0.1}, {"f0", {0.9, 0.6, 0.3}}, {"alpha_x", 0.08}, {"alpha_y", 0.3}, {"rotation_deg", 30.0}};
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::string path = export_file(m, "aniso.bsdf");
-  const auto t1 = std::chrono::steady_clock::now();
-  const SampleSet data = read_measured(path);
-  std::printf("export %.2f s, read %.2f s\n", std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
+  const SampleSet data = read_measured(export_file(m, "aniso.bsdf"));
   EXPECT_EQ(data.format, "rgl");
   EXPECT_TRUE(contains(data.description, "anisotropic")) << data.description;
   EXPECT_TRUE(contains(data.description, "24 phi_h")) << data.description;
@@ -434,6 +429,13 @@ TEST_F(FitRgl, AnisotropicFileRecoversAlphasAndRotation) {
               "relative l2cos %.4f; %zu samples; %.2f s\n",
               f["alpha_x"].get<double>(), f["alpha_y"].get<double>(), f["rotation_deg"].get<double>(), rgb_at(f["kd"], 1),
               rgb_at(f["f0"], 0), rgb_at(f["f0"], 1), rgb_at(f["f0"], 2), r.errors.relative_l2cos, data.samples.size(), r.seconds);
+  // The fit is as close to the file as the material the file was made from (measured: relative
+  // l2cos 0.0928 against the material's 0.0931): what separates the parameters from the truth is the
+  // file's own error (docs/rgl.md, "Accuracy"), not the fitter's. 1%: the solver's tolerance.
+  const double truth = fit_errors(build_material<double>(parse_material(m, "t")), data).relative_l2cos;
+  EXPECT_LT(r.errors.relative_l2cos, 1.01 * truth);
+  // Measured: alpha 0.0804 x 0.3056 at 30.29 deg, f0 within 0.012, kd 0.095 (starts = 1; the CLI's
+  // 6 starts: 0.0798 x 0.3048 at 30.07 deg); the bounds are about 2.5 times those errors.
   EXPECT_NEAR(f["alpha_x"].get<double>(), 0.08, 0.004);
   EXPECT_NEAR(f["alpha_y"].get<double>(), 0.3, 0.015);
   EXPECT_NEAR(f["rotation_deg"].get<double>(), 30.0, 1.0);
@@ -457,6 +459,9 @@ TEST_F(FitRgl, IsotropicFileGivesAnIsotropicFit) {
               f["alpha_x"].get<double>(), f["alpha_y"].get<double>(), rgb_at(f["kd"], 1), rgb_at(f["f0"], 0), rgb_at(f["f0"], 1),
               rgb_at(f["f0"], 2), r.errors.relative_l2cos, data.samples.size(), r.seconds);
   EXPECT_EQ(f["alpha_x"], f["alpha_y"]);
+  // As above (measured: 0.0588 against 0.0604); alpha 0.1517, f0 within 0.015, kd 0.090.
+  const double truth = fit_errors(build_material<double>(parse_material(m, "t")), data).relative_l2cos;
+  EXPECT_LT(r.errors.relative_l2cos, 1.01 * truth);
   EXPECT_NEAR(f["alpha_x"].get<double>(), 0.15, 0.005);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgb_at(f["f0"], c), rgb_at(m["f0"], c), 0.03) << c;
   EXPECT_NEAR(rgb_at(f["kd"], 1), 0.1, 0.02);
