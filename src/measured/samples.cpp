@@ -303,7 +303,7 @@ HalfDiffGrid rgl_sample_grid(bool isotropic) {
     // 32 x 16 x 32 x 24 = 393,216 pairs (295,968 above the horizon): half the resolution in theta_h
     // (the first bin 0.088 degrees wide), theta_d and phi_d, and 24 half-vector azimuths 15 degrees
     // apart: modulo 180 degrees, one in each of the fitter's 12 azimuth bins (docs/fitting.md, "The
-    // auto rule"). Evaluating the file there takes about 0.6 s on 2 cores.
+    // auto rule"). Evaluating the file there takes 0.25 to 0.6 s on 2 cores.
     g.n_theta_h = 32, g.n_theta_d = 16, g.n_phi_d = 32, g.n_phi_h = 24;
   }
   return g;
