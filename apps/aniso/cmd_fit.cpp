@@ -158,6 +158,7 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
   auto display = std::make_shared<ProgressDisplay>(a.quiet, *after);
   o.progress = [display](const FitProgress& p) { (*display)(p); };
   std::string out = fmt::format("data: {} ({}, {} samples)\n", data.source, data.format, data.samples.size());
+  if (!data.description.empty()) out += fmt::format("sampled: {}\n", data.description);
 
   if (a.compare) {
     struct Row {
@@ -227,9 +228,9 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
 
 void add_fit_command(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
-  auto* fit = app.add_subcommand("fit", "fit a model to measured data (MERL .binary, Cornell .brdf, CSV of samples): "
+  auto* fit = app.add_subcommand("fit", "fit a model to measured data (MERL .binary, Cornell .brdf, RGL .bsdf, CSV of samples): "
                                         "write the material, print the parameters and errors");
-  fit->add_option("data", a->data, "measured data: .binary (MERL), .brdf (Cornell), .csv (theta_i,phi_i,theta_o,phi_o,r,g,b)")->required();
+  fit->add_option("data", a->data, "measured data: .binary (MERL), .brdf (Cornell), .bsdf (RGL tensor file), .csv (theta_i,phi_i,theta_o,phi_o,r,g,b)")->required();
   std::string models;
   for (std::string_view m : fittable_models()) models += fmt::format("{}{}", models.empty() ? "" : " | ", m);
   fit->add_option("--model", a->options.model, models)->type_name("MODEL")->capture_default_str();

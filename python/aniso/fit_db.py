@@ -33,7 +33,7 @@ import numpy as np
 
 # The extensions aniso.fit reads (read_measured: include/aniso/measured/samples.h), which a folder is
 # searched for (a file named on the command line is given to the reader whatever its extension).
-MEASURED_EXTENSIONS = (".binary", ".brdf", ".csv")
+MEASURED_EXTENSIONS = (".binary", ".brdf", ".bsdf", ".csv")
 
 # A model spec is NAME or NAME:ARG; ARG is the option of aniso.fit that distinguishes the variants
 # of NAME (as `aniso fit --compare` fits them: src/fit/fit.cpp, compare_models). Any other NAME
@@ -107,7 +107,7 @@ def parse_models(models):
 
 def find_inputs(inputs):
     """Files and folders -> [(name, path)]: a file as given, a folder's measured files (.binary,
-    .brdf, .csv, searched recursively, in sorted order). The name is the file name without its
+    .brdf, .bsdf, .csv, searched recursively, in sorted order). The name is the file name without its
     extension; two inputs of one name are refused (their results would share files)."""
     if isinstance(inputs, (str, os.PathLike)):
         inputs = [inputs]
@@ -569,7 +569,7 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
              retries=2, progress=None, on_result=None, dataframe=True, **fit_options):
     """Fits every model to every measured file: the rows of results.csv (docs/fit-db.md).
 
-    inputs: files or folders (.binary, .brdf, .csv, folders searched recursively). models: specs
+    inputs: files or folders (.binary, .brdf, .bsdf, .csv, folders searched recursively). models: specs
     such as "ward,ashikhmin-shirley,ggx,lafortune:3" (a text or a list): NAME or NAME:ARG with
     lafortune:LOBES, ward:NORMALIZATION (ward | duer | balanced), metal:LOBE, ashikhmin-shirley,
     ggx, principled. fit_options: the keywords of aniso.fit (anisotropic, allow_energy_gain, metric,
@@ -688,7 +688,7 @@ def _parser(prog):
     p = _Parser(
         prog=prog, description="Fit every model to every material of a database (docs/fit-db.md): one fitted "
         "material JSON per pair, results.csv and report.md in DIR; a rerun resumes.")
-    p.add_argument("inputs", nargs="+", metavar="INPUT", help="measured files (.binary, .brdf, .csv) or folders of them")
+    p.add_argument("inputs", nargs="+", metavar="INPUT", help="measured files (.binary, .brdf, .bsdf, .csv) or folders of them")
     p.add_argument("--models", default=DEFAULT_MODELS,
                    help="comma-separated model specs: any model aniso fit fits (ashikhmin-shirley, ggx, principled, ...), "
                         "ward[:ward|duer|balanced], lafortune:LOBES, metal[:ggx|ward|ashikhmin-shirley] "

@@ -972,7 +972,7 @@ void save_image_py(const py::object& img_in, const py::object& path_in, std::opt
 SampleSet samples_from_arrays(const py::object& wi_in, const py::object& wo_in, const py::object& value_in,
                               const py::object& weight_in) {
   if (wi_in.is_none() || wo_in.is_none() || value_in.is_none())
-    throw py::value_error("fit(): expected data (a path to a .binary, .brdf or .csv file) or all of the arrays wi=, wo= "
+    throw py::value_error("fit(): expected data (a path to a .binary, .brdf, .bsdf or .csv file) or all of the arrays wi=, wo= "
                           "and value= (and optionally weight=)");
   const RowsView wi = rows_view(wi_in, "wi"), wo = rows_view(wo_in, "wo"), value = rows_view(value_in, "value");
   const size_t n = common_rows({{"wi", &wi}, {"wo", &wo}, {"value", &value}});
@@ -1025,7 +1025,7 @@ SampleSet samples_from_arrays(const py::object& wi_in, const py::object& wo_in, 
 // A measured data file as arrays (aniso.read_measured): what `aniso fit DATA` fits.
 py::dict read_measured_py(const py::object& path_in) {
   if (!(py::isinstance<py::str>(path_in) || py::hasattr(path_in, "__fspath__")))
-    throw py::value_error(fmt::format("path: expected a path to a .binary (MERL), .brdf (Cornell) or .csv file, got {}",
+    throw py::value_error(fmt::format("path: expected a path to a .binary (MERL), .brdf (Cornell), .bsdf (RGL) or .csv file, got {}",
                                       std::string(py::str(py::type::of(path_in).attr("__name__")))));
   const std::string path = py::str(py::module_::import("os").attr("fspath")(path_in));
   SampleSet set;
@@ -1044,7 +1044,7 @@ py::dict read_measured_py(const py::object& path_in) {
   }
   py::dict d;
   d["wi"] = wi, d["wo"] = wo, d["value"] = value, d["weight"] = weight;
-  d["source"] = set.source, d["format"] = set.format, d["warnings"] = set.warnings;
+  d["source"] = set.source, d["format"] = set.format, d["description"] = set.description, d["warnings"] = set.warnings;
   return d;
 }
 
@@ -1100,7 +1100,7 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
     if (!wi.is_none() || !wo.is_none() || !value.is_none() || !weight.is_none())
       throw py::value_error("fit(): give either data (a file) or the arrays wi=, wo=, value=, not both");
     if (!(py::isinstance<py::str>(data_in) || py::hasattr(data_in, "__fspath__")))
-      throw py::value_error(fmt::format("data: expected a path to a .binary (MERL), .brdf (Cornell) or .csv file, got {}",
+      throw py::value_error(fmt::format("data: expected a path to a .binary (MERL), .brdf (Cornell), .bsdf (RGL) or .csv file, got {}",
                                         std::string(py::str(py::type::of(data_in).attr("__name__")))));
     const std::string path = py::str(py::module_::import("os").attr("fspath")(data_in));
     py::gil_scoped_release release;
@@ -1475,7 +1475,8 @@ PYBIND11_MODULE(_aniso, m) {
         py::arg("max_iterations") = 200, py::arg("progress") = py::none(),
         "Fits a model to measured data, as `aniso fit` (docs/fitting.md): the same solver, options, starts\n"
         "and error figures; the same data, options and seed give the same material.\n\n"
-        "data: a path to a MERL .binary, Cornell .brdf or CSV file of samples (what `aniso fit DATA` reads);\n"
+        "data: a path to a MERL .binary, Cornell .brdf, RGL tensor .bsdf or CSV file of samples (what `aniso fit\n"
+        "DATA` reads);\n"
         "or instead wi, wo: (N, 3) unit directions above the horizon (one of them may be (3,)), value: (N, 3)\n"
         "f(wi, wo) in 1/sr (no cosine), weight: (N,) or None. The keywords are `aniso fit`'s options:\n"
         "model (lafortune | ward | ashikhmin-shirley | ggx | metal | principled), lobes (Lafortune, 1 to 8),\n"
@@ -1488,9 +1489,10 @@ PYBIND11_MODULE(_aniso, m) {
         "fitting; Ctrl-C stops the fit (KeyboardInterrupt). Returns a FitResult: `m, errors = aniso.fit(...)`.\n"
         "Bad data or options raise ValueError with the CLI's message.");
   m.def("read_measured", &read_measured_py, py::arg("path"),
-        "Reads measured reflectance as `aniso fit DATA` does (a MERL .binary, Cornell .brdf or CSV file of\n"
-        "samples; Cornell spectra reduced to linear sRGB): {wi, wo: (N, 3) unit directions, value: (N, 3)\n"
-        "f in 1/sr, weight: (N,), source, format, warnings}. aniso.fit(wi=..., wo=..., value=..., weight=...)\n"
+        "Reads measured reflectance as `aniso fit DATA` does (a MERL .binary, Cornell .brdf, RGL tensor .bsdf\n"
+        "or CSV file of samples; Cornell spectra reduced to linear sRGB; an RGL file sampled on a grid of\n"
+        "directions): {wi, wo: (N, 3) unit directions, value: (N, 3) f in 1/sr, weight: (N,), source, format,\n"
+        "description (what was sampled, for an RGL file; else empty), warnings}. aniso.fit(wi=..., wo=..., value=..., weight=...)\n"
         "on them fits what aniso.fit(path) fits.");
   m.def("simd_target", [] { return std::string(batch::simd_target()); },
         "The SIMD target the batch path runs on this machine (\"AVX3\", \"AVX2\", ...).");

@@ -33,6 +33,26 @@ def without_seconds(d):
     return d
 
 
+def test_fit_of_an_rgl_file_equals_the_cli_and_read_measured_says_what_was_sampled(tmp):
+    # An isotropic GGX written as an RGL tensor file (aniso export-rgl, docs/rgl.md), then fitted as
+    # data (docs/fitting.md): the file's table sampled on a grid of directions.
+    path = tmp / "ggx.bsdf"
+    rc, _, stderr = run_cli("export-rgl", "--material", '{"model": "ggx", "kd": 0.1, "f0": 0.5, "alpha": 0.2}', "--rgb",
+                            "-o", str(path))
+    assert rc == 0, stderr
+    d = aniso.read_measured(path)
+    assert d["format"] == "rgl"
+    assert "isotropic" in d["description"] and "half/difference-angle grid" in d["description"]
+    assert d["wi"].shape == d["value"].shape == (len(d["weight"]), 3)
+    fitted, stdout = cli_fit(tmp, str(path), "--model", "ggx", "--starts", "1")
+    assert "sampled: RGL tensor file" in stdout
+    r = aniso.fit(path, model="ggx", starts=1, progress=False)
+    assert without_seconds(r.to_dict()) == without_seconds(fitted)
+    assert r.to_dict()["fit"]["sampled"] == d["description"]
+    assert not r.to_dict()["fit"]["anisotropic"]
+    assert abs(r.to_dict()["alpha_x"] - 0.2) < 0.01
+
+
 def test_fit_of_a_cornell_file_equals_the_cli(tmp):
     fitted, stdout = cli_fit(tmp, KRYLON, "--model", "ward", "--normalization", "duer", "--starts", "4", "--seed", "7")
     r = aniso.fit(KRYLON, model="ward", normalization="duer", starts=4, seed=7, progress=False)

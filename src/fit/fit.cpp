@@ -1073,6 +1073,7 @@ nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const F
   nlohmann::json f;
   f["data"] = data.source;
   f["format"] = data.format;
+  if (!data.description.empty()) f["sampled"] = data.description;
   f["samples"] = r.samples_total;
   f["samples_in_solver"] = r.samples_used;
   f["model"] = o.model;

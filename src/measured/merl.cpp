@@ -54,16 +54,33 @@ RGBT<double> MerlBrdf::lookup(const Vec3T<double>& wi, const Vec3T<double>& wo) 
 }
 
 std::pair<Vec3T<double>, Vec3T<double>> MerlBrdf::bin_directions(int i_theta_h, int i_theta_d, int i_phi_d) {
-  const double u = (i_theta_h + 0.5) / kThetaH;
+  return HalfDiffGrid{}.directions(i_theta_h, i_theta_d, i_phi_d);
+}
+
+std::pair<Vec3T<double>, Vec3T<double>> HalfDiffGrid::directions(int i_theta_h, int i_theta_d, int i_phi_d,
+                                                                 int i_phi_h) const {
+  const double u = (i_theta_h + 0.5) / n_theta_h;
   const double theta_h = u * u * (M_PI / 2.0);
-  const double theta_d = (i_theta_d + 0.5) / kThetaD * (M_PI / 2.0);
-  const double phi_d = (i_phi_d + 0.5) / kPhiD * M_PI;
+  const double theta_d = (i_theta_d + 0.5) / n_theta_d * (M_PI / 2.0);
+  const double phi_d = (i_phi_d + 0.5) / n_phi_d * phi_d_range;
   // The difference vector d (wi in the frame where h = z) and its mirror about h (wo), rotated by
-  // theta_h about the bitangent: the inverse of merl_bin()'s rotation, with phi_h = 0.
+  // theta_h about the bitangent, then by phi_h about the normal: the inverse of merl_bin()'s
+  // rotations.
   const Vec3T<double> d(std::sin(theta_d) * std::cos(phi_d), std::sin(theta_d) * std::sin(phi_d), std::cos(theta_d));
   const double ct = std::cos(theta_h), st = std::sin(theta_h);
   const auto rotate = [&](const Vec3T<double>& v) { return Vec3T<double>(v.x * ct + v.z * st, v.y, -v.x * st + v.z * ct); };
-  return {rotate(d), rotate(Vec3T<double>(-d.x, -d.y, d.z))};
+  std::pair<Vec3T<double>, Vec3T<double>> w{rotate(d), rotate(Vec3T<double>(-d.x, -d.y, d.z))};
+  if (i_phi_h == 0) return w;  // phi_h = 0: MERL's bins, unrotated (bit for bit what they always were)
+  const double phi_h = 2.0 * M_PI * i_phi_h / n_phi_h, cp = std::cos(phi_h), sp = std::sin(phi_h);
+  const auto turn = [&](const Vec3T<double>& v) { return Vec3T<double>(v.x * cp - v.y * sp, v.x * sp + v.y * cp, v.z); };
+  return {turn(w.first), turn(w.second)};
+}
+
+double HalfDiffGrid::weight(int i_theta_h, int i_theta_d) const {
+  const double u = (i_theta_h + 0.5) / n_theta_h;
+  const double theta_h = u * u * (M_PI / 2.0);
+  const double theta_d = (i_theta_d + 0.5) / n_theta_d * (M_PI / 2.0);
+  return std::cos(theta_d) * std::sin(theta_h) * std::sin(theta_d) * (2 * i_theta_h + 1);
 }
 
 bool MerlBrdf::valid(int i_theta_h, int i_theta_d, int i_phi_d) const {

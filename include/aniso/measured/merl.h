@@ -33,13 +33,36 @@ struct MerlBrdf {
   RGBT<double> lookup(const Vec3T<double>& wi, const Vec3T<double>& wo) const;
   static int index(int i_theta_h, int i_theta_d, int i_phi_d) { return merl_index(i_theta_h, i_theta_d, i_phi_d); }
   // The (wi, wo) at the centre of a bin (phi_h = 0), for fitting and tests: theta_h = ((i + 1/2) /
-  // 90)^2 pi / 2, theta_d = (j + 1/2) / 90 pi / 2, phi_d = (k + 1/2) / 180 pi. Either direction may
-  // lie below the horizon (large theta_h + theta_d): such bins are never looked up from above it.
+  // 90)^2 pi / 2, theta_d = (j + 1/2) / 90 pi / 2, phi_d = (k + 1/2) / 180 pi (HalfDiffGrid{} below).
+  // Either direction may lie below the horizon (large theta_h + theta_d): such bins are never
+  // looked up from above it.
   static std::pair<Vec3T<double>, Vec3T<double>> bin_directions(int i_theta_h, int i_theta_d, int i_phi_d);
   // Not a missing sample: every channel >= 0.
   bool valid(int i_theta_h, int i_theta_d, int i_phi_d) const;
   // Number of missing bins.
   size_t missing_count() const;
+};
+
+// MERL's layout of direction pairs at any resolution: Rusinkiewicz 1998's half and difference
+// angles at the centres of n_theta_h x n_theta_d x n_phi_d bins, theta_h square-root spaced as
+// MERL's (((i + 1/2) / n_theta_h)^2 pi / 2: fine bins at the highlight), theta_d = (j + 1/2) /
+// n_theta_d pi / 2, phi_d = (k + 1/2) / n_phi_d phi_d_range; and n_phi_h half-vector azimuths
+// phi_h = 2 pi l / n_phi_h (MERL's tables are isotropic: phi_h = 0 alone). The default is MERL's own
+// grid (bin_directions). The fitter samples tables on it (measured/samples.h).
+struct HalfDiffGrid {
+  int n_theta_h = MerlLayout::kThetaH, n_theta_d = MerlLayout::kThetaD, n_phi_d = MerlLayout::kPhiD, n_phi_h = 1;
+  // pi: MERL's tables hold phi_d in [0, pi), reciprocity (swapping wi and wo) giving phi_d + pi;
+  // 2 pi: both orders of the pair, for a table that need not be reciprocal.
+  double phi_d_range = 3.14159265358979323846;
+
+  size_t size() const { return size_t(n_theta_h) * size_t(n_theta_d) * size_t(n_phi_d) * size_t(n_phi_h); }
+  // The pair (wi, wo) at bin (i, j, k) and azimuth l. Either may lie below the horizon.
+  std::pair<Vec3T<double>, Vec3T<double>> directions(int i_theta_h, int i_theta_d, int i_phi_d, int i_phi_h = 0) const;
+  // The solid angle dw_i dw_o the bin stands for, up to a constant factor (the same for every bin
+  // of the grid): dw_i dw_o = 4 cos theta_d dw_h dw_d (Rusinkiewicz 1998)
+  // = 4 cos theta_d sin theta_h sin theta_d dtheta_h dphi_h dtheta_d dphi_d, with dtheta_h
+  // proportional to 2 i + 1 (the square-root spacing): cos theta_d sin theta_h sin theta_d (2 i + 1).
+  double weight(int i_theta_h, int i_theta_d) const;
 };
 
 // Reads and validates a .binary file: header (90, 90, 180), exact size, every value finite and

@@ -1,6 +1,6 @@
 // aniso/measured/samples.h: measured reflectance as a set of samples, the one type every data source
 // produces (a CSV of the user's own measurements, the Cornell gonioreflectometer files, MERL
-// tables) and the fitter (fit/fit.h) consumes.
+// tables, RGL tensor files) and the fitter (fit/fit.h) consumes.
 //
 // Directions are in the local shading frame of docs/conventions.md (z = normal, x = tangent, phi
 // measured from x towards y): wi towards the light, wo towards the viewer, both unit, above the
@@ -27,7 +27,10 @@ struct MeasuredSample {
 
 struct SampleSet {
   std::string source;   // the path it was read from, or a name ("tabulated ward")
-  std::string format;   // "csv", "cornell", "merl", "synthetic"
+  std::string format;   // "csv", "cornell", "merl", "rgl", "synthetic"
+  // What the samples are, where they are not the file's own records: a table sampled on a grid
+  // says which grid (empty for CSV, Cornell and MERL files, whose samples are their rows or bins).
+  std::string description;
   std::vector<MeasuredSample> samples;
   std::vector<std::string> warnings;  // what was accepted but ignored (extra columns, skipped bins)
 };
@@ -55,7 +58,23 @@ struct MerlBrdf;
 // skipped, and counted in a warning.
 SampleSet merl_samples(const MerlBrdf& brdf, const std::string& source);
 
-// By extension: .csv, .brdf (Cornell), .binary (MERL, measured/merl.h).
+struct HalfDiffGrid;
+namespace rgl {
+struct RglData;
+}
+// An RGL tensor file's table (aniso/rgl/rgl_material.h) sampled where MERL's tables hold their
+// values: f (pbrt-v4's MeasuredBxDF, aniso/brdf/rgl.h) at the centres of a HalfDiffGrid
+// (measured/merl.h), every pair with both directions above the horizon, weighted by the solid
+// angle its bin stands for (HalfDiffGrid::weight). rgl_sample_grid(isotropic) is the grid
+// read_measured uses: an isotropic file at phi_h = 0 alone (as a MERL table: f depends on phi_d
+// only, and the fitter's anisotropy rule sees one azimuth), an anisotropic one at 24 half-vector
+// azimuths over the full circle. phi_d covers the full circle (a file holds f(wi, wo) and f(wo, wi)
+// separately, and need not be reciprocal). The description names the grid and the file's kind.
+HalfDiffGrid rgl_sample_grid(bool isotropic);
+SampleSet rgl_samples(const rgl::RglData& data, const std::string& source, const HalfDiffGrid& grid);
+
+// By extension: .csv, .brdf (Cornell), .binary (MERL, measured/merl.h), .bsdf (RGL tensor file,
+// sampled on rgl_sample_grid).
 SampleSet read_measured(const std::string& path);
 
 // w = (sin theta cos phi, sin theta sin phi, cos theta).
