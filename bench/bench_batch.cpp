@@ -84,9 +84,7 @@ void bm_batch(benchmark::State& state, const Material m, What what, batch::Threa
     switch (what) {
       case What::Eval: batch::evaluate(m, in.wi.view(), in.wo.view(), n, f.view(), threads); break;
       case What::Pdf: batch::pdf(m, in.wi.view(), in.wo.view(), n, p.data(), threads); break;
-      case What::Sample:
-        batch::sample(m, in.wo.view(), in.uc.data(), in.u0.data(), in.u1.data(), n, s.view(), threads);
-        break;
+      case What::Sample: batch::sample(m, in.wo.view(), in.uc.data(), in.u0.data(), in.u1.data(), n, s.view(), threads); break;
     }
     benchmark::ClobberMemory();
     wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -99,18 +97,16 @@ void bm_batch(benchmark::State& state, const Material m, What what, batch::Threa
   // is the average number of threads that worked, which tells a batch_mt run on a machine whose
   // other cores are busy with other work (1.0: the calling thread did all the blocks) from one
   // that had them.
-  state.counters["items_per_cpu_second"] =
-      benchmark::Counter(items / std::max(process_cpu_seconds() - cpu_start, 1e-12));
+  state.counters["items_per_cpu_second"] = benchmark::Counter(items / std::max(process_cpu_seconds() - cpu_start, 1e-12));
   state.SetLabel(batch::simd_target());
 }
 
 void register_one(const std::string& prefix, const std::string& key, What what) {
   const Material m = bench_material(key);
-  for (const auto& [name, threads] : {std::pair{std::string("batch/"), batch::Threads::One},
-                                      std::pair{std::string("batch_mt/"), batch::Threads::All}}) {
+  for (const auto& [name, threads] :
+       {std::pair{std::string("batch/"), batch::Threads::One}, std::pair{std::string("batch_mt/"), batch::Threads::All}}) {
     benchmark::RegisterBenchmark((name + prefix + key).c_str(),
-                                 [m, what, threads = threads](benchmark::State& st) { bm_batch(st, m, what, threads); })
-        ;
+                                 [m, what, threads = threads](benchmark::State& st) { bm_batch(st, m, what, threads); });
   }
 }
 
@@ -129,13 +125,12 @@ void register_batch_benchmarks() {
     const Material m = bench_material(k);
     for (const auto& [name, threads] : {std::pair{std::string("batch/material/"), batch::Threads::One},
                                         std::pair{std::string("batch_mt/material/"), batch::Threads::All}})
-      benchmark::RegisterBenchmark((name + k).c_str(), [m, threads = threads](benchmark::State& st) {
-        bm_batch(st, m, What::Eval, threads);
-      });
+      benchmark::RegisterBenchmark((name + k).c_str(),
+                                   [m, threads = threads](benchmark::State& st) { bm_batch(st, m, What::Eval, threads); });
   }
   // The sample/<name> and pdf/<name> set of bench_sample.cpp.
-  for (const char* k : {"lambert", "phong", "ward/vector/ward", "ashikhmin-shirley", "lafortune/matte-steel", "ggx",
-                        "metal/gold", "metal/brushed-gold"}) {
+  for (const char* k : {"lambert", "phong", "ward/vector/ward", "ashikhmin-shirley", "lafortune/matte-steel", "ggx", "metal/gold",
+                        "metal/brushed-gold"}) {
     register_one("sample/", k, What::Sample);
     register_one("pdf/", k, What::Pdf);
   }
@@ -147,8 +142,8 @@ int check_batch() {
   int failures = 0;
   const BatchInputs& in = batch_inputs();
   const size_t n = bench_wi().size();
-  for (const char* k : {"lambert", "phong", "ward/vector/ward", "ward/angle/duer", "ward/approx/balanced",
-                        "ashikhmin-shirley", "lafortune/matte-steel", "ggx", "metal/gold", "metal/brushed-gold"}) {
+  for (const char* k : {"lambert", "phong", "ward/vector/ward", "ward/angle/duer", "ward/approx/balanced", "ashikhmin-shirley",
+                        "lafortune/matte-steel", "ggx", "metal/gold", "metal/brushed-gold"}) {
     const Material& m = bench_material(k);
     batch::ColorArray<float> f(n);
     std::vector<float> p(n);
@@ -162,8 +157,8 @@ int check_batch() {
         if (ref[c] > 1e-6f && std::abs(f.get(i)[c] - ref[c]) > 1e-4f * ref[c]) ++bad;
       if (pref > 1e-6f && std::abs(p[i] - pref) > 1e-4f * pref) ++bad;
     }
-    std::printf("%s batch/%s (%s): %zu values differ from the scalar path\n", bad ? "FAIL" : "ok  ", k,
-                batch::simd_target(), bad);
+    std::printf("%s batch/%s (%s): %zu values differ from the scalar path\n", bad ? "FAIL" : "ok  ", k, batch::simd_target(),
+                bad);
     failures += bad ? 1 : 0;
   }
   return failures;

@@ -81,8 +81,8 @@ const Inputs& inputs() {
 }
 
 json ward_json(const char* form, const char* norm) {
-  return {{"model", "ward"}, {"kd", 0.1},      {"ks", 0.4},   {"alpha_x", 0.1},
-          {"alpha_y", 0.25}, {"form", form},   {"normalization", norm}};
+  return {{"model", "ward"},      {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.1}, {"alpha_y", 0.25}, {"form", form},
+          {"normalization", norm}};
 }
 
 // Every benchmarked material, by key. Presets where the brief names one, JSON otherwise.
@@ -98,8 +98,8 @@ std::map<std::string, Material> build_materials() {
       const std::string key = std::string("ward/") + form + "/" + norm;
       m[key] = from_json(ward_json(form, norm), key);
     }
-  m["ashikhmin-shirley"] = from_json(
-      {{"model", "ashikhmin-shirley"}, {"rd", 0.3}, {"rs", 0.05}, {"n_u", 20.0}, {"n_v", 500.0}}, "ashikhmin-shirley");
+  m["ashikhmin-shirley"] =
+      from_json({{"model", "ashikhmin-shirley"}, {"rd", 0.3}, {"rs", 0.05}, {"n_u", 20.0}, {"n_v", 500.0}}, "ashikhmin-shirley");
   m["lafortune/matte-steel"] = build_material<float>(load_material("matte-steel"));
   m["ggx"] = from_json({{"model", "ggx"}, {"kd", 0.1}, {"f0", 0.04}, {"alpha_x", 0.1}, {"alpha_y", 0.25}}, "ggx");
   m["metal/gold"] = build_material<float>(load_material("gold"));
@@ -150,8 +150,7 @@ void register_eval_benchmarks() {
   register_direct<LambertT<float>>("lambert");
   register_direct<PhongT<float>>("phong");
   for (const char* form : {"vector", "angle", "approx"})
-    for (const char* norm : {"ward", "duer", "balanced"})
-      register_direct<WardT<float>>(std::string("ward/") + form + "/" + norm);
+    for (const char* norm : {"ward", "duer", "balanced"}) register_direct<WardT<float>>(std::string("ward/") + form + "/" + norm);
   register_direct<AshikhminShirleyT<float>>("ashikhmin-shirley");
   register_direct<LafortuneT<float>>("lafortune/matte-steel");
   register_direct<GGXT<float>>("ggx");
@@ -189,8 +188,8 @@ int check_eval() {
       if (!finite_nonneg(via_material)) ++bad;
       if (std::memcmp(&via_material, &direct, sizeof(RGB)) != 0) ++mismatch;
     }
-    std::printf("%s f/%s: %zu non-finite or negative, %zu dispatch mismatches\n",
-                bad || mismatch ? "FAIL" : "ok  ", key.c_str(), bad, mismatch);
+    std::printf("%s f/%s: %zu non-finite or negative, %zu dispatch mismatches\n", bad || mismatch ? "FAIL" : "ok  ", key.c_str(),
+                bad, mismatch);
     failures += (bad || mismatch) ? 1 : 0;
   }
   // The benchmarked materials are what their names say.
@@ -216,8 +215,7 @@ int check_eval() {
       const double sv = v.lobe.eval(in.wi[i], in.wo[i]), sa = a.lobe.eval(in.wi[i], in.wo[i]);
       if (sv > 1e-3) worst = std::max(worst, std::abs(sa - sv) / sv);
     }
-    std::printf("%s ward/%s: vector vs angle form, max relative difference %.2e\n", worst < 1e-3 ? "ok  " : "FAIL",
-                norm, worst);
+    std::printf("%s ward/%s: vector vs angle form, max relative difference %.2e\n", worst < 1e-3 ? "ok  " : "FAIL", norm, worst);
     failures += worst < 1e-3 ? 0 : 1;
   }
   return failures;
@@ -233,8 +231,10 @@ int main(int argc, char** argv) {
   bool check = false;
   int kept = 1;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--check") == 0) check = true;
-    else argv[kept++] = argv[i];
+    if (std::strcmp(argv[i], "--check") == 0)
+      check = true;
+    else
+      argv[kept++] = argv[i];
   }
   argc = kept;
   if (check) {

@@ -42,21 +42,24 @@ int render_spheres(const std::string& out_path, const std::vector<std::string>& 
   for (size_t k = 0; k < materials.size(); ++k) {
     const MaterialDesc d = load_material(materials[k]);
     (void)build_material<double>(d);
-    const std::string src = gl::glsl_preamble(gl::GlslDialect::Core450Compute) + "layout(local_size_x = 64) in;\n" +
-                            gl::export_glsl(d, materials[k]) +
-                            "layout(std430, binding = 1) writeonly buffer Out { vec4 outp[]; };\n"
-                            "const int kSize = " + std::to_string(kSize) + ";\n"
-                            "void main() {\n"
-                            "  int i = int(gl_GlobalInvocationID.x);\n  if (i >= kSize * kSize) return;\n"
-                            "  vec2 p = (vec2(i % kSize, i / kSize) + 0.5) / float(kSize) * 2.0 - 1.0;\n"
-                            "  p.y = -p.y;\n  float r2 = dot(p, p);\n"
-                            "  if (r2 >= 1.0) { outp[i] = vec4(0.02, 0.02, 0.025, 0.0); return; }\n"
-                            "  vec3 N = vec3(p, sqrt(1.0 - r2));\n"
-                            "  vec3 X = normalize(cross(vec3(0.0, 1.0, 0.0), N));\n  vec3 Y = cross(N, X);\n"
-                            "  vec3 V = vec3(0.0, 0.0, 1.0);\n  vec3 L = normalize(vec3(-0.5, 0.55, 0.65));\n"
-                            "  float c = max(dot(N, L), 0.0);\n"
-                            "  outp[i] = vec4(aniso_f_world(L, V, N, X, Y) * c * 2.5 + 0.03 * aniso_f_world(N, V, N, X, Y), 1.0);\n"
-                            "}\n";
+    const std::string src =
+        gl::glsl_preamble(gl::GlslDialect::Core450Compute) + "layout(local_size_x = 64) in;\n" +
+        gl::export_glsl(d, materials[k]) +
+        "layout(std430, binding = 1) writeonly buffer Out { vec4 outp[]; };\n"
+        "const int kSize = " +
+        std::to_string(kSize) +
+        ";\n"
+        "void main() {\n"
+        "  int i = int(gl_GlobalInvocationID.x);\n  if (i >= kSize * kSize) return;\n"
+        "  vec2 p = (vec2(i % kSize, i / kSize) + 0.5) / float(kSize) * 2.0 - 1.0;\n"
+        "  p.y = -p.y;\n  float r2 = dot(p, p);\n"
+        "  if (r2 >= 1.0) { outp[i] = vec4(0.02, 0.02, 0.025, 0.0); return; }\n"
+        "  vec3 N = vec3(p, sqrt(1.0 - r2));\n"
+        "  vec3 X = normalize(cross(vec3(0.0, 1.0, 0.0), N));\n  vec3 Y = cross(N, X);\n"
+        "  vec3 V = vec3(0.0, 0.0, 1.0);\n  vec3 L = normalize(vec3(-0.5, 0.55, 0.65));\n"
+        "  float c = max(dot(N, L), 0.0);\n"
+        "  outp[i] = vec4(aniso_f_world(L, V, N, X, Y) * c * 2.5 + 0.03 * aniso_f_world(N, V, N, X, Y), 1.0);\n"
+        "}\n";
     gl::ComputeProgram prog(src);
     prog.dispatch(unsigned(kSize * kSize / 64));
     std::vector<glm::vec4> px(size_t(kSize) * kSize);
@@ -104,19 +107,21 @@ int bench_scene(const std::string& file, int width, int height, int k, int repea
     gl::GlContext::get().finish();
     best = std::min(best, seconds(t0));
   }
-  fmt::print("{}: {}x{}, {} objects, {} lights, {} x {} sub-samples: setup {:.3f} s ({} programs), first frame {:.3f} s, "
-             "frame {:.3f} s (best of {}), {:.3f} s per sub-sample pass, {:.1f} M pixel-samples/s\n",
-             file, scene.film.width, scene.film.height, scene.objects.size(), scene.lights.size(), k, k, setup,
-             raster.program_count(), first, best, repeats, best / (k * k),
-             double(scene.film.width) * scene.film.height * k * k / best * 1e-6);
+  fmt::print(
+      "{}: {}x{}, {} objects, {} lights, {} x {} sub-samples: setup {:.3f} s ({} programs), first frame {:.3f} s, "
+      "frame {:.3f} s (best of {}), {:.3f} s per sub-sample pass, {:.1f} M pixel-samples/s\n",
+      file, scene.film.width, scene.film.height, scene.objects.size(), scene.lights.size(), k, k, setup, raster.program_count(),
+      first, best, repeats, best / (k * k), double(scene.film.width) * scene.film.height * k * k / best * 1e-6);
   return 0;
 }
 
 int main(int argc, char** argv) {
   int pairs = 1 << 20, repeats = 5;
   for (int i = 1; i + 1 < argc; ++i) {
-    if (!std::strcmp(argv[i], "--pairs")) pairs = std::max(64, std::atoi(argv[++i]));
-    else if (!std::strcmp(argv[i], "--repeats")) repeats = std::max(1, std::atoi(argv[++i]));
+    if (!std::strcmp(argv[i], "--pairs"))
+      pairs = std::max(64, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--repeats"))
+      repeats = std::max(1, std::atoi(argv[++i]));
   }
   std::string spheres;
   std::vector<std::string> sphere_materials;
@@ -168,7 +173,8 @@ int main(int argc, char** argv) {
       {"phong (normalised)", R"({"model": "phong", "kd": 0.2, "exponent": 30})"},
       {"ward vector (1992)", R"({"model": "ward", "kd": 0.1, "alpha_x": 0.08, "alpha_y": 0.3})"},
       {"ward angle (1992)", R"({"model": "ward", "kd": 0.1, "alpha_x": 0.08, "alpha_y": 0.3, "form": "angle"})"},
-      {"ward approx (balanced)", R"({"model": "ward", "kd": 0.1, "alpha_x": 0.08, "alpha_y": 0.3, "form": "approx", "normalization": "balanced"})"},
+      {"ward approx (balanced)",
+       R"({"model": "ward", "kd": 0.1, "alpha_x": 0.08, "alpha_y": 0.3, "form": "approx", "normalization": "balanced"})"},
       {"ashikhmin-shirley", R"({"model": "ashikhmin-shirley", "n_u": 10, "n_v": 500})"},
       {"lafortune (3 lobes, matte-steel)", "matte-steel"},
       {"ggx", R"({"model": "ggx", "kd": 0.2, "alpha_x": 0.05, "alpha_y": 0.4})"},

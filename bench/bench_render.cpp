@@ -41,10 +41,10 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <nlohmann/json.hpp>
 
 #include "aniso/render/gallery.h"
 #include "aniso/render/image.h"
@@ -129,11 +129,14 @@ void bench_gallery(const Args& a) {
   if (!a.images.empty()) write_png((std::filesystem::path(a.images) / "aniso-gallery.png").string(), g.image);
   const int spp = go.spp > 0 ? go.spp : gallery_document().at("common").at("film").at("spp").get<int>();
   fmt::print("## 1. Default gallery\n\n");
-  fmt::print("| figure | cells | cell size | spp | threads | wall time | CPU time | CPU / (wall x threads) | paths/s | rays/s | rays per path |\n");
+  fmt::print(
+      "| figure | cells | cell size | spp | threads | wall time | CPU time | CPU / (wall x threads) | paths/s | rays/s | rays "
+      "per path |\n");
   fmt::print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   fmt::print("| {}x{} | {} | {}x{} | {} | {} | {:.1f} s | {:.1f} s | {:.2f} | {:.2f} M | {:.2f} M | {:.2f} |\n\n", g.image.width,
              g.image.height, g.cells, g.cell_width, g.cell_height, spp, threads, wall, cpu, cpu / (wall * threads),
-             double(g.stats.paths) / wall * 1e-6, double(g.stats.rays) / wall * 1e-6, double(g.stats.rays) / double(g.stats.paths));
+             double(g.stats.paths) / wall * 1e-6, double(g.stats.rays) / wall * 1e-6,
+             double(g.stats.rays) / double(g.stats.paths));
 
   // The same cells' rays through Embree alone.
   fmt::print(stderr, "recording and replaying the gallery's rays...\n");
@@ -148,13 +151,17 @@ void bench_gallery(const Args& a) {
   const double renderer_rate = double(g.stats.rays) / wall, raw = double(c.rays) / c.seconds;
   const double renderer_cpu_rate = double(g.stats.rays) / cpu, raw_cpu = double(c.rays) / c.cpu;
   fmt::print("## 2. Ray-cast ceiling (the gallery's rays through Embree alone)\n\n");
-  fmt::print("| rays replayed | shadow rays | Embree, {} threads | Embree, 1 thread | renderer, {} threads | renderer / Embree | per CPU second: Embree | renderer | renderer / Embree |\n",
-             threads, threads);
+  fmt::print(
+      "| rays replayed | shadow rays | Embree, {} threads | Embree, 1 thread | renderer, {} threads | renderer / Embree | per "
+      "CPU second: Embree | renderer | renderer / Embree |\n",
+      threads, threads);
   fmt::print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  fmt::print("| {:.2f} M ({} spp of every cell) | {:.0f}% | {:.2f} M rays/s | {:.2f} M rays/s | {:.2f} M rays/s | {:.1f}% | {:.2f} M | {:.2f} M | {:.1f}% |\n\n",
-             double(c.rays) * 1e-6, rec_spp, 100.0 * double(c.shadow_rays) / double(c.rays), raw * 1e-6,
-             double(c.rays) / c.seconds_one_thread * 1e-6, renderer_rate * 1e-6, 100.0 * renderer_rate / raw, raw_cpu * 1e-6,
-             renderer_cpu_rate * 1e-6, 100.0 * renderer_cpu_rate / raw_cpu);
+  fmt::print(
+      "| {:.2f} M ({} spp of every cell) | {:.0f}% | {:.2f} M rays/s | {:.2f} M rays/s | {:.2f} M rays/s | {:.1f}% | {:.2f} M | "
+      "{:.2f} M | {:.1f}% |\n\n",
+      double(c.rays) * 1e-6, rec_spp, 100.0 * double(c.shadow_rays) / double(c.rays), raw * 1e-6,
+      double(c.rays) / c.seconds_one_thread * 1e-6, renderer_rate * 1e-6, 100.0 * renderer_rate / raw, raw_cpu * 1e-6,
+      renderer_cpu_rate * 1e-6, 100.0 * renderer_cpu_rate / raw_cpu);
 }
 
 // --- 3 and 4: noise ------------------------------------------------------------------------------
@@ -236,9 +243,13 @@ void bench_strategies(const Args& a, const Scene& scene, const Reference& ref) {
   const double budget = a.quick ? 0.2 : 3.0;  // CPU seconds per strategy
   fmt::print("## 3. MIS vs BSDF vs light sampling at equal time ({}, {}x{}, max_depth {})\n\n", scene.source, scene.film.width,
              scene.film.height, scene.integrator.max_depth);
-  fmt::print("Reference: MIS, {} spp ({:.1f} CPU s), its own RMS noise {:.2e} (removed from the figures below); mean pixel value {:.4f}.\n\n",
-             ref.spp, ref.seconds, std::sqrt(ref.noise_mse), ref.mean_value);
-  fmt::print("| strategy | spp in {:.1f} CPU s | CPU time | RMSE | relative RMSE | MSE x time (lower is better) | efficiency vs mis |\n", budget);
+  fmt::print(
+      "Reference: MIS, {} spp ({:.1f} CPU s), its own RMS noise {:.2e} (removed from the figures below); mean pixel value "
+      "{:.4f}.\n\n",
+      ref.spp, ref.seconds, std::sqrt(ref.noise_mse), ref.mean_value);
+  fmt::print(
+      "| strategy | spp in {:.1f} CPU s | CPU time | RMSE | relative RMSE | MSE x time (lower is better) | efficiency vs mis |\n",
+      budget);
   fmt::print("|---|---:|---:|---:|---:|---:|---:|\n");
   double mis_eff = 0.0;
   for (Strategy s : {Strategy::Mis, Strategy::Bsdf, Strategy::Light}) {
@@ -249,8 +260,8 @@ void bench_strategies(const Args& a, const Scene& scene, const Reference& ref) {
     const Rendered r = render_with(scene, s, SamplerKind::Sobol, spp, 77, threads);
     const double e = rmse(r.img, ref), eff = e * e * r.cpu;
     if (s == Strategy::Mis) mis_eff = eff;
-    fmt::print("| {} | {} | {:.2f} s | {:.4f} | {:.1f}% | {:.2e} | {:.2f}x |\n", name_of(s), spp, r.cpu, e, 100.0 * e / ref.mean_value,
-               eff, mis_eff / eff);
+    fmt::print("| {} | {} | {:.2f} s | {:.4f} | {:.1f}% | {:.2e} | {:.2f}x |\n", name_of(s), spp, r.cpu, e,
+               100.0 * e / ref.mean_value, eff, mis_eff / eff);
     if (!a.images.empty())
       write_png((std::filesystem::path(a.images) / fmt::format("strategy-{}-{}.png", scene.film.width, name_of(s))).string(),
                 tonemap(r.img, ToneMapOptions{}));
@@ -265,14 +276,16 @@ void bench_samplers(const Args& a, const Scene& brushed, const Reference& brushe
   const int threads = thread_count(a);
   const int spp = a.quick ? 8 : 48, ref_spp = a.quick ? 128 : 512, cell_px = a.quick ? 48 : 96;
   fmt::print("## 4. Owen-scrambled Sobol' vs independent samples at equal spp ({} spp, MIS)\n\n", spp);
-  fmt::print("| scene | size | RMSE, independent | RMSE, Sobol' | MSE ratio (independent / Sobol') | CPU time, independent | CPU time, Sobol' |\n");
+  fmt::print(
+      "| scene | size | RMSE, independent | RMSE, Sobol' | MSE ratio (independent / Sobol') | CPU time, independent | CPU time, "
+      "Sobol' |\n");
   fmt::print("|---|---|---:|---:|---:|---:|---:|\n");
   const auto row = [&](const std::string& name, const Scene& scene, const Reference& ref) {
     const Rendered ind = render_with(scene, Strategy::Mis, SamplerKind::Independent, spp, 5, threads);
     const Rendered sob = render_with(scene, Strategy::Mis, SamplerKind::Sobol, spp, 5, threads);
     const double ei = rmse(ind.img, ref), es = rmse(sob.img, ref);
-    fmt::print("| {} | {}x{} | {:.4f} | {:.4f} | {:.2f} | {:.2f} s | {:.2f} s |\n", name, scene.film.width, scene.film.height, ei, es,
-               (ei * ei) / std::max(es * es, 1e-30), ind.cpu, sob.cpu);
+    fmt::print("| {} | {}x{} | {:.4f} | {:.4f} | {:.2f} | {:.2f} s | {:.2f} s |\n", name, scene.film.width, scene.film.height, ei,
+               es, (ei * ei) / std::max(es * es, 1e-30), ind.cpu, sob.cpu);
   };
   row(brushed.source, brushed, brushed_ref);
   for (const size_t cell : {size_t(1), size_t(8)}) {  // "Ward, anisotropic" and "Disc, concentric tangents"
@@ -294,17 +307,24 @@ Scene many_lights_scene(int px, int n) {
   for (int i = 0; i < n; ++i) {
     const double a = 2.0 * 3.14159265358979 * i / n;
     const double r = 2.2 + 0.4 * (i % 3);
-    lights.push_back({{"type", "sphere"}, {"center", {r * std::cos(a), 0.6 + 0.3 * (i % 4), r * std::sin(a)}}, {"radius", 0.08},
+    lights.push_back({{"type", "sphere"},
+                      {"center", {r * std::cos(a), 0.6 + 0.3 * (i % 4), r * std::sin(a)}},
+                      {"radius", 0.08},
                       {"radiance", {40.0 + 30.0 * (i % 5), 40.0 + 20.0 * (i % 3), 60.0}}});
   }
-  const json sj = {{"camera", {{"position", {0, 3.2, 3.2}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 40}}},
-                   {"film", {{"width", px}, {"height", px}, {"spp", 16}}},
-                   {"integrator", {{"max_depth", 4}}},
-                   {"environment", {{"type", "sky"}, {"zenith", 0.05}, {"horizon", 0.08}, {"ground", 0.02}, {"resolution", 64}}},
-                   {"lights", lights},
-                   {"objects", json::array({{{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"radius", 2.0},
-                                             {"tangent", {{"field", "concentric"}}}, {"material", "brushed-aluminium"}},
-                                            {{"shape", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "brushed-gold"}}})}};
+  const json sj = {
+      {"camera", {{"position", {0, 3.2, 3.2}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 40}}},
+      {"film", {{"width", px}, {"height", px}, {"spp", 16}}},
+      {"integrator", {{"max_depth", 4}}},
+      {"environment", {{"type", "sky"}, {"zenith", 0.05}, {"horizon", 0.08}, {"ground", 0.02}, {"resolution", 64}}},
+      {"lights", lights},
+      {"objects", json::array({{{"shape", "disc"},
+                                {"center", {0, 0, 0}},
+                                {"normal", {0, 1, 0}},
+                                {"radius", 2.0},
+                                {"tangent", {{"field", "concentric"}}},
+                                {"material", "brushed-aluminium"}},
+                               {{"shape", "sphere"}, {"center", {0, 0.5, 0}}, {"radius", 0.5}, {"material", "brushed-gold"}}})}};
   return parse_scene(sj, fmt::format("{} sphere lights over a brushed disc", n), "");
 }
 
@@ -325,8 +345,9 @@ void bench_light_selection(const Args& a) {
       const Rendered r = render_with(scene, Strategy::Mis, SamplerKind::Sobol, spp, 77, threads, sel);
       const double e = rmse(r.img, ref), eff = e * e * r.cpu;
       if (sel == LightSelection::All) eff_all = eff;
-      fmt::print("| {} | {} | {} | {} | {:.4f} | {:.2e} | {:.2f}x |\n", name, scene.lights.size() + (scene.environment.is_black() ? 0 : 1),
-                 sel == LightSelection::All ? "all" : "power", spp, e, eff, eff_all / eff);
+      fmt::print("| {} | {} | {} | {} | {:.4f} | {:.2e} | {:.2f}x |\n", name,
+                 scene.lights.size() + (scene.environment.is_black() ? 0 : 1), sel == LightSelection::All ? "all" : "power", spp,
+                 e, eff, eff_all / eff);
     }
   };
   for (const size_t cell : {size_t(1), size_t(8)}) {
@@ -378,7 +399,8 @@ void bench_adaptive(const Args& a) {
       const double c0 = cpu_seconds();
       const Image img = aniso::render::render(sc, o, &st);
       const double cpu = cpu_seconds() - c0, e = rmse(img, ref), uniform_t = uniform_time(e);
-      fmt::print("| {} | {} | {:.1f} | {:.4f} | {:.2f} s | {:.2f} s | {:.2f}x |\n", name, t, st.mean_spp, e, cpu, uniform_t, uniform_t / cpu);
+      fmt::print("| {} | {} | {:.1f} | {:.4f} | {:.2f} s | {:.2f} s | {:.2f}x |\n", name, t, st.mean_spp, e, cpu, uniform_t,
+                 uniform_t / cpu);
     }
   };
   const int px = a.quick ? 48 : 64;
@@ -404,15 +426,17 @@ void bench_fireflies(const Args& a) {
   const Reference ref = make_reference(base, a.quick ? 128 : 1024, threads);
   float ref_max = 0.0f;
   for (float v : ref.mean.rgb) ref_max = std::max(ref_max, v);
-  fmt::print("## 7. Fireflies: clamp and glossy filter (gallery torus, {}x{}, 48 spp, MIS, Sobol')\n\n", base.film.width, base.film.height);
+  fmt::print("## 7. Fireflies: clamp and glossy filter (gallery torus, {}x{}, 48 spp, MIS, Sobol')\n\n", base.film.width,
+             base.film.height);
   fmt::print("Reference: 1024 spp, unbiased, mean {:.4f}, brightest value {:.2f}.\n\n", ref.mean_value, ref_max);
   fmt::print("| setting | RMSE | bias of the mean | brightest value | CPU time |\n|---|---:|---:|---:|---:|\n");
   struct Setting {
     const char* name;
     float clamp, filter;
   };
-  for (const Setting& st : {Setting{"none (default)", 0.0f, 0.0f}, Setting{"clamp 10", 10.0f, 0.0f}, Setting{"clamp 3", 3.0f, 0.0f},
-                            Setting{"filter_glossy 1", 0.0f, 1.0f}, Setting{"filter_glossy 0.3", 0.0f, 0.3f}}) {
+  for (const Setting& st :
+       {Setting{"none (default)", 0.0f, 0.0f}, Setting{"clamp 10", 10.0f, 0.0f}, Setting{"clamp 3", 3.0f, 0.0f},
+        Setting{"filter_glossy 1", 0.0f, 1.0f}, Setting{"filter_glossy 0.3", 0.0f, 0.3f}}) {
     Scene sc = base;
     sc.integrator.clamp = st.clamp;
     sc.integrator.filter_glossy = st.filter;
@@ -421,7 +445,8 @@ void bench_fireflies(const Args& a) {
     float mx = 0.0f;
     for (float v : r.img.rgb) mean += v, mx = std::max(mx, v);
     mean /= double(r.img.rgb.size());
-    fmt::print("| {} | {:.4f} | {:+.2f}% | {:.2f} | {:.2f} s |\n", st.name, rmse(r.img, ref), 100.0 * (mean / ref.mean_value - 1.0), mx, r.cpu);
+    fmt::print("| {} | {:.4f} | {:+.2f}% | {:.2f} | {:.2f} s |\n", st.name, rmse(r.img, ref),
+               100.0 * (mean / ref.mean_value - 1.0), mx, r.cpu);
   }
   fmt::print("\n");
 }
@@ -471,8 +496,7 @@ int main(int argc, char** argv) {
     if (want(5)) bench_light_selection(a);
     if (want(6)) bench_adaptive(a);
     if (want(7)) bench_fireflies(a);
-    fmt::print("(benchmark run took {:.0f} s)\n",
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    fmt::print("(benchmark run took {:.0f} s)\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "aniso_bench_render: %s\n", e.what());
     return 1;

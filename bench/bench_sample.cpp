@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <span>
-#include <type_traits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -46,13 +46,20 @@ const Uniforms& uniforms() {
 }
 
 template <typename M> const M& alternative(const Material& m) {
-  if constexpr (std::is_same_v<M, LambertT<float>>) return m.lambert;
-  else if constexpr (std::is_same_v<M, PhongT<float>>) return m.phong;
-  else if constexpr (std::is_same_v<M, WardT<float>>) return m.ward;
-  else if constexpr (std::is_same_v<M, AshikhminShirleyT<float>>) return m.ashikhmin_shirley;
-  else if constexpr (std::is_same_v<M, LafortuneT<float>>) return m.lafortune;
-  else if constexpr (std::is_same_v<M, GGXT<float>>) return m.ggx;
-  else return m.metal;
+  if constexpr (std::is_same_v<M, LambertT<float>>)
+    return m.lambert;
+  else if constexpr (std::is_same_v<M, PhongT<float>>)
+    return m.phong;
+  else if constexpr (std::is_same_v<M, WardT<float>>)
+    return m.ward;
+  else if constexpr (std::is_same_v<M, AshikhminShirleyT<float>>)
+    return m.ashikhmin_shirley;
+  else if constexpr (std::is_same_v<M, LafortuneT<float>>)
+    return m.lafortune;
+  else if constexpr (std::is_same_v<M, GGXT<float>>)
+    return m.ggx;
+  else
+    return m.metal;
 }
 
 template <typename Model> void bm_sample(benchmark::State& state, const Model model) {
@@ -86,8 +93,8 @@ template <typename M> void register_model(const std::string& key) {
 
 // The sampled subset: one material per model; Ward in its default vector form and Ward 1992
 // normalisation (sampling itself does not depend on the form).
-const char* const kSampled[] = {"lambert", "phong", "ward/vector/ward", "ashikhmin-shirley",
-                                "lafortune/matte-steel", "ggx", "metal/gold", "metal/brushed-gold"};
+const char* const kSampled[] = {"lambert", "phong",      "ward/vector/ward",  "ashikhmin-shirley", "lafortune/matte-steel",
+                                "ggx",     "metal/gold", "metal/brushed-gold"};
 
 }  // namespace
 
@@ -116,8 +123,7 @@ int check_sample() {
       if (!s.valid) continue;
       ++valid;
       const float p = m.pdf(s.wi, wo[i]);
-      bool ok = s.wi.z > 0.0f && std::isfinite(s.pdf) && s.pdf > 0.0f &&
-                std::abs(p - s.pdf) <= 1e-4f * s.pdf;
+      bool ok = s.wi.z > 0.0f && std::isfinite(s.pdf) && s.pdf > 0.0f && std::abs(p - s.pdf) <= 1e-4f * s.pdf;
       for (int k = 0; k < 3; ++k) ok = ok && std::isfinite(s.weight[k]) && s.weight[k] >= 0.0f;
       if (!ok) ++bad;
     }

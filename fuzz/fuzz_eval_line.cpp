@@ -46,12 +46,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // Tokens through the integer rule as well (--count, --seed, --spp read them).
     try {
       (void)parse_integer(line, -5, 1000, "--x");
-    } catch (const InputError&) {
-    }
+    } catch (const InputError&) {}
     try {
       (void)parse_unsigned(line, UINT64_MAX, "--seed");
-    } catch (const InputError&) {
-    }
+    } catch (const InputError&) {}
     if (is_blank_or_comment(line)) continue;
     DirectionPair d;
     try {

@@ -41,32 +41,32 @@ std::string write_scratch_file(const std::string& name, const uint8_t* data, siz
 }
 
 namespace {
-constexpr double kTiny = std::numeric_limits<double>::min();         // 2.2e-308, smallest normal double
-constexpr double kSub = std::numeric_limits<double>::denorm_min();   // 4.9e-324
-constexpr double kTinyF = double(std::numeric_limits<float>::min()); // 1.2e-38, smallest normal float
+constexpr double kTiny = std::numeric_limits<double>::min();          // 2.2e-308, smallest normal double
+constexpr double kSub = std::numeric_limits<double>::denorm_min();    // 4.9e-324
+constexpr double kTinyF = double(std::numeric_limits<float>::min());  // 1.2e-38, smallest normal float
 }  // namespace
 
 const FuzzPair kPairs[] = {
     {{0, 0, 1}, {0, 0, 1}},
-    {{0.6, 0, 0.8}, {-0.6, 0, 0.8}},          // mirror pair in the tangent plane
-    {{0, 0.6, 0.8}, {0, -0.6, 0.8}},          // mirror pair in the bitangent plane
+    {{0.6, 0, 0.8}, {-0.6, 0, 0.8}},  // mirror pair in the tangent plane
+    {{0, 0.6, 0.8}, {0, -0.6, 0.8}},  // mirror pair in the bitangent plane
     {{0.3, 0.1, 0.9}, {-0.2, 0.4, 0.8}},
-    {{0.6, 0, 0.8}, {0.6, 0, 0.8}},           // retro-reflection
-    {{1, 0, 1e-170}, {-1, 0, 1e-170}},        // issue 13: normalize(wi + wo) underflow
-    {{1, 0, 1e-120}, {-1, 0, 1e-120}},        // issue 13: mirror pairs near the double range
-    {{1, 0, 1e-15}, {1, 0, 1e-15}},           // issue 13: float pdf NaN at wi = wo, z = 1e-15
-    {{1, 0, 1e-12}, {-1, 0, 1e-12}},          // at the double horizon cosine
+    {{0.6, 0, 0.8}, {0.6, 0, 0.8}},     // retro-reflection
+    {{1, 0, 1e-170}, {-1, 0, 1e-170}},  // issue 13: normalize(wi + wo) underflow
+    {{1, 0, 1e-120}, {-1, 0, 1e-120}},  // issue 13: mirror pairs near the double range
+    {{1, 0, 1e-15}, {1, 0, 1e-15}},     // issue 13: float pdf NaN at wi = wo, z = 1e-15
+    {{1, 0, 1e-12}, {-1, 0, 1e-12}},    // at the double horizon cosine
     {{1, 0, 1.0000001e-12}, {-1, 0, 1.0000001e-12}},
-    {{1, 0, 1e-6}, {-1, 0, 1e-6}},            // at the float horizon cosine
+    {{1, 0, 1e-6}, {-1, 0, 1e-6}},  // at the float horizon cosine
     {{1, 0, 1.01e-6}, {0, 1, 1.01e-6}},
     {{1, 0, kTinyF}, {-1, 0, kTinyF}},
     {{1, 0, kTiny}, {-1, 0, kTiny}},
     {{1, 0, kSub}, {-1, 0, kSub}},
     {{0, 0, 1}, {1, 0, kTiny}},
     {{0.7071067811865476, 0.7071067811865476, 1e-9}, {0, 0, 1}},
-    {{0, 0, 1}, {0, 0, -1}},                  // below the horizon: f = pdf = 0
+    {{0, 0, 1}, {0, 0, -1}},  // below the horizon: f = pdf = 0
     {{0, 0, -1}, {0.3, 0.1, 0.9}},
-    {{1, 0, 0}, {0, 1, 0}},                   // exactly on the horizon
+    {{1, 0, 0}, {0, 1, 0}},  // exactly on the horizon
 };
 const size_t kPairCount = sizeof(kPairs) / sizeof(kPairs[0]);
 

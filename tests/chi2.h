@@ -23,7 +23,7 @@ struct Chi2Result {
   double p_value = 0.0;
   double chi2 = 0.0;
   int dof = 0;
-  double pdf_integral = 0.0;    // integral of pdf over the hemisphere (numerical)
+  double pdf_integral = 0.0;  // integral of pdf over the hemisphere (numerical)
   double accepted_fraction = 0.0;
   std::string message;
 };
@@ -31,8 +31,8 @@ struct Chi2Result {
 // 3-point Gauss-Legendre per axis of each bin's sub-cells: exact for polynomials of degree 5, and the
 // sub-cells resolve the lobes used in the tests (checked by pdf_integral ~ acceptance).
 inline Chi2Result chi2_test(const std::function<BSDFSampleT<float>(float, Vec2)>& sample,
-                            const std::function<double(const Vec3d&)>& pdf, int64_t n_samples, uint64_t seed,
-                            int theta_bins = 40, int phi_bins = 80, int sub = 6) {
+                            const std::function<double(const Vec3d&)>& pdf, int64_t n_samples, uint64_t seed, int theta_bins = 40,
+                            int phi_bins = 80, int sub = 6) {
   Chi2Result r;
   // Bins in (cos theta, phi): cos theta in [0, 1], so each bin's solid angle is d(cos) d(phi).
   const int nb = theta_bins * phi_bins;
@@ -88,8 +88,8 @@ inline Chi2Result chi2_test(const std::function<BSDFSampleT<float>(float, Vec2)>
   for (int idx : order) {
     if (expected[idx] == 0.0) {
       if (observed[idx] > double(n_samples) * 1e-5) {
-        r.message = "samples fell where the pdf is zero (cell " + std::to_string(idx) + ", " +
-                    std::to_string(observed[idx]) + " samples)";
+        r.message = "samples fell where the pdf is zero (cell " + std::to_string(idx) + ", " + std::to_string(observed[idx]) +
+                    " samples)";
         return r;
       }
       continue;

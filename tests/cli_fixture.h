@@ -75,8 +75,10 @@ class Cli : public ::testing::Test {
     cmd.append(" 2> ").append(shell_quote(err.string()));
     const int status = std::system(cmd.c_str());
     Result r;
-    if (status != -1 && WIFEXITED(status)) r.code = WEXITSTATUS(status);
-    else if (status != -1 && WIFSIGNALED(status)) r.code = 128 + WTERMSIG(status);
+    if (status != -1 && WIFEXITED(status))
+      r.code = WEXITSTATUS(status);
+    else if (status != -1 && WIFSIGNALED(status))
+      r.code = 128 + WTERMSIG(status);
     r.out = read_file(out);
     r.err = read_file(err);
     return r;

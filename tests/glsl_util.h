@@ -35,16 +35,17 @@ inline std::string glslang_errors(const std::string& source, const std::string& 
   return rc == 0 ? "" : (log.empty() ? "glslangValidator failed" : log);
 }
 
-#define ANISO_REQUIRE_GLSLANG()                                                         \
-  if (std::string(ANISO_GLSLANG).empty()) GTEST_SKIP() << "glslangValidator not found " \
-                                                          "(Debian package glslang-tools)"
+#define ANISO_REQUIRE_GLSLANG()                 \
+  if (std::string(ANISO_GLSLANG).empty())       \
+  GTEST_SKIP() << "glslangValidator not found " \
+                  "(Debian package glslang-tools)"
 
 // The GL context, or a skip naming why there is none.
-#define ANISO_REQUIRE_GL()                                        \
-  try {                                                           \
-    aniso::gl::GlContext::get();                                  \
-  } catch (const aniso::gl::GlUnavailable& e) {                   \
-    GTEST_SKIP() << "no OpenGL 4.5 through EGL: " << e.what();    \
+#define ANISO_REQUIRE_GL()                                     \
+  try {                                                        \
+    aniso::gl::GlContext::get();                               \
+  } catch (const aniso::gl::GlUnavailable& e) {                \
+    GTEST_SKIP() << "no OpenGL 4.5 through EGL: " << e.what(); \
   }
 
 struct GpuResult {

@@ -27,25 +27,35 @@ std::vector<NamedMaterial> energy_conserving() {
                  {{"model", "ward"}, {"ks", 1.0}, {"alpha_x", a}, {"alpha_y", a}, {"normalization", "balanced"}}});
     v.push_back({"ggx_" + std::to_string(int(a * 100)), {{"model", "ggx"}, {"f0", 1.0}, {"alpha_x", a}, {"alpha_y", a}}});
   }
-  v.push_back({"ward_balanced_aniso", {{"model", "ward"}, {"ks", 1.0}, {"alpha_x", 0.05}, {"alpha_y", 0.6}, {"normalization", "balanced"}}});
+  v.push_back({"ward_balanced_aniso",
+               {{"model", "ward"}, {"ks", 1.0}, {"alpha_x", 0.05}, {"alpha_y", 0.6}, {"normalization", "balanced"}}});
   v.push_back({"ggx_aniso", {{"model", "ggx"}, {"f0", 1.0}, {"alpha_x", 0.05}, {"alpha_y", 0.6}}});
   // Ashikhmin-Shirley: Rd + Rs <= 1 with the coupled diffuse term (their Sec. 3 promise).
   for (double n : {1.0, 10.0, 100.0, 10000.0}) {
-    v.push_back({"as_" + std::to_string(int(n)), {{"model", "ashikhmin-shirley"}, {"rd", 0.5}, {"rs", 0.5}, {"n_u", n}, {"n_v", n}}});
-    v.push_back({"as_white_spec_" + std::to_string(int(n)), {{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"rs", 1.0}, {"n_u", n}, {"n_v", n}}});
+    v.push_back(
+        {"as_" + std::to_string(int(n)), {{"model", "ashikhmin-shirley"}, {"rd", 0.5}, {"rs", 0.5}, {"n_u", n}, {"n_v", n}}});
+    v.push_back({"as_white_spec_" + std::to_string(int(n)),
+                 {{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"rs", 1.0}, {"n_u", n}, {"n_v", n}}});
   }
   v.push_back({"as_aniso", {{"model", "ashikhmin-shirley"}, {"rd", 0.8}, {"rs", 0.2}, {"n_u", 5.0}, {"n_v", 1000.0}}});
   v.push_back({"as_diffuse_only", {{"model", "ashikhmin-shirley"}, {"rd", 1.0}, {"rs", 0.0}, {"ks_scale", 0.0}}});
   // Metals: F <= 1 times a bounded lobe.
-  v.push_back({"metal_silver_ggx", {{"model", "metal"}, {"metal", "silver"}, {"lobe", {{"model", "ggx"}, {"alpha_x", 0.3}, {"alpha_y", 0.3}}}}});
-  v.push_back({"metal_silver_ward_balanced", {{"model", "metal"}, {"metal", "silver"}, {"lobe", {{"model", "ward"}, {"alpha_x", 0.4}, {"alpha_y", 0.1}, {"normalization", "balanced"}}}}});
-  v.push_back({"metal_silver_as", {{"model", "metal"}, {"metal", "silver"}, {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 10.0}, {"n_v", 100.0}}}}});
+  v.push_back({"metal_silver_ggx",
+               {{"model", "metal"}, {"metal", "silver"}, {"lobe", {{"model", "ggx"}, {"alpha_x", 0.3}, {"alpha_y", 0.3}}}}});
+  v.push_back({"metal_silver_ward_balanced",
+               {{"model", "metal"},
+                {"metal", "silver"},
+                {"lobe", {{"model", "ward"}, {"alpha_x", 0.4}, {"alpha_y", 0.1}, {"normalization", "balanced"}}}}});
+  v.push_back(
+      {"metal_silver_as",
+       {{"model", "metal"}, {"metal", "silver"}, {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 10.0}, {"n_v", 100.0}}}}});
   // Disney principled, metallic 1 with a white base colour: Fresnel 1 times the separable-Smith GGX
   // lobe, whose single scattering loses energy (separable G <= height-correlated G <= 1).
   for (double r : {0.1, 0.5, 1.0})
     v.push_back({"principled_white_metal_" + std::to_string(int(r * 100)),
                  {{"model", "principled"}, {"base_color", 1.0}, {"metallic", 1.0}, {"roughness", r}}});
-  v.push_back({"principled_white_metal_aniso", {{"model", "principled"}, {"base_color", 1.0}, {"metallic", 1.0}, {"roughness", 0.5}, {"anisotropic", 1.0}}});
+  v.push_back({"principled_white_metal_aniso",
+               {{"model", "principled"}, {"base_color", 1.0}, {"metallic", 1.0}, {"roughness", 0.5}, {"anisotropic", 1.0}}});
   return v;
 }
 
@@ -77,8 +87,7 @@ TEST_P(AlbedoAgreementTest, ImportanceAgreesWithUniform) {
     const AlbedoEstimate un = albedo_uniform(m, wo, 4 * kSamples, 3);
     for (int c = 0; c < 3; ++c) {
       const double sigma = std::sqrt(is.std_error[c] * is.std_error[c] + un.std_error[c] * un.std_error[c]);
-      EXPECT_NEAR(is.mean[c], un.mean[c], 5.0 * sigma + 2e-3 * un.mean[c] + 1e-6)
-          << GetParam().name << " theta " << theta;
+      EXPECT_NEAR(is.mean[c], un.mean[c], 5.0 * sigma + 2e-3 * un.mean[c] + 1e-6) << GetParam().name << " theta " << theta;
     }
   }
 }
@@ -94,8 +103,8 @@ TEST(Albedo, LambertIsExactlyKd) {
 }
 
 double ward_albedo(double alpha, const char* normalization, double theta) {
-  const MaterialT<double> m = build<double>({{"model", "ward"}, {"ks", 1.0}, {"alpha_x", alpha}, {"alpha_y", alpha},
-                                             {"normalization", normalization}});
+  const MaterialT<double> m =
+      build<double>({{"model", "ward"}, {"ks", 1.0}, {"alpha_x", alpha}, {"alpha_y", alpha}, {"normalization", normalization}});
   // Not scaled by ANISO_TEST_SCALE: the bounds below are fixed (balanced Ward reaches 0.999 at
   // 89.99 degrees), so the noise must stay that of 400000 samples.
   return albedo_importance(m, spherical(theta, 0.0), 400'000, 5).mean.x;
@@ -145,8 +154,8 @@ TEST(LafortuneFitsGainEnergy, MatteSteelAndBrushedmetalAtGrazingAsTabulated) {
     double albedo[3];  // docs/presets.md
   };
   const Row rows[] = {
-      {"matte-steel", 60.0, {0.854, 0.841, 0.861}}, {"matte-steel", 75.0, {1.011, 1.073, 1.263}},
-      {"matte-steel", 85.0, {1.400, 1.404, 1.533}}, {"brushedmetal", 75.0, {1.005, 1.073, 1.263}},
+      {"matte-steel", 60.0, {0.854, 0.841, 0.861}},  {"matte-steel", 75.0, {1.011, 1.073, 1.263}},
+      {"matte-steel", 85.0, {1.400, 1.404, 1.533}},  {"brushedmetal", 75.0, {1.005, 1.073, 1.263}},
       {"brushedmetal", 85.0, {1.396, 1.404, 1.533}},
   };
   for (const Row& r : rows) {
@@ -166,7 +175,8 @@ TEST(LafortuneFitsGainEnergy, MatteSteelAndBrushedmetalAtGrazingAsTabulated) {
 // aniso_tests --gtest_also_run_disabled_tests --gtest_filter=WardOvershoot.DISABLED_Table
 TEST(WardOvershoot, DISABLED_Table) {
   const double views[] = {0.0, 30.0, 60.0, 75.0, 85.0, 89.0, 89.9, 89.99};
-  std::printf("| normalisation | alpha | 0 | 30 | 60 | 75 | 85 | 89 | 89.9 | 89.99 |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| normalisation | alpha | 0 | 30 | 60 | 75 | 85 | 89 | 89.9 | 89.99 |\n|---|---|---|---|---|---|---|---|---|---|\n");
   for (const char* norm : {"ward", "duer", "balanced"})
     for (double alpha : {0.05, 0.1, 0.2, 0.3, 0.5, 1.0}) {
       std::printf("| %s | %.2f |", norm, alpha);

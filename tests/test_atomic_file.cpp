@@ -81,7 +81,7 @@ TEST_F(AtomicFileTest, NewFileGetsTheUmaskMode) {
 TEST_F(AtomicFileTest, SymbolicLinksAreWrittenThrough) {
   fs::create_directory(dir_ / "real");
   write_file_atomically(path("real/target.txt"), "old");
-  fs::create_symlink("real/target.txt", dir_ / "link.txt");  // relative to the link's directory
+  fs::create_symlink("real/target.txt", dir_ / "link.txt");   // relative to the link's directory
   fs::create_symlink(dir_ / "link.txt", dir_ / "link2.txt");  // a chain, absolute
   write_file_atomically(path("link2.txt"), "new");
   EXPECT_TRUE(fs::is_symlink(dir_ / "link.txt"));
@@ -110,7 +110,10 @@ TEST_F(AtomicFileTest, FailuresLeaveTheOldFileAndNoTemporary) {
     write_file_atomically(path("missing/x.txt"), "x");
     ADD_FAILURE() << "no error";
   } catch (const FileWriteError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("cannot write " + path("missing/x.txt") + ": cannot create " + path("missing/x.txt") + ".tmp-", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind(
+                  "cannot write " + path("missing/x.txt") + ": cannot create " + path("missing/x.txt") + ".tmp-", 0),
+              0u)
+        << e.what();
     EXPECT_NE(std::string(e.what()).find("(No such file or directory)"), std::string::npos) << e.what();
     EXPECT_FALSE(e.created());
   }
@@ -192,7 +195,8 @@ TEST_F(AtomicFileTest, ConcurrentWritersToOnePathLeaveOneWholeFile) {
   std::vector<std::thread> threads;
   for (int t = 0; t < 8; ++t)
     threads.emplace_back([&, t] {
-      for (int i = 0; i < 20; ++i) write_file_atomically(path("shared.txt"), std::string(10000 + 1000 * size_t(t), char('a' + t)));
+      for (int i = 0; i < 20; ++i)
+        write_file_atomically(path("shared.txt"), std::string(10000 + 1000 * size_t(t), char('a' + t)));
     });
   for (auto& th : threads) th.join();
   const std::string s = content(path("shared.txt"));
@@ -207,13 +211,14 @@ TEST_F(AtomicFileTest, ConcurrentWritersToOnePathLeaveOneWholeFile) {
 // counts 512-byte blocks: 8 blocks = 4 KiB, the image is 49 KiB.)
 TEST_F(AtomicFileTest, CliRenderKilledWhileWritingLeavesTheOldPicture) {
   write_file_atomically(path("keep.pfm"), "old picture");
-  const std::string cmd = "cd '" + dir_.string() +
-                          "' && /bin/sh -c 'ulimit -f 8; exec \"$0\" render --material gold --width 64 --height 64 --spp 1 -o keep.pfm' '" +
-                          std::string(ANISO_CLI) + "' 2> /dev/null";
+  const std::string cmd =
+      "cd '" + dir_.string() +
+      "' && /bin/sh -c 'ulimit -f 8; exec \"$0\" render --material gold --width 64 --height 64 --spp 1 -o keep.pfm' '" +
+      std::string(ANISO_CLI) + "' 2> /dev/null";
   const int status = std::system(cmd.c_str());
   // Killed by SIGXFSZ (a shell in between reports it as 128 + SIGXFSZ).
-  const bool by_signal = (WIFSIGNALED(status) && WTERMSIG(status) == SIGXFSZ) ||
-                         (WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGXFSZ);
+  const bool by_signal =
+      (WIFSIGNALED(status) && WTERMSIG(status) == SIGXFSZ) || (WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGXFSZ);
   EXPECT_TRUE(by_signal) << "status " << status;
   EXPECT_EQ(content(path("keep.pfm")), "old picture");
   EXPECT_EQ(files(), std::vector<std::string>{"keep.pfm"});

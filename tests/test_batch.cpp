@@ -71,7 +71,10 @@ template <typename T> void make_pairs(batch::DirectionArray<T>& wi, batch::Direc
   vi.push_back(Vec3T<T>(0, 0, 1)), vo.push_back(Vec3T<T>(0, 0, 1));  // both along n
   for (int i = 0; i < 100; ++i) {
     Vec3T<T> i_dir = random_upper<T>(rng), o_dir = random_upper<T>(rng);
-    if (i % 2) i_dir.z = -i_dir.z; else o_dir.z = -o_dir.z;
+    if (i % 2)
+      i_dir.z = -i_dir.z;
+    else
+      o_dir.z = -o_dir.z;
     vi.push_back(i_dir), vo.push_back(o_dir);
   }
   vi.push_back(Vec3T<T>(1, 0, 0)), vo.push_back(Vec3T<T>(0, 0, 1));  // on the horizon
@@ -134,13 +137,12 @@ template <typename T> void check_against_scalar(const NamedMaterial& nm) {
     for (int c = 0; c < 3; ++c) {
       ASSERT_TRUE(std::isfinite(b[c]) && b[c] >= T(0)) << nm.name << " pair " << i << " f[" << c << "] = " << b[c];
       if (!close_to_scalar(b[c], fs[i][c], fd[i][c], peak_f[c], worst_f) && reported++ < 3)
-        ADD_FAILURE() << nm.name << type << " f[" << c << "]: " << show(i) << " batch " << b[c] << " scalar "
-                      << fs[i][c] << " double " << fd[i][c];
+        ADD_FAILURE() << nm.name << type << " f[" << c << "]: " << show(i) << " batch " << b[c] << " scalar " << fs[i][c]
+                      << " double " << fd[i][c];
     }
     ASSERT_TRUE(std::isfinite(p[i]) && p[i] >= T(0)) << nm.name << " pair " << i << " pdf = " << p[i];
     if (!close_to_scalar(p[i], ps[i], pd[i], peak_p, worst_p) && reported++ < 3)
-      ADD_FAILURE() << nm.name << type << " pdf: " << show(i) << " batch " << p[i] << " scalar " << ps[i]
-                    << " double " << pd[i];
+      ADD_FAILURE() << nm.name << type << " pdf: " << show(i) << " batch " << p[i] << " scalar " << ps[i] << " double " << pd[i];
   }
   testing::Test::RecordProperty("worst_f_excess", fmt::format("{:.3g}", worst_f));
   testing::Test::RecordProperty("worst_pdf_excess", fmt::format("{:.3g}", worst_p));
@@ -191,8 +193,10 @@ template <typename T> void check_interleaved(const NamedMaterial& nm) {
       for (size_t i = 0; i < n; ++i) {
         const RGBT<T> ref = f.get(i), ref_fixed = f_fixed.get(i);
         for (int c = 0; c < 3; ++c) {
-          ASSERT_EQ(std::memcmp(&ref[c], &g[3 * i + c], sizeof(T)), 0) << nm.name << " " << kname << " f row " << i << " channel " << c;
-          ASSERT_EQ(std::memcmp(&ref_fixed[c], &g_fixed[3 * i + c], sizeof(T)), 0) << nm.name << " " << kname << " broadcast f row " << i;
+          ASSERT_EQ(std::memcmp(&ref[c], &g[3 * i + c], sizeof(T)), 0)
+              << nm.name << " " << kname << " f row " << i << " channel " << c;
+          ASSERT_EQ(std::memcmp(&ref_fixed[c], &g_fixed[3 * i + c], sizeof(T)), 0)
+              << nm.name << " " << kname << " broadcast f row " << i;
         }
         ASSERT_EQ(std::memcmp(&p[i], &q[i], sizeof(T)), 0) << nm.name << " " << kname << " pdf row " << i;
         ASSERT_EQ(std::memcmp(&p_fixed[i], &q_fixed[i], sizeof(T)), 0) << nm.name << " " << kname << " broadcast pdf row " << i;
@@ -212,7 +216,8 @@ template <typename T> void check_interleaved(const NamedMaterial& nm) {
     // The structure-of-arrays entry points with NonFinite::NaN, on the same rows.
     batch::DirectionArray<T> si(n), so(n);
     for (size_t i = 0; i < n; ++i)
-      si.set(i, Vec3T<T>(bi[1 + 3 * i], bi[2 + 3 * i], bi[3 + 3 * i])), so.set(i, Vec3T<T>(bo[1 + 3 * i], bo[2 + 3 * i], bo[3 + 3 * i]));
+      si.set(i, Vec3T<T>(bi[1 + 3 * i], bi[2 + 3 * i], bi[3 + 3 * i])),
+          so.set(i, Vec3T<T>(bo[1 + 3 * i], bo[2 + 3 * i], bo[3 + 3 * i]));
     batch::ColorArray<T> sf(n);
     std::vector<T> sp(n);
     batch::evaluate(m, si.view(), so.view(), n, sf.view(), batch::Threads::All, kernels, batch::NonFinite::NaN);
@@ -242,8 +247,8 @@ TEST_P(BatchTest, InterleavedRowsEqualStructureOfArraysFloat) { check_interleave
 TEST_P(BatchTest, InterleavedRowsEqualStructureOfArraysDouble) { check_interleaved<double>(GetParam()); }
 
 // The batch sampler fed the same uniforms gives the scalar sampler's records. The SIMD samplers
-// compute the same directions with other sin / cos / atan / log implementations: the same validity, wi within 1e-4, and a record whose pdf and weight are the
-// scalar pdf and f cos / pdf at the batch's own wi (the comparison of the main test). Where a
+// compute the same directions with other sin / cos / atan / log implementations: the same validity, wi within 1e-4, and a record
+// whose pdf and weight are the scalar pdf and f cos / pdf at the batch's own wi (the comparison of the main test). Where a
 // uniform sits on a branch boundary (the lobe choice uc = p_spec, the concentric map's diagonals)
 // an ulp can change the branch: at most 1 in 1000 elements may differ in validity or wi.
 TEST_P(BatchTest, SampleMatchesScalar) {
@@ -278,7 +283,8 @@ TEST_P(BatchTest, SampleMatchesScalar) {
     worst_wi = std::max(worst_wi, dwi);
     if (!got.valid) continue;
     ++valid;
-    for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(got.weight[c]) && got.weight[c] >= 0.0f) << i << ": weight " << got.weight[c];
+    for (int c = 0; c < 3; ++c)
+      ASSERT_TRUE(std::isfinite(got.weight[c]) && got.weight[c] >= 0.0f) << i << ": weight " << got.weight[c];
     // The record at its own wi: pdf and weight from the scalar kernels.
     const float p = m.pdf(got.wi, wo.get(i));
     const double pd = md.pdf(Vec3d(got.wi), Vec3d(wo.get(i)));
@@ -290,7 +296,8 @@ TEST_P(BatchTest, SampleMatchesScalar) {
     // is of order 1), so 1e-2.
     const double turned = m.rotation.identity() ? 0.0 : 1e-2;
     const auto near = [&](double got_v, float scalar, double scalar_d) {
-      return close_to_scalar(float(got_v), scalar, scalar_d, scalar, worst) || std::abs(got_v - scalar_d) <= turned * std::abs(scalar_d);
+      return close_to_scalar(float(got_v), scalar, scalar_d, scalar, worst) ||
+             std::abs(got_v - scalar_d) <= turned * std::abs(scalar_d);
     };
     EXPECT_TRUE(near(got.pdf, p, pd)) << i << ": pdf " << got.pdf << " scalar " << p;
     const RGB f = m.f(got.wi, wo.get(i));
@@ -345,7 +352,8 @@ template <typename T> void check_near_opposite_batch(const NamedMaterial& nm) {
     const BSDFSampleT<T> got = s.get(i);
     if (!got.valid) continue;
     for (int c = 0; c < 3; ++c)
-      ASSERT_TRUE(std::isfinite(got.weight[c]) && got.weight[c] >= T(0)) << nm.name << " sample " << i << " weight " << got.weight[c];
+      ASSERT_TRUE(std::isfinite(got.weight[c]) && got.weight[c] >= T(0))
+          << nm.name << " sample " << i << " weight " << got.weight[c];
   }
 }
 
@@ -362,8 +370,8 @@ TEST(Batch, NearlyOppositeGrazingPairsAreNonNegativeForEveryModelAndNganPreset) 
 
 // One thread or all: the same bits (fixed blocks, each element computed alone).
 TEST(Batch, ThreadCountDoesNotChangeResults) {
-  const MaterialT<float> m = build<float>(
-      {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.1}, {"alpha_y", 0.25}, {"form", "vector"}});
+  const MaterialT<float> m =
+      build<float>({{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.1}, {"alpha_y", 0.25}, {"form", "vector"}});
   Rng rng(5);
   const size_t n = 100003;
   batch::DirectionArray<float> wi(n), wo(n);
@@ -381,8 +389,7 @@ TEST(Batch, ThreadCountDoesNotChangeResults) {
   batch::ColorArray<float> c(n);
   const size_t off = 7;
   batch::evaluate(m, {wi.x.data() + off, wi.y.data() + off, wi.z.data() + off},
-                  {wo.x.data() + off, wo.y.data() + off, wo.z.data() + off}, 1000,
-                  {c.r.data(), c.g.data(), c.b.data()});
+                  {wo.x.data() + off, wo.y.data() + off, wo.z.data() + off}, 1000, {c.r.data(), c.g.data(), c.b.data()});
   EXPECT_EQ(std::memcmp(a.r.data() + off, c.r.data(), 1000 * sizeof(float)), 0);
 }
 
@@ -399,8 +406,7 @@ TEST(Batch, ReportsItsTarget) {
 // harness draws, in its order) against the batch pdf.
 TEST(Batch, SamplerPassesChiSquare) {
   const int64_t kSamples = scaled(400'000);
-  const char* const names[] = {"lambert", "phong", "ward_vector_ward", "as_aniso", "lafortune_aniso", "ggx_aniso",
-                               "metal_ward"};
+  const char* const names[] = {"lambert", "phong", "ward_vector_ward", "as_aniso", "lafortune_aniso", "ggx_aniso", "metal_ward"};
   const double significance = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(std::size(names)));
   for (const NamedMaterial& nm : all_model_materials()) {
     if (std::find_if(std::begin(names), std::end(names), [&](const char* s) { return nm.name == s; }) == std::end(names))
@@ -421,14 +427,13 @@ TEST(Batch, SamplerPassesChiSquare) {
     batch::SampleArray<float> s(kSamples);
     batch::sample(m, wos.view(), uc.data(), u0.data(), u1.data(), kSamples, s.view());
     int64_t next = 0;
-    const Chi2Result r = chi2_test(
-        [&](float, Vec2) { return s.get(size_t(next++)); },
-        [&](const Vec3d& wi) {
-          double p = 0.0;
-          batch::pdf(md, {&wi.x, &wi.y, &wi.z}, {&wod.x, &wod.y, &wod.z}, 1, &p, batch::Threads::One);
-          return p;
-        },
-        kSamples, seed, 20, 40, 6);
+    const Chi2Result r = chi2_test([&](float, Vec2) { return s.get(size_t(next++)); },
+                                   [&](const Vec3d& wi) {
+                                     double p = 0.0;
+                                     batch::pdf(md, {&wi.x, &wi.y, &wi.z}, {&wod.x, &wod.y, &wod.z}, 1, &p, batch::Threads::One);
+                                     return p;
+                                   },
+                                   kSamples, seed, 20, 40, 6);
     ASSERT_TRUE(r.message.empty()) << nm.name << ": " << r.message;
     EXPECT_GT(r.p_value, significance) << nm.name << ": chi2 " << r.chi2 << " dof " << r.dof;
     EXPECT_NEAR(r.pdf_integral, r.accepted_fraction, 5e-3) << nm.name;
@@ -566,9 +571,8 @@ TEST_P(BatchSamplingTest, ChiSquareMatchesPdf) {
                                  [&](const Vec3d& wi) { return md.pdf(wi, wod); }, kSamples, seed);
   ASSERT_TRUE(r.message.empty()) << r.message;
   const double significance = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(batch_sampling_cases().size()));
-  EXPECT_GT(r.p_value, significance) << c.material << " wo theta " << c.theta_deg << ": chi2 " << r.chi2 << " dof "
-                                     << r.dof << " pdf integral " << r.pdf_integral << " accepted "
-                                     << r.accepted_fraction;
+  EXPECT_GT(r.p_value, significance) << c.material << " wo theta " << c.theta_deg << ": chi2 " << r.chi2 << " dof " << r.dof
+                                     << " pdf integral " << r.pdf_integral << " accepted " << r.accepted_fraction;
   EXPECT_NEAR(r.pdf_integral, r.accepted_fraction, 5e-3);
 }
 

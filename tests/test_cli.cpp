@@ -274,7 +274,8 @@ TEST_F(CliSample, DefaultCountIsOne) {
 
 // weight == f cos(theta_i) / pdf, and pdf == pdf(wi, wo): feed each sampled wi back through eval.
 TEST_F(CliSample, WeightIsFCosOverPdfAccordingToEval) {
-  for (const std::string material : {"gold", "brushed-gold", "bluepaint", "ngan/ward/nickel", "ngan/ashikhminshirley/nickel", "matte-steel"}) {
+  for (const std::string material :
+       {"gold", "brushed-gold", "bluepaint", "ngan/ward/nickel", "ngan/ashikhminshirley/nickel", "matte-steel"}) {
     SCOPED_TRACE(material);
     const std::string wo = "-0.3 0.2 0.85";
     const Result s = run({"sample", "--material", material, "--wo", "-0.3", "0.2", "0.85", "--count", "64", "--seed", "3"});
@@ -300,7 +301,8 @@ TEST_F(CliSample, WeightIsFCosOverPdfAccordingToEval) {
       ASSERT_EQ(f.size(), 4u);
       const double cos_i = v[2] / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       EXPECT_TRUE(close(v[6], f[3], 1e-5)) << "pdf, sample " << i;
-      for (int c = 0; c < 3; ++c) EXPECT_TRUE(close(v[3 + c], f[c] * cos_i / f[3], 1e-5, 1e-12)) << "weight " << c << ", sample " << i;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_TRUE(close(v[3 + c], f[c] * cos_i / f[3], 1e-5, 1e-12)) << "weight " << c << ", sample " << i;
     }
   }
 }
@@ -442,9 +444,11 @@ TEST_F(CliErrors, BadMaterialFiles) {
       {"zero_alpha", R"({"model": "ward", "alpha_x": 0})", {"\"alpha_x\"", "[0.001, 1]"}},
       {"kd_too_big", R"({"model": "lambert", "kd": 1.5})", {"\"kd\"", "[0, 1]"}},
       {"cxy_and_cx", R"({"model": "lafortune", "lobes": [{"cx": -1, "cxy": -1, "n": 10}]})", {"\"cxy\"", "\"cx\""}},
-      {"unknown_metal", R"({"model": "metal", "metal": "unobtainium", "lobe": {"model": "ggx"}})",
+      {"unknown_metal",
+       R"({"model": "metal", "metal": "unobtainium", "lobe": {"model": "ggx"}})",
        {"unknown metal \"unobtainium\""}},
-      {"metal_and_eta", R"({"model": "metal", "metal": "gold", "eta": 1.0, "lobe": {"model": "ggx"}})",
+      {"metal_and_eta",
+       R"({"model": "metal", "metal": "gold", "eta": 1.0, "lobe": {"model": "ggx"}})",
        {"\"metal\"", "not both"}},
       {"not_an_object", R"([1, 2, 3])", {"expected a JSON object"}},
   };

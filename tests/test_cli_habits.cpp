@@ -47,7 +47,8 @@ TEST_F(CliHabits, AMistypedOptionIsNamedWithTheNearest) {
   expect_input_error(r, {"unknown option --materail for aniso eval; did you mean --material?"});
   EXPECT_FALSE(contains(r.err, "is required")) << r.err;
   expect_input_error(run({"albedo", "-m", "gold", "--theta", "30"}), {"unknown option --theta", "--theta-deg"});
-  expect_input_error(run({"fit", "x.csv", "--modle", "ward", "-o", at("f.json")}), {"unknown option --modle", "did you mean --model"});
+  expect_input_error(run({"fit", "x.csv", "--modle", "ward", "-o", at("f.json")}),
+                     {"unknown option --modle", "did you mean --model"});
   expect_input_error(run({"render", "-m", "gold", "--widht=200"}), {"unknown option --widht", "--width"});
   expect_input_error(run({"--verison"}), {"unknown option --verison", "--version"});
   // Negative numbers are values, not options.
@@ -68,7 +69,8 @@ TEST_F(CliHabits, OptionsThatDoNotApplyAreRefused) {
   expect_input_error(run({"fit", data, "--model", "ashikhmin-shirley", "--normalization", "duer", "-o", at("f.json")}),
                      {"--normalization applies to --model ward only"});
   expect_input_error(run({"fit", data, "--compare", "--model", "ward"}), {"--model does not apply with --compare"});
-  expect_input_error(run({"fit", data, "--model", "ggx", "--metal", "gold", "-o", at("f.json")}), {"--metal applies to --model metal only"});
+  expect_input_error(run({"fit", data, "--model", "ggx", "--metal", "gold", "-o", at("f.json")}),
+                     {"--metal applies to --model metal only"});
   expect_input_error(run({"render", "-m", "gold", "--exposure", "1", "-o", at("x.exr")}),
                      {"--exposure and --tonemap apply to PNG output only"});
   expect_input_error(run({"render", "-m", "gold", "--tonemap", "clamp", "-o", at("x.pfm")}), {"PNG output only"});
@@ -77,7 +79,8 @@ TEST_F(CliHabits, OptionsThatDoNotApplyAreRefused) {
 }
 
 TEST_F(CliHabits, NumberOptionsAreDecimalAndNanHasItsOwnMessage) {
-  expect_input_error(run({"sample", "-m", "gold", "--wo", "0x1", "0", "1"}), {"--wo", "expected a finite decimal number, got \"0x1\""});
+  expect_input_error(run({"sample", "-m", "gold", "--wo", "0x1", "0", "1"}),
+                     {"--wo", "expected a finite decimal number, got \"0x1\""});
   Result r = run({"sample", "-m", "gold", "--wo", "nan", "0", "1"});
   expect_input_error(r, {"--wo", "expected a finite decimal number, got \"nan\""});
   EXPECT_FALSE(contains(r.err, "non-zero")) << r.err;
@@ -106,8 +109,9 @@ TEST_F(CliHabits, HelpShowsRealDefaultsAndTypes) {
 // A closed pipe is a write error with the documented message and exit 1, not death by SIGPIPE.
 TEST_F(CliHabits, AClosedPipeIsAWriteError) {
   const fs::path code = dir_ / "code.txt", err = dir_ / "err.txt";
-  const std::string cmd = fmt::format("{{ {} sample -m gold --wo 0 0 1 --count 1000000 2> {}; echo $? > {}; }} | head -c 10 > /dev/null",
-                                      shell_quote(ANISO_CLI), shell_quote(err.string()), shell_quote(code.string()));
+  const std::string cmd =
+      fmt::format("{{ {} sample -m gold --wo 0 0 1 --count 1000000 2> {}; echo $? > {}; }} | head -c 10 > /dev/null",
+                  shell_quote(ANISO_CLI), shell_quote(err.string()), shell_quote(code.string()));
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   EXPECT_EQ(read_file(code), "1\n");
   EXPECT_TRUE(contains(read_file(err), "aniso: error: stdout: write error: Broken pipe")) << read_file(err);
@@ -115,8 +119,11 @@ TEST_F(CliHabits, AClosedPipeIsAWriteError) {
 
 TEST_F(CliHabits, HelpVersionAndPrintSceneToAFailingStdoutExitOne) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
-  for (const auto& args : std::vector<std::vector<std::string>>{
-           {"--help"}, {"--version"}, {"eval", "--help"}, {"render", "-m", "gold", "--print-scene"}, {"render", "--print-scene"}}) {
+  for (const auto& args : std::vector<std::vector<std::string>>{{"--help"},
+                                                                {"--version"},
+                                                                {"eval", "--help"},
+                                                                {"render", "-m", "gold", "--print-scene"},
+                                                                {"render", "--print-scene"}}) {
     for (const std::string redirect : {"> /dev/full", ">&-"}) {
       const Result r = run_redirected(args, "< /dev/null " + redirect);
       EXPECT_EQ(r.code, 1) << args[0] << " " << redirect << ": " << r.err;
@@ -133,12 +140,12 @@ TEST_F(CliHabits, HelpVersionAndPrintSceneToAFailingStdoutExitOne) {
 TEST_F(CliHabits, FileWritingCommandsWithAFailingStdoutExitOneWithOneMessage) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
   const std::string data = ward_csv("data.csv");
-  for (const auto& args : std::vector<std::vector<std::string>>{
-           {"render", "-m", "gold", "--spp", "1", "--width", "32", "-o", at("r.png")},
-           {"export", "--to", "pbrt-v4", "-m", "gold", "-o", at("g.pbrt")},
-           {"fit", data, "--model", "ward", "-q", "--starts", "1", "-o", at("f.json")},
-           {"export-glsl", "-m", "gold"},
-           {"export-brdf", "-m", "gold"}}) {
+  for (const auto& args :
+       std::vector<std::vector<std::string>>{{"render", "-m", "gold", "--spp", "1", "--width", "32", "-o", at("r.png")},
+                                             {"export", "--to", "pbrt-v4", "-m", "gold", "-o", at("g.pbrt")},
+                                             {"fit", data, "--model", "ward", "-q", "--starts", "1", "-o", at("f.json")},
+                                             {"export-glsl", "-m", "gold"},
+                                             {"export-brdf", "-m", "gold"}}) {
     for (const std::string redirect : {"> /dev/full", ">&-"}) {
       const Result r = run_redirected(args, "< /dev/null " + redirect);
       EXPECT_EQ(r.code, 1) << args[0] << " " << redirect << ": " << r.err;
@@ -176,10 +183,12 @@ TEST_F(CliHabits, PrintSceneWritesAbsoluteAssetPaths) {
 
 TEST_F(CliHabits, WidthAloneKeepsTheAspectRatioAndUnlitScenesWarn) {
   // gl-direct.json is 640 x 360.
-  Result r = run({"render", std::string(ANISO_SOURCE_DIR) + "/examples/gl-direct.json", "--width", "64", "--spp", "1", "-o", at("a.pfm")});
+  Result r = run(
+      {"render", std::string(ANISO_SOURCE_DIR) + "/examples/gl-direct.json", "--width", "64", "--spp", "1", "-o", at("a.pfm")});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "(64x36, 1 spp)")) << r.out;
-  r = run({"render", std::string(ANISO_SOURCE_DIR) + "/examples/gl-direct.json", "--height", "18", "--spp", "1", "-o", at("b.pfm")});
+  r = run(
+      {"render", std::string(ANISO_SOURCE_DIR) + "/examples/gl-direct.json", "--height", "18", "--spp", "1", "-o", at("b.pfm")});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "(32x18, 1 spp)")) << r.out;
   EXPECT_FALSE(contains(r.err, "warning")) << r.err;
@@ -200,11 +209,13 @@ TEST_F(CliHabits, AnUnwritableOutputSaysWhy) {
 TEST_F(CliHabits, FitRefusesDataItCannotFitAndPlotsOnlyPng) {
   const std::string data = ward_csv("data.csv");
   std::string text = read_file(data);
-  const std::string huge = write("huge.csv", text.substr(0, text.find('\n') + 1) + "10,0,20,0,1e300,0.1,0.1\n" + text.substr(text.find('\n') + 1));
+  const std::string huge =
+      write("huge.csv", text.substr(0, text.find('\n') + 1) + "10,0,20,0,1e300,0.1,0.1\n" + text.substr(text.find('\n') + 1));
   expect_input_error(run({"fit", huge, "--model", "ward", "-o", at("f.json")}),
                      {"huge.csv: line 2: column r = 1e+300: expected a BRDF value of at most 1e+30 (1/sr)"});
   const std::string zero = ward_csv("zero.csv", 0.0);
-  expect_input_error(run({"fit", zero, "--model", "ward", "-o", at("f.json")}), {"zero.csv: every sample is 0: there is nothing to fit"});
+  expect_input_error(run({"fit", zero, "--model", "ward", "-o", at("f.json")}),
+                     {"zero.csv: every sample is 0: there is nothing to fit"});
   expect_input_error(run({"fit", data, "--model", "ward", "--plot", at("p.bmp"), "-o", at("f.json")}),
                      {"--plot ", "p.bmp: expected a .png file name"});
   EXPECT_FALSE(fs::exists(dir_ / "p.bmp"));
@@ -216,8 +227,8 @@ TEST_F(CliHabits, FitRefusesDataItCannotFitAndPlotsOnlyPng) {
 TEST_F(CliHabits, FitIsBitIdenticalWhateverTheThreadCount) {
   const std::string data = ward_csv("data.csv");
   for (const std::vector<std::string>& model : {std::vector<std::string>{"--model", "ward", "--anisotropic"},
-                                               std::vector<std::string>{"--model", "lafortune", "--lobes", "2"},
-                                               std::vector<std::string>{"--model", "ggx", "--loss", "huber"}}) {
+                                                std::vector<std::string>{"--model", "lafortune", "--lobes", "2"},
+                                                std::vector<std::string>{"--model", "ggx", "--loss", "huber"}}) {
     std::vector<std::string> outputs;
     for (const char* threads : {"1", "2", "3"}) {
       std::vector<std::string> args = {"fit", data, "-q", "--threads", threads, "-o", at(fmt::format("t{}.json", threads))};
@@ -263,7 +274,8 @@ TEST_F(CliHabits, ExportGlslWritesWhatTheMaterialNeeds) {
   const std::string lafortune =
       R"({"model": "lafortune", "rho_d": 0.1, "lobes": [{"cxy": -1, "cz": 1, "n": 20}, {"cxy": -0.5, "cz": 0.8, "n": 5}]})";
   const auto lines = [](const std::string& s) { return std::count(s.begin(), s.end(), '\n'); };
-  for (const std::string& m : {lafortune, std::string("brushed-gold"), std::string("clay"), std::string("ngan/ashikhminshirley/nickel")}) {
+  for (const std::string& m :
+       {lafortune, std::string("brushed-gold"), std::string("clay"), std::string("ngan/ashikhminshirley/nickel")}) {
     const Result minimal = run({"export-glsl", "-m", m}), full = run({"export-glsl", "-m", m, "--full"});
     ASSERT_EQ(minimal.code, 0) << minimal.err;
     ASSERT_EQ(full.code, 0) << full.err;
@@ -279,7 +291,8 @@ TEST_F(CliHabits, ExportGlslWritesWhatTheMaterialNeeds) {
         "vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0)) + w, aniso_pdf(wi, vec3(0.0, 0.0, 1.0)) + p);\n}\n";
     for (const Result* r : {&minimal, &full}) {
       const std::string file = write("shader.frag", "#version 330 core\n" + r->out + user);
-      const std::string cmd = fmt::format("{} {} > {} 2>&1", shell_quote(ANISO_GLSLANG), shell_quote(file), shell_quote((dir_ / "glslang.txt").string()));
+      const std::string cmd = fmt::format("{} {} > {} 2>&1", shell_quote(ANISO_GLSLANG), shell_quote(file),
+                                          shell_quote((dir_ / "glslang.txt").string()));
       EXPECT_EQ(std::system(cmd.c_str()), 0) << m << (r == &full ? " --full" : "") << ": " << read_file(dir_ / "glslang.txt");
     }
   }

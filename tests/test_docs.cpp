@@ -52,9 +52,9 @@ TEST(Docs, ReadmeStartsWithTheTwoCommands) {
   std::string head, line;
   for (int i = 0; i < 15 && std::getline(in, line); ++i) head += line + "\n";
   EXPECT_TRUE(head.find("make render") != std::string::npos)
-      << "README.md's first 15 lines must give `make render` (the main job):\n" << head;
-  EXPECT_TRUE(head.find("make test") != std::string::npos)
-      << "README.md's first 15 lines must give `make test`:\n" << head;
+      << "README.md's first 15 lines must give `make render` (the main job):\n"
+      << head;
+  EXPECT_TRUE(head.find("make test") != std::string::npos) << "README.md's first 15 lines must give `make test`:\n" << head;
 }
 
 // docs/cpp.md and the README's "Use from C++" quote compiled code: every ```cpp (or ```cuda / ```cmake)
@@ -94,7 +94,8 @@ TEST(Docs, CppGuideQuotesTheCompiledExamples) {
       // A run of whole lines: the block starts at a line start of the file.
       const size_t at = source.find(block);
       EXPECT_TRUE(at != std::string::npos && (at == 0 || source[at - 1] == '\n'))
-          << rel << ":" << fence << ": the block is not a run of whole lines of " << file << ":\n" << block;
+          << rel << ":" << fence << ": the block is not a run of whole lines of " << file << ":\n"
+          << block;
       ++blocks;
       previous.clear();
     }
@@ -107,9 +108,12 @@ std::string heading_anchor(const std::string& heading) {
   std::string a;
   for (const char ch : heading) {
     const auto c = static_cast<unsigned char>(ch);
-    if (std::isalnum(c)) a += char(std::tolower(c));
-    else if (c == ' ' || c == '-') a += '-';
-    else if (c == '_' || c >= 0x80) a += ch;  // non-ASCII letters (θ, é) are kept
+    if (std::isalnum(c))
+      a += char(std::tolower(c));
+    else if (c == ' ' || c == '-')
+      a += '-';
+    else if (c == '_' || c >= 0x80)
+      a += ch;  // non-ASCII letters (θ, é) are kept
   }
   return a;
 }

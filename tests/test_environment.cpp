@@ -8,8 +8,8 @@
 #include <numbers>
 #include <vector>
 
-#include <boost/math/special_functions/gamma.hpp>
 #include <gtest/gtest.h>
+#include <boost/math/special_functions/gamma.hpp>
 
 #include "aniso/render/environment.h"
 #include "stats/rng.h"
@@ -51,8 +51,7 @@ glm::dvec3 texel_sum(const Environment& env, int w, int h, double rotation_deg =
   for (int y = y0; y < (y1 < 0 ? h : y1); ++y) {
     const double omega = 2.0 * kPi / w * (std::cos(kPi * y / h) - std::cos(kPi * (y + 1) / h));
     glm::dvec3 row(0.0);
-    for (int x = 0; x < w; ++x)
-      row += glm::dvec3(env.eval(direction_of_uv((x + 0.5) / w, (y + 0.5) / h, rotation_deg)));
+    for (int x = 0; x < w; ++x) row += glm::dvec3(env.eval(direction_of_uv((x + 0.5) / w, (y + 0.5) / h, rotation_deg)));
     sum += row * omega;
   }
   return sum;
@@ -181,9 +180,8 @@ TEST(Distribution2D, ZeroFunctionIsUniform) {
 // ---- Environment: black and uniform ---------------------------------------------------------
 
 TEST(EnvironmentBlack, DefaultZeroUniformAndBlackMapAreBlack) {
-  for (const Environment& e :
-       {Environment(), Environment::uniform(RGB(0.0f)), Environment::from_image(Image(8, 4), 1.0f, 0.0f),
-        Environment::from_image(Image(), 1.0f, 0.0f)}) {
+  for (const Environment& e : {Environment(), Environment::uniform(RGB(0.0f)), Environment::from_image(Image(8, 4), 1.0f, 0.0f),
+                               Environment::from_image(Image(), 1.0f, 0.0f)}) {
     EXPECT_TRUE(e.is_black());
     EXPECT_EQ(e.eval(Vec3(0, 1, 0)), RGB(0.0f));
     EXPECT_EQ(e.pdf(Vec3(0, 1, 0)), 0.0f);
@@ -265,8 +263,7 @@ class ExpectedPdf {
     u -= std::floor(u);
     const double v = std::acos(std::clamp(double(w.y), -1.0, 1.0)) / kPi;
     const int x = std::min(img_.width - 1, int(u * img_.width)), y = std::min(img_.height - 1, int(v * img_.height));
-    return f_[size_t(y * img_.width + x)] / mean_ /
-           (2.0 * kPi * kPi * std::sqrt(double(w.x) * w.x + double(w.z) * w.z));
+    return f_[size_t(y * img_.width + x)] / mean_ / (2.0 * kPi * kPi * std::sqrt(double(w.x) * w.x + double(w.z) * w.z));
   }
 
  private:
@@ -426,12 +423,11 @@ TEST(EnvironmentSky, SunPowerSurvivesTabulation) {
     // The two tables differ only in the rows within a few degrees of the sun.
     const int w = c.resolution, h = c.resolution / 2;
     const double theta_s = std::acos(double(c.sun_to.y)) * 180.0 / kPi;
-    const int y0 = std::max(0, int((theta_s - 3.0) / 180.0 * h)),
-              y1 = std::min(h, int((theta_s + 3.0) / 180.0 * h) + 1);
+    const int y0 = std::max(0, int((theta_s - 3.0) / 180.0 * h)), y1 = std::min(h, int((theta_s + 3.0) / 180.0 * h) + 1);
     const glm::dvec3 power = texel_sum(with_sun, w, h, 0.0, y0, y1) - texel_sum(no_sun, w, h, 0.0, y0, y1);
     for (int k = 0; k < 3; ++k)
-      EXPECT_NEAR(power[k] / analytic[k], 1.0, 0.005) << "resolution " << c.resolution << " sun " << c.sun_to.x << " "
-                                                      << c.sun_to.y << " " << c.sun_to.z << " channel " << k;
+      EXPECT_NEAR(power[k] / analytic[k], 1.0, 0.005)
+          << "resolution " << c.resolution << " sun " << c.sun_to.x << " " << c.sun_to.y << " " << c.sun_to.z << " channel " << k;
     // The disc itself is lit (at least one texel holds the full sun) and found by sampling.
     EXPECT_GT(with_sun.eval(c.sun_to).x, sun.x * 0.5f);
   }

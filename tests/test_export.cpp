@@ -141,8 +141,8 @@ TEST(ExportTargets, GltfLobeMatchesTheReadmeFormula) {
   t.lobe.masking = Masking::HeightCorrelated;
   t.lobe.fresnel = FresnelModel::Schlick;
   t.lobe.f0 = glm::dvec3(0.9);
-  for (const auto& [wi, wo] : {std::pair{dir(30, 10), dir(40, 200)}, std::pair{dir(70, 80), dir(10, 250)},
-                               std::pair{dir(55, 0), dir(55, 180)}}) {
+  for (const auto& [wi, wo] :
+       {std::pair{dir(30, 10), dir(40, 200)}, std::pair{dir(70, 80), dir(10, 250)}, std::pair{dir(55, 0), dir(55, 180)}}) {
     const Vec3d h = glm::normalize(wi + wo);
     const double at = 0.4, ab = 0.1, a2 = at * ab;
     const glm::dvec3 f(ab * h.x, at * h.y, a2 * h.z);
@@ -166,8 +166,8 @@ TEST(ExportTargets, MaskingSeparableAndHeightCorrelated) {
   };
   const auto g1 = [&](const Vec3d& v) { return 2.0 / (1.0 + std::sqrt(1.0 + (sqr(au * v.x) + sqr(av * v.y)) / sqr(v.z))); };
   TargetBrdf sep, hc;
-  sep.lobe = hc.lobe = TargetLobe{.alpha_x = au, .alpha_y = av, .fresnel = FresnelModel::Conductor, .eta = glm::dvec3(1.0),
-                                  .k = glm::dvec3(3.0)};
+  sep.lobe = hc.lobe =
+      TargetLobe{.alpha_x = au, .alpha_y = av, .fresnel = FresnelModel::Conductor, .eta = glm::dvec3(1.0), .k = glm::dvec3(3.0)};
   sep.lobe.masking = Masking::Separable;
   hc.lobe.masking = Masking::HeightCorrelated;
   const double ratio = sep.f(wi, wo).x / hc.f(wi, wo).x;
@@ -249,9 +249,9 @@ TEST(ExportExact, NamedSpectraWhenTheMetalMatches) {
   EXPECT_TRUE(p["eta"].is_array());
 }
 
-
 TEST(ExportExact, GgxSourceToPbrtIsExactUpToItsMaskingAndFresnel) {
-  const MaterialDesc d = load_material(R"({"model": "metal", "metal": "gold", "lobe": {"model": "ggx", "alpha_x": 0.2, "alpha_y": 0.08}})");
+  const MaterialDesc d =
+      load_material(R"({"model": "metal", "metal": "gold", "lobe": {"model": "ggx", "alpha_x": 0.2, "alpha_y": 0.08}})");
   const ExportResult r = export_material(d, "gold", quick("pbrt-v4"));
   EXPECT_TRUE(r.report.exact);
   // pbrt-v4's conductor is aniso's metal with a GGX lobe, term for term.
@@ -265,15 +265,16 @@ TEST(ExportExact, GgxSourceToPbrtIsExactUpToItsMaskingAndFresnel) {
 // ---- fitted path: the standard materials' errors per target, pinned -------------------------------
 
 // Each row: the error of the written target model against the source samples (relative l2cos and
-// log), measured at grid 3, 2 starts and the refinement on 1500 samples (docs/export.md gives the default grid's); a regression of
-// more than 10 % (plus 0.005) fails.
+// log), measured at grid 3, 2 starts and the refinement on 1500 samples (docs/export.md gives the default grid's); a regression
+// of more than 10 % (plus 0.005) fails.
 struct Pinned {
   const char* material;
   const char* target;
   double relative_l2cos, log;
 };
 
-constexpr const char* kWard = R"({"model": "ward", "kd": 0.05, "ks": 0.4, "alpha_x": 0.05, "alpha_y": 0.3, "normalization": "balanced"})";
+constexpr const char* kWard =
+    R"({"model": "ward", "kd": 0.05, "ks": 0.4, "alpha_x": 0.05, "alpha_y": 0.3, "normalization": "balanced"})";
 constexpr const char* kAS = R"({"model": "ashikhmin-shirley", "rd": 0.3, "rs": 0.05, "n_u": 100, "n_v": 10})";
 
 TEST(ExportFit, StandardMaterialsPerTarget) {
@@ -293,7 +294,13 @@ TEST(ExportFit, StandardMaterialsPerTarget) {
       const TargetBrdf tm = target_model(t.target, refine_for_target(t.target, g, samples, o));
       const FitErrors e = target_errors(tm, samples);
       const std::string label = std::string(material).substr(0, 20);
-      if (print) std::printf("    {%s, \"%s\", %.4f, %.4f},\n", d.model == "lafortune" ? "\"matte-steel\"" : d.model == "metal" ? "\"brushed-gold\"" : d.model == "ward" ? "kWard" : "kAS", std::string(t.name).c_str(), e.relative_l2cos, e.log_all);
+      if (print)
+        std::printf("    {%s, \"%s\", %.4f, %.4f},\n",
+                    d.model == "lafortune" ? "\"matte-steel\""
+                    : d.model == "metal"   ? "\"brushed-gold\""
+                    : d.model == "ward"    ? "kWard"
+                                           : "kAS",
+                    std::string(t.name).c_str(), e.relative_l2cos, e.log_all);
       int found = 0;
       for (const Pinned& p : pinned) {
         if (std::string(p.target) != t.name || std::string(p.material) != material) continue;
@@ -353,7 +360,8 @@ bool xml_well_formed(const std::string& s, std::vector<std::pair<std::string, st
 
 TEST_F(ExportCli, MitsubaXmlParses) {
   for (const char* material : {"gold", "clay"}) {
-    const Result r = run({"export", "--to", "mitsuba3", "--material", material, "-o", (dir_ / "m.xml").string(), "--starts", "1", "--grid", "2"});
+    const Result r = run(
+        {"export", "--to", "mitsuba3", "--material", material, "-o", (dir_ / "m.xml").string(), "--starts", "1", "--grid", "2"});
     ASSERT_EQ(r.code, 0) << r.err;
     const std::string x = read_file(dir_ / "m.xml");
     std::vector<std::pair<std::string, std::string>> el;
@@ -362,8 +370,10 @@ TEST_F(ExportCli, MitsubaXmlParses) {
     ASSERT_FALSE(el.empty());
     EXPECT_EQ(el[0].first, "scene");
     std::set<std::string> bsdf_types;
-    for (size_t i = 0; i < el.size(); ++i) EXPECT_TRUE(el[i].first == "scene" || el[i].first == "bsdf" || el[i].first == "float" ||
-                                                      el[i].first == "rgb" || el[i].first == "string") << el[i].first;
+    for (size_t i = 0; i < el.size(); ++i)
+      EXPECT_TRUE(el[i].first == "scene" || el[i].first == "bsdf" || el[i].first == "float" || el[i].first == "rgb" ||
+                  el[i].first == "string")
+          << el[i].first;
     EXPECT_TRUE(contains(x, "type=\"roughconductor\"")) << x;
     EXPECT_TRUE(contains(x, "<string name=\"distribution\" value=\"ggx\"/>")) << x;
     EXPECT_TRUE(contains(x, "Exported by aniso " ANISO_VERSION " from")) << x;
@@ -374,14 +384,16 @@ TEST_F(ExportCli, MitsubaXmlParses) {
 // "type name" value pairs, a value being a quoted string, a number, true / false or a bracketed list.
 TEST_F(ExportCli, PbrtStatementsParse) {
   for (const char* material : {"gold", "clay", "brushed-copper"}) {
-    const Result r = run({"export", "--to", "pbrt-v4", "--material", material, "-o", (dir_ / "m.pbrt").string(), "--starts", "1", "--grid", "2"});
+    const Result r = run(
+        {"export", "--to", "pbrt-v4", "--material", material, "-o", (dir_ / "m.pbrt").string(), "--starts", "1", "--grid", "2"});
     ASSERT_EQ(r.code, 0) << r.err;
     std::string text;
     std::istringstream in(read_file(dir_ / "m.pbrt"));
     for (std::string line; std::getline(in, line);) text += line.substr(0, line.find('#')) + "\n";
     static const std::regex token(R"re(\s*("[^"]*"|\[[^\]]*\]|[A-Za-z]+|[-+0-9.eE]+))re");
     std::vector<std::string> toks;
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), token); it != std::sregex_iterator(); ++it) toks.push_back((*it)[1]);
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), token); it != std::sregex_iterator(); ++it)
+      toks.push_back((*it)[1]);
     size_t i = 0, statements = 0;
     static const std::set<std::string> types = {"string", "float", "rgb", "spectrum", "bool"};
     while (i < toks.size()) {
@@ -414,11 +426,12 @@ TEST_F(ExportCli, PbrtStatementsParse) {
 // MaterialX: element and input names of libraries/bxdf/standard_surface.mtlx (its nodedef inputs)
 // and the stdlib's surfacematerial.
 TEST_F(ExportCli, MaterialXUsesTheSchemasNames) {
-  static const std::set<std::string> inputs = {"base", "base_color", "metalness", "specular", "specular_color",
-                                               "specular_roughness", "specular_IOR", "specular_anisotropy",
-                                               "specular_rotation", "surfaceshader"};
+  static const std::set<std::string> inputs = {
+      "base",         "base_color",          "metalness",         "specular",     "specular_color", "specular_roughness",
+      "specular_IOR", "specular_anisotropy", "specular_rotation", "surfaceshader"};
   for (const char* material : {"gold", "clay"}) {
-    const Result r = run({"export", "--to", "materialx", "--material", material, "-o", (dir_ / "m.mtlx").string(), "--starts", "1", "--grid", "2"});
+    const Result r = run({"export", "--to", "materialx", "--material", material, "-o", (dir_ / "m.mtlx").string(), "--starts",
+                          "1", "--grid", "2"});
     ASSERT_EQ(r.code, 0) << r.err;
     const std::string x = read_file(dir_ / "m.mtlx");
     std::vector<std::pair<std::string, std::string>> el;
@@ -482,9 +495,9 @@ TEST_F(ExportCli, BlenderScriptRunsInBlender) {
   EXPECT_TRUE(contains(py, "ShaderNodeBsdfPrincipled")) << py;
   // The inputs it sets are the Principled BSDF's sockets (node_shader_bsdf_principled.cc,
   // node_declare): 3.x "Specular" (float), 4.x "Specular IOR Level" and a colour "Specular Tint".
-  static const std::set<std::string> sockets = {"Base Color", "Metallic", "Roughness", "Anisotropic", "Anisotropic Rotation",
-                                                "IOR", "Specular", "Specular IOR Level", "Specular Tint", "Tangent",
-                                                "Extinction", "Anisotropy", "Rotation"};
+  static const std::set<std::string> sockets = {
+      "Base Color",         "Metallic",      "Roughness", "Anisotropic", "Anisotropic Rotation", "IOR",     "Specular",
+      "Specular IOR Level", "Specular Tint", "Tangent",   "Extinction",  "Anisotropy",           "Rotation"};
   static const std::regex put(R"re(put\("([^"]+)")re");
   int puts = 0;
   for (auto it = std::sregex_iterator(py.begin(), py.end(), put); it != std::sregex_iterator(); ++it, ++puts)
@@ -492,19 +505,22 @@ TEST_F(ExportCli, BlenderScriptRunsInBlender) {
   EXPECT_GE(puts, 6);
   // Valid Python (the syntax, without Blender).
   if (std::system("command -v python3 > /dev/null 2>&1") == 0) {
-    EXPECT_EQ(std::system(("python3 -c 'import ast, sys; ast.parse(open(sys.argv[1]).read())' " + shell_quote(script)).c_str()), 0);
+    EXPECT_EQ(std::system(("python3 -c 'import ast, sys; ast.parse(open(sys.argv[1]).read())' " + shell_quote(script)).c_str()),
+              0);
   }
   if (std::system("command -v blender > /dev/null 2>&1") != 0) GTEST_SKIP() << "blender is not installed: the script was not run";
   // A script that makes an object (with a UV map), then execs the export: the material lands on it.
   const std::string driver = write("driver.py",
                                    "import bpy\n"
                                    "bpy.ops.mesh.primitive_uv_sphere_add()\n"
-                                   "exec(open(r'" + script + "').read())\n"
-                                   "obj = bpy.context.view_layer.objects.active\n"
-                                   "assert obj.data.materials[0].name == NAME, obj.data.materials[0].name\n"
-                                   "nodes = obj.data.materials[0].node_tree.nodes\n"
-                                   "assert any(n.bl_idname == 'ShaderNodeTangent' for n in nodes)\n"
-                                   "print('ANISO_OK')\n");
+                                   "exec(open(r'" +
+                                       script +
+                                       "').read())\n"
+                                       "obj = bpy.context.view_layer.objects.active\n"
+                                       "assert obj.data.materials[0].name == NAME, obj.data.materials[0].name\n"
+                                       "nodes = obj.data.materials[0].node_tree.nodes\n"
+                                       "assert any(n.bl_idname == 'ShaderNodeTangent' for n in nodes)\n"
+                                       "print('ANISO_OK')\n");
   std::string out;
   if (FILE* p = popen(("blender -b --factory-startup -P " + shell_quote(driver) + " 2>&1").c_str(), "r")) {
     char buf[4096];
@@ -524,21 +540,26 @@ TEST_F(ExportCli, BlenderScriptRunsOnABpyStub) {
     const std::string script = (dir_ / "m.py").string();
     const Result r = run({"export", "--to", "blender", "--material", material, "-o", script, "--grid", "2"});
     ASSERT_EQ(r.code, 0) << r.err;
-    const std::string check = write("check.py",
-                                    "import bpy\n"
-                                    "MATERIAL = '" + std::string(material[0] == '{' ? "ggx" : material) + "'\n"
-                                    "exec(open(r'" + script + "').read())\n"
-                                    "obj = bpy.context.view_layer.objects.active\n"
-                                    "assert obj.data.materials[0] is mat\n"
-                                    "assert bsdf.distribution == 'GGX'\n"
-                                    "assert bsdf in nodes and (bsdf.outputs['BSDF'], out.inputs['Surface']) in links\n"
-                                    "want = 'ShaderNodeBsdfMetallic' if bpy.app.version >= (4, 3, 0) and MATERIAL == 'gold' "
-                                    "else 'ShaderNodeBsdfPrincipled'\n"
-                                    "assert bsdf.bl_idname == want, bsdf.bl_idname\n"
-                                    "assert bsdf.bl_idname != 'ShaderNodeBsdfMetallic' or bsdf.fresnel_type == 'PHYSICAL_CONDUCTOR'\n"
-                                    "has_tangent = any(n.bl_idname == 'ShaderNodeTangent' for n in nodes)\n"
-                                    "assert has_tangent == (obj.data.uv_layers.active is not None), has_tangent\n"
-                                    "print('ANISO_OK')\n");
+    const std::string check =
+        write("check.py",
+              "import bpy\n"
+              "MATERIAL = '" +
+                  std::string(material[0] == '{' ? "ggx" : material) +
+                  "'\n"
+                  "exec(open(r'" +
+                  script +
+                  "').read())\n"
+                  "obj = bpy.context.view_layer.objects.active\n"
+                  "assert obj.data.materials[0] is mat\n"
+                  "assert bsdf.distribution == 'GGX'\n"
+                  "assert bsdf in nodes and (bsdf.outputs['BSDF'], out.inputs['Surface']) in links\n"
+                  "want = 'ShaderNodeBsdfMetallic' if bpy.app.version >= (4, 3, 0) and MATERIAL == 'gold' "
+                  "else 'ShaderNodeBsdfPrincipled'\n"
+                  "assert bsdf.bl_idname == want, bsdf.bl_idname\n"
+                  "assert bsdf.bl_idname != 'ShaderNodeBsdfMetallic' or bsdf.fresnel_type == 'PHYSICAL_CONDUCTOR'\n"
+                  "has_tangent = any(n.bl_idname == 'ShaderNodeTangent' for n in nodes)\n"
+                  "assert has_tangent == (obj.data.uv_layers.active is not None), has_tangent\n"
+                  "print('ANISO_OK')\n");
     for (const char* version : {"3.4", "4.2", "4.3"})
       for (const char* uv : {"0", "1"}) {
         const std::string cmd = "PYTHONPATH=" + shell_quote(std::string(ANISO_SOURCE_DIR) + "/tests/export_bpy_stub") +
@@ -558,8 +579,9 @@ TEST_F(ExportCli, BlenderScriptRunsOnABpyStub) {
 // Measured data (a MERL table, here aniso's tabulation of a Ward material) takes the fitted path.
 TEST_F(ExportCli, MeasuredMerlTableIsFitted) {
   const std::string merl = (dir_ / "ward.binary").string();
-  write_merl(merl, tabulate_merl(build_material<double>(load_material(
-                       R"({"model": "ward", "kd": 0.1, "ks": 0.2, "alpha_x": 0.1, "alpha_y": 0.25, "normalization": "balanced"})"))));
+  write_merl(merl,
+             tabulate_merl(build_material<double>(load_material(
+                 R"({"model": "ward", "kd": 0.1, "ks": 0.2, "alpha_x": 0.1, "alpha_y": 0.25, "normalization": "balanced"})"))));
   const std::string out = (dir_ / "m.pbrt").string();
   const Result r = run({"export", "--to", "pbrt-v4", "--material", merl, "-o", out, "--grid", "2", "--starts", "1"});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -601,11 +623,12 @@ TEST_F(ExportCli, UnwritableOutputLeavesNothing) {
 
 TEST_F(ExportCli, PreviewWritesAPng) {
   const std::string png = (dir_ / "p.png").string();
-  const Result r = run({"export", "--to", "pbrt-v4", "--material", "gold", "-o", (dir_ / "g.pbrt").string(), "--preview", png,
-                        "--grid", "2"});
+  const Result r =
+      run({"export", "--to", "pbrt-v4", "--material", "gold", "-o", (dir_ / "g.pbrt").string(), "--preview", png, "--grid", "2"});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(read_file(png).substr(1, 3), "PNG");
-  const Result bad = run({"export", "--to", "pbrt-v4", "--material", "gold", "-o", (dir_ / "h.pbrt").string(), "--preview", "x.jpg"});
+  const Result bad =
+      run({"export", "--to", "pbrt-v4", "--material", "gold", "-o", (dir_ / "h.pbrt").string(), "--preview", "x.jpg"});
   EXPECT_EQ(bad.code, 2);
   EXPECT_FALSE(fs::exists(dir_ / "h.pbrt"));
 }

@@ -76,7 +76,8 @@ void expect_material_near(const json& expected, const json& got, double rel, dou
     }
   } else if (expected.is_array() && !expected.empty() && expected[0].is_object()) {
     ASSERT_EQ(expected.size(), got.size()) << path;
-    for (size_t i = 0; i < expected.size(); ++i) expect_material_near(expected[i], got[i], rel, abs_floor, path + fmt::format("[{}]", i));
+    for (size_t i = 0; i < expected.size(); ++i)
+      expect_material_near(expected[i], got[i], rel, abs_floor, path + fmt::format("[{}]", i));
   } else if (expected.is_number() || expected.is_array()) {
     for (int c = 0; c < 3; ++c) {
       const double e = rgb_at(expected, c), g = got.is_number() || got.is_array() ? rgb_at(got, c) : NAN;
@@ -108,39 +109,103 @@ FitOptions opts(std::string model, bool aniso = false) {
 std::vector<RecoveryCase> recovery_cases() {
   std::vector<RecoveryCase> out;
   FitOptions laf1 = opts("lafortune");
-  out.push_back({"lafortune_1lobe", {{"model", "lafortune"}, {"rho_d", {0.2, 0.3, 0.1}},
-                 {"lobes", json::array({{{"cx", {-1.05, -1.02, -1.0}}, {"cy", {-1.05, -1.02, -1.0}}, {"cz", {0.95, 0.98, 1.0}}, {"n", {18.0, 25.0, 30.0}}, {"scale", 1.0}}})}},
-                 laf1, 1e-4, 0.03, 0.01});
-  out.push_back({"lafortune_1lobe_anisotropic_cx_ne_cy", {{"model", "lafortune"}, {"rho_d", 0.1},
-                 {"lobes", json::array({{{"cx", {-1.1, -1.1, -1.1}}, {"cy", {-0.8, -0.85, -0.9}}, {"cz", 1.0}, {"n", 20.0}, {"scale", 1.0}}})}},
-                 opts("lafortune", true), 1e-4, 0.03, 0.01});
+  out.push_back({"lafortune_1lobe",
+                 {{"model", "lafortune"},
+                  {"rho_d", {0.2, 0.3, 0.1}},
+                  {"lobes", json::array({{{"cx", {-1.05, -1.02, -1.0}},
+                                          {"cy", {-1.05, -1.02, -1.0}},
+                                          {"cz", {0.95, 0.98, 1.0}},
+                                          {"n", {18.0, 25.0, 30.0}},
+                                          {"scale", 1.0}}})}},
+                 laf1,
+                 1e-4,
+                 0.03,
+                 0.01});
+  out.push_back(
+      {"lafortune_1lobe_anisotropic_cx_ne_cy",
+       {{"model", "lafortune"},
+        {"rho_d", 0.1},
+        {"lobes",
+         json::array({{{"cx", {-1.1, -1.1, -1.1}}, {"cy", {-0.8, -0.85, -0.9}}, {"cz", 1.0}, {"n", 20.0}, {"scale", 1.0}}})}},
+       opts("lafortune", true),
+       1e-4,
+       0.03,
+       0.01});
   FitOptions laf2 = opts("lafortune");
   laf2.lobes = 2;
   laf2.shared_exponents = true;
   laf2.starts = 6;
-  out.push_back({"lafortune_2lobes_shared_exponents", {{"model", "lafortune"}, {"rho_d", 0.15},
-                 {"lobes", json::array({{{"cx", -1.02}, {"cy", -1.02}, {"cz", 1.0}, {"n", 80.0}, {"scale", 1.0}},
+  out.push_back({"lafortune_2lobes_shared_exponents",
+                 {{"model", "lafortune"},
+                  {"rho_d", 0.15},
+                  {"lobes", json::array({{{"cx", -1.02}, {"cy", -1.02}, {"cz", 1.0}, {"n", 80.0}, {"scale", 1.0}},
                                          {{"cx", -0.7}, {"cy", -0.7}, {"cz", 0.75}, {"n", 4.0}, {"scale", 1.0}}})}},
-                 laf2, 1e-3, 0.08, 0.02});
+                 laf2,
+                 1e-3,
+                 0.08,
+                 0.02});
   for (const char* norm : {"ward", "duer", "balanced"}) {
     FitOptions w = opts("ward");
     w.normalization = norm;
-    out.push_back({fmt::format("ward_{}", norm), {{"model", "ward"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", {0.2, 0.25, 0.3}},
-                   {"alpha_x", 0.12}, {"alpha_y", 0.12}, {"form", "vector"}, {"normalization", norm}}, w, 1e-4, 0.03, 0.01});
+    out.push_back({fmt::format("ward_{}", norm),
+                   {{"model", "ward"},
+                    {"kd", {0.3, 0.2, 0.1}},
+                    {"ks", {0.2, 0.25, 0.3}},
+                    {"alpha_x", 0.12},
+                    {"alpha_y", 0.12},
+                    {"form", "vector"},
+                    {"normalization", norm}},
+                   w,
+                   1e-4,
+                   0.03,
+                   0.01});
   }
   FitOptions wa = opts("ward", true);
   wa.normalization = "balanced";
-  out.push_back({"ward_anisotropic_ax_ne_ay", {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.06}, {"alpha_y", 0.25},
-                 {"form", "vector"}, {"normalization", "balanced"}}, wa, 1e-4, 0.03, 0.01});
-  out.push_back({"ashikhmin_shirley_anisotropic_nu_ne_nv", {{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"rs", 0.06}, {"kd", {0.2, 0.1, 0.05}},
-                 {"ks_scale", {1.0, 0.9, 0.8}}, {"n_u", 400.0}, {"n_v", 40.0}}, opts("ashikhmin-shirley", true), 1e-3, 0.05, 0.01});
-  out.push_back({"ggx", {{"model", "ggx"}, {"kd", {0.4, 0.3, 0.2}}, {"f0", 0.05}, {"alpha_x", 0.2}, {"alpha_y", 0.2}}, opts("ggx"), 1e-4, 0.03, 0.01});
-  out.push_back({"ggx_anisotropic", {{"model", "ggx"}, {"kd", 0.05}, {"f0", {0.9, 0.6, 0.3}}, {"alpha_x", 0.08}, {"alpha_y", 0.3}},
-                 opts("ggx", true), 1e-4, 0.03, 0.01});
+  out.push_back({"ward_anisotropic_ax_ne_ay",
+                 {{"model", "ward"},
+                  {"kd", 0.1},
+                  {"ks", 0.4},
+                  {"alpha_x", 0.06},
+                  {"alpha_y", 0.25},
+                  {"form", "vector"},
+                  {"normalization", "balanced"}},
+                 wa,
+                 1e-4,
+                 0.03,
+                 0.01});
+  out.push_back({"ashikhmin_shirley_anisotropic_nu_ne_nv",
+                 {{"model", "ashikhmin-shirley"},
+                  {"rd", 0.0},
+                  {"rs", 0.06},
+                  {"kd", {0.2, 0.1, 0.05}},
+                  {"ks_scale", {1.0, 0.9, 0.8}},
+                  {"n_u", 400.0},
+                  {"n_v", 40.0}},
+                 opts("ashikhmin-shirley", true),
+                 1e-3,
+                 0.05,
+                 0.01});
+  out.push_back({"ggx",
+                 {{"model", "ggx"}, {"kd", {0.4, 0.3, 0.2}}, {"f0", 0.05}, {"alpha_x", 0.2}, {"alpha_y", 0.2}},
+                 opts("ggx"),
+                 1e-4,
+                 0.03,
+                 0.01});
+  out.push_back({"ggx_anisotropic",
+                 {{"model", "ggx"}, {"kd", 0.05}, {"f0", {0.9, 0.6, 0.3}}, {"alpha_x", 0.08}, {"alpha_y", 0.3}},
+                 opts("ggx", true),
+                 1e-4,
+                 0.03,
+                 0.01});
   FitOptions mg = opts("metal", true);
   mg.metal = "gold";
-  out.push_back({"metal_named_gold_anisotropic", {{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ggx"}, {"alpha_x", 0.1}, {"alpha_y", 0.3}}}},
-                 mg, 1e-4, 0.03, 0.01});
+  out.push_back({"metal_named_gold_anisotropic",
+                 {{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ggx"}, {"alpha_x", 0.1}, {"alpha_y", 0.3}}}},
+                 mg,
+                 1e-4,
+                 0.03,
+                 0.01});
   return out;
 }
 
@@ -193,8 +258,10 @@ TEST(FitMetal, FittedEtaKRecoverF0AndRoughness) {
   const SampleSet data = synthetic(m, 1500, 700, 0.0, 3);
   FitOptions o = opts("metal");
   const FitResult r = fit_samples(data, o);
-  const MaterialD truth = build_material<double>(parse_material(m, "t")), got = build_material<double>(parse_material(r.material, "f"));
-  const RGBT<double> f0_truth = F_Conductor(1.0, truth.metal.eta, truth.metal.k), f0_got = F_Conductor(1.0, got.metal.eta, got.metal.k);
+  const MaterialD truth = build_material<double>(parse_material(m, "t")),
+                  got = build_material<double>(parse_material(r.material, "f"));
+  const RGBT<double> f0_truth = F_Conductor(1.0, truth.metal.eta, truth.metal.k),
+                     f0_got = F_Conductor(1.0, got.metal.eta, got.metal.k);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(f0_got[c], f0_truth[c], 0.01) << c;
   EXPECT_NEAR(r.material["lobe"]["alpha_x"].get<double>(), 0.15, 0.003);
   EXPECT_LT(r.errors.relative_l2cos, 0.01);
@@ -203,7 +270,8 @@ TEST(FitMetal, FittedEtaKRecoverF0AndRoughness) {
 // The Disney principled model recovers its roughness and anisotropy from its own samples (the
 // other keys, base colour, metallic and specular, are fitted with them).
 TEST(FitPrincipled, RecoversRoughnessAndAnisotropic) {
-  const json m = {{"model", "principled"}, {"base_color", {0.5, 0.3, 0.2}}, {"metallic", 0.0}, {"specular", 0.5},
+  const json m = {{"model", "principled"}, {"base_color", {0.5, 0.3, 0.2}},
+                  {"metallic", 0.0},       {"specular", 0.5},
                   {"roughness", 0.4},      {"anisotropic", 0.6}};
   for (const double noise : {0.0, 0.02}) {
     const SampleSet data = synthetic(m, 1500, 700, noise, 5);
@@ -322,10 +390,11 @@ TEST_P(FitCornell, ThreeLafortuneLobes) {
   EXPECT_LT(three.errors.l2cos_all, one.errors.l2cos_all) << p.name;
   const FitErrors pbrt = fit_errors(pbrt_bluepaint, data);
   EXPECT_LT(three.errors.l2cos_all, 0.5 * pbrt.l2cos_all) << p.name;
-  std::printf("%-12s 3 lobes: l2cos %.5g (relative %.4f), log %.5g; 1 lobe: l2cos %.5g (relative %.4f); "
-              "pbrt-v1 bluepaint: l2cos %.5g (relative %.4f); %.2f s\n",
-              p.name, three.errors.l2cos_all, three.errors.relative_l2cos, three.errors.log_all, one.errors.l2cos_all,
-              one.errors.relative_l2cos, pbrt.l2cos_all, pbrt.relative_l2cos, three.seconds);
+  std::printf(
+      "%-12s 3 lobes: l2cos %.5g (relative %.4f), log %.5g; 1 lobe: l2cos %.5g (relative %.4f); "
+      "pbrt-v1 bluepaint: l2cos %.5g (relative %.4f); %.2f s\n",
+      p.name, three.errors.l2cos_all, three.errors.relative_l2cos, three.errors.log_all, one.errors.l2cos_all,
+      one.errors.relative_l2cos, pbrt.l2cos_all, pbrt.relative_l2cos, three.seconds);
 }
 
 INSTANTIATE_TEST_SUITE_P(Paints, FitCornell,
@@ -422,7 +491,8 @@ class FitRgl : public Cli {
 };
 
 TEST_F(FitRgl, AnisotropicFileRecoversAlphasAndRotation) {
-  const json m = {{"model", "ggx"}, {"kd", 0.1}, {"f0", {0.9, 0.6, 0.3}}, {"alpha_x", 0.08}, {"alpha_y", 0.3}, {"rotation_deg", 30.0}};
+  const json m = {{"model", "ggx"},  {"kd", 0.1},      {"f0", {0.9, 0.6, 0.3}},
+                  {"alpha_x", 0.08}, {"alpha_y", 0.3}, {"rotation_deg", 30.0}};
   const SampleSet data = read_measured(export_file(m, "aniso.bsdf"));
   EXPECT_EQ(data.format, "rgl");
   EXPECT_TRUE(contains(data.description, "anisotropic")) << data.description;
@@ -430,10 +500,11 @@ TEST_F(FitRgl, AnisotropicFileRecoversAlphasAndRotation) {
   const FitResult r = fit_ggx(data, 1);
   EXPECT_TRUE(r.anisotropic) << r.anisotropy_reason;
   const json& f = r.material;
-  std::printf("anisotropic GGX 0.08 x 0.3 at 30 deg from its .bsdf: alpha %.5f x %.5f, rotation %.3f deg, kd %.4f, f0 %.4f %.4f %.4f; "
-              "relative l2cos %.4f; %zu samples; %.2f s\n",
-              f["alpha_x"].get<double>(), f["alpha_y"].get<double>(), f["rotation_deg"].get<double>(), rgb_at(f["kd"], 1),
-              rgb_at(f["f0"], 0), rgb_at(f["f0"], 1), rgb_at(f["f0"], 2), r.errors.relative_l2cos, data.samples.size(), r.seconds);
+  std::printf(
+      "anisotropic GGX 0.08 x 0.3 at 30 deg from its .bsdf: alpha %.5f x %.5f, rotation %.3f deg, kd %.4f, f0 %.4f %.4f %.4f; "
+      "relative l2cos %.4f; %zu samples; %.2f s\n",
+      f["alpha_x"].get<double>(), f["alpha_y"].get<double>(), f["rotation_deg"].get<double>(), rgb_at(f["kd"], 1),
+      rgb_at(f["f0"], 0), rgb_at(f["f0"], 1), rgb_at(f["f0"], 2), r.errors.relative_l2cos, data.samples.size(), r.seconds);
   // The fit is as close to the file as the material the file was made from (measured: relative
   // l2cos 0.0928 against the material's 0.0931): what separates the parameters from the truth is the
   // file's own error (docs/rgl.md, "Accuracy"), not the fitter's. 1%: the solver's tolerance.
@@ -455,9 +526,11 @@ TEST_F(FitRgl, IsotropicFileGivesAnIsotropicFit) {
   const FitResult r = fit_ggx(data, 2);
   EXPECT_FALSE(r.anisotropic) << r.anisotropy_reason;
   const json& f = r.material;
-  std::printf("isotropic GGX 0.15 from its .bsdf: alpha %.5f x %.5f, kd %.4f, f0 %.4f %.4f %.4f; relative l2cos %.4f; %zu samples; %.2f s\n",
-              f["alpha_x"].get<double>(), f["alpha_y"].get<double>(), rgb_at(f["kd"], 1), rgb_at(f["f0"], 0), rgb_at(f["f0"], 1),
-              rgb_at(f["f0"], 2), r.errors.relative_l2cos, data.samples.size(), r.seconds);
+  std::printf(
+      "isotropic GGX 0.15 from its .bsdf: alpha %.5f x %.5f, kd %.4f, f0 %.4f %.4f %.4f; relative l2cos %.4f; %zu samples; %.2f "
+      "s\n",
+      f["alpha_x"].get<double>(), f["alpha_y"].get<double>(), rgb_at(f["kd"], 1), rgb_at(f["f0"], 0), rgb_at(f["f0"], 1),
+      rgb_at(f["f0"], 2), r.errors.relative_l2cos, data.samples.size(), r.seconds);
   EXPECT_EQ(f["alpha_x"], f["alpha_y"]);
   // As above (measured: 0.0588 against 0.0604); alpha 0.1517, f0 within 0.015, kd 0.090.
   const double truth = fit_errors(build_material<double>(parse_material(m, "t")), data).relative_l2cos;
@@ -517,7 +590,8 @@ TEST_F(FitCli, WritesAValidMaterialWithTheFitObjectAndPrintsTheLectureTable) {
   EXPECT_EQ(std::count(e.out.begin(), e.out.end(), '\n'), 2);
   EXPECT_EQ(run({"albedo", "-m", out, "--theta-deg", "30", "--samples", "1000"}).code, 0);
   EXPECT_EQ(run({"export-glsl", "-m", out, "-o", (dir_ / "m.glsl").string()}).code, 0);
-  const Result render = run({"render", "--material", out, "--spp", "1", "--width", "32", "--height", "32", "-o", (dir_ / "r.png").string()});
+  const Result render =
+      run({"render", "--material", out, "--spp", "1", "--width", "32", "--height", "32", "-o", (dir_ / "r.png").string()});
   EXPECT_EQ(render.code, 0) << render.err;
   // "fit" must be an object.
   const Result bad = run({"eval", "-m", write("bad.json", R"({"model": "lambert", "kd": 0.5, "fit": 3})")}, "0 0 1 0 0 1\n");
@@ -555,9 +629,11 @@ TEST_F(FitCli, CompareRanksEveryModelAndPlotWritesAPng) {
                        std::acos(x.wo.z), std::atan2(x.wo.y, x.wo.x), x.value.x, x.value.y, x.value.z);
   const std::string png = (dir_ / "slices.png").string(), best = (dir_ / "best.json").string();
   // Isotropic data, fitted isotropically (the auto rule would fit every model twice: this checks the ranking).
-  const Result r = run({"fit", "--compare", write("ggx.csv", csv), "--plot", png, "-o", best, "--starts", "3", "--anisotropic", "no"});
+  const Result r =
+      run({"fit", "--compare", write("ggx.csv", csv), "--plot", png, "-o", best, "--starts", "3", "--anisotropic", "no"});
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const char* label : {"lafortune (1 lobe)", "lafortune (3 lobes)", "ward (duer)", "ward (balanced)", "ashikhmin-shirley", "ggx", "metal"})
+  for (const char* label :
+       {"lafortune (1 lobe)", "lafortune (3 lobes)", "ward (duer)", "ward (balanced)", "ashikhmin-shirley", "ggx", "metal"})
     EXPECT_TRUE(contains(r.out, label)) << label << "\n" << r.out;
   const size_t rank1 = r.out.find("\n1    ");
   ASSERT_NE(rank1, std::string::npos) << r.out;
@@ -569,8 +645,8 @@ TEST_F(FitCli, CompareRanksEveryModelAndPlotWritesAPng) {
 // A fit over a second (here: --progress-after 0) shows its progress on stderr (one line a second
 // when stderr is not a terminal), and -q hides it; stdout is the same either way.
 TEST_F(FitCli, ProgressOnStderrForFitsOverASecond) {
-  const std::vector<std::string> args = {"fit", kCornell + "cayman.brdf", "--model", "ggx", "--progress-after", "0",
-                                         "-o", (dir_ / "p.json").string()};
+  const std::vector<std::string> args = {"fit", kCornell + "cayman.brdf",  "--model", "ggx", "--progress-after", "0",
+                                         "-o",  (dir_ / "p.json").string()};
   const Result r = run(args);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.err, "fit: start ")) << r.err;
@@ -584,9 +660,16 @@ TEST_F(FitCli, ProgressOnStderrForFitsOverASecond) {
 
 TEST_F(FitCli, BadOptionsExitTwoWithoutAFile) {
   const std::string out = (dir_ / "f.json").string();
-  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
-           {"--model", "blinn"}, {"--lobes", "0"}, {"--lobes", "x"}, {"--metric", "l1"}, {"--starts", "0"}, {"--loss", "tukey"},
-           {"--loss-scale", "inf"}, {"--loss-scale", "-1"}, {"--seed", "-1"}, {"--threads", "x"}}) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{{"--model", "blinn"},
+                                                                                    {"--lobes", "0"},
+                                                                                    {"--lobes", "x"},
+                                                                                    {"--metric", "l1"},
+                                                                                    {"--starts", "0"},
+                                                                                    {"--loss", "tukey"},
+                                                                                    {"--loss-scale", "inf"},
+                                                                                    {"--loss-scale", "-1"},
+                                                                                    {"--seed", "-1"},
+                                                                                    {"--threads", "x"}}) {
     std::vector<std::string> cmd = {"fit", kCornell + "cayman.brdf", "-o", out};
     cmd.insert(cmd.end(), args.begin(), args.end());
     const Result r = run(cmd);
@@ -626,8 +709,9 @@ TEST_F(FitOrientation, RecoversParametersAndRotationWithDefaultOptions) {
     json truth;  // canonical: the narrower direction along the tangent (models.h, Orientation)
     double rotation;
   };
-  for (const Case& c : {Case{{{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.083}, {"alpha_y", 0.27}}, 30.0},
-                        Case{{{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"kd", 0.1}, {"rs", 0.08}, {"n_u", 180.0}, {"n_v", 25.0}}, 130.0}}) {
+  for (const Case& c :
+       {Case{{{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.083}, {"alpha_y", 0.27}}, 30.0},
+        Case{{{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"kd", 0.1}, {"rs", 0.08}, {"n_u", 180.0}, {"n_v", 25.0}}, 130.0}}) {
     json turned = c.truth;
     turned["rotation_deg"] = c.rotation;
     const SampleSet data = through_csv(synthetic(turned, 1500, 700, 0.02, 31), dir_ / "data.csv");
@@ -650,8 +734,8 @@ TEST_F(FitOrientation, RecoversParametersAndRotationWithDefaultOptions) {
     const std::string bytes = read_file(png.string());
     ASSERT_GT(bytes.size(), 24u);
     const auto be32 = [&](size_t at) {
-      return (uint32_t(uint8_t(bytes[at])) << 24) | (uint32_t(uint8_t(bytes[at + 1])) << 16) | (uint32_t(uint8_t(bytes[at + 2])) << 8) |
-             uint32_t(uint8_t(bytes[at + 3]));
+      return (uint32_t(uint8_t(bytes[at])) << 24) | (uint32_t(uint8_t(bytes[at + 1])) << 16) |
+             (uint32_t(uint8_t(bytes[at + 2])) << 8) | uint32_t(uint8_t(bytes[at + 3]));
     };
     EXPECT_GT(be32(20), 3u * 260u);  // PNG IHDR height: three rows of 260-pixel panels
     // The data turned by a half turn about the normal: the same rotation.
@@ -676,8 +760,9 @@ TEST_F(FitOrientation, IsotropicDataGiveAnIsotropicFitAndTheReason) {
   EXPECT_FALSE(paint.material.contains("rotation_deg"));
 
   const std::string path = (dir_ / "ggx.binary").string();
-  write_merl(path, tabulate_merl(build_material<double>(
-                       parse_material({{"model", "ggx"}, {"kd", 0.2}, {"f0", 0.05}, {"alpha", 0.15}}, "t"))));
+  write_merl(
+      path,
+      tabulate_merl(build_material<double>(parse_material({{"model", "ggx"}, {"kd", 0.2}, {"f0", 0.05}, {"alpha", 0.15}}, "t"))));
   o.model = "ggx";
   o.starts = 2;
   o.max_solver_samples = 8000;
@@ -695,7 +780,8 @@ double largest_albedo(const json& material) {
   for (double theta : {0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 80.0, 85.0, 89.0})
     for (double phi = 0.0; phi < 360.0; phi += 10.0) {
       const double t = theta * M_PI / 180.0, p = phi * M_PI / 180.0;
-      const AlbedoEstimate e = albedo_importance(m, Vec3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)), 4096, seed++);
+      const AlbedoEstimate e =
+          albedo_importance(m, Vec3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)), 4096, seed++);
       largest = std::max({largest, e.mean.x, e.mean.y, e.mean.z});
     }
   return largest;
@@ -708,7 +794,8 @@ double largest_albedo(const json& material) {
 TEST(FitIdentifiability, CornellPaintsTieWhatTheDataCannotSeeAndKeepAlbedoBelowOne) {
   for (const char* paint : {"acryl_blue", "cayman", "garnet_red", "krylon_blue"}) {
     const SampleSet data = read_cornell(kCornell + paint + std::string(".brdf"));
-    for (const auto& [lobes, anisotropy] : {std::pair{2, Anisotropy::Yes}, std::pair{3, Anisotropy::Yes}, std::pair{2, Anisotropy::Auto}}) {
+    for (const auto& [lobes, anisotropy] :
+         {std::pair{2, Anisotropy::Yes}, std::pair{3, Anisotropy::Yes}, std::pair{2, Anisotropy::Auto}}) {
       FitOptions o;
       o.model = "lafortune";
       o.lobes = lobes;
@@ -733,8 +820,8 @@ TEST(FitIdentifiability, CornellPaintsTieWhatTheDataCannotSeeAndKeepAlbedoBelowO
 // Data that gain energy (a Lafortune lobe scaled to an albedo near 1.6): by default the fit stays
 // at albedo <= 1.01 and says the constraint acted; --allow-energy-gain lets it follow the data.
 TEST(FitEnergy, ConstraintHoldsUnlessEnergyGainIsAllowed) {
-  const json gains = {{"model", "lafortune"}, {"rho_d", 0.5},
-                      {"lobes", json::array({{{"cxy", -1.0}, {"cz", 1.0}, {"n", 8.0}, {"scale", 1.6}}})}};
+  const json gains = {
+      {"model", "lafortune"}, {"rho_d", 0.5}, {"lobes", json::array({{{"cxy", -1.0}, {"cz", 1.0}, {"n", 8.0}, {"scale", 1.6}}})}};
   ASSERT_GT(largest_albedo(gains), 1.2);
   const SampleSet data = synthetic(gains, 1500, 700, 0.0, 41);
   FitOptions o;

@@ -81,7 +81,8 @@ std::vector<bool> interior_mask(const render::Scene& scene) {
               const Vec3 to = light.kind == render::LightKind::Directional ? light.to_light : light.position - hit.p;
               const float dist = light.kind == render::LightKind::Directional ? INFINITY : glm::length(to) * (1.0f - 1e-3f);
               const Vec3 d = glm::normalize(to);
-              if (geo.occluded(render::Ray{render::SceneGeometry::offset_origin(hit.p, hit.ng, d), d}, dist)) shadows |= 1ull << l;
+              if (geo.occluded(render::Ray{render::SceneGeometry::offset_origin(hit.p, hit.ng, d), d}, dist))
+                shadows |= 1ull << l;
             }
           }
           if (first == -2) first = id, first_shadows = shadows;
@@ -95,8 +96,8 @@ std::vector<bool> interior_mask(const render::Scene& scene) {
 struct Comparison {
   render::Image cpu, gl;
   int interior = 0, bad = 0;
-  double worst_excess = 0.0;  // largest |gl - cpu| / (tolerance) among interior pixels
-  std::string worst;          // where and what
+  double worst_excess = 0.0;     // largest |gl - cpu| / (tolerance) among interior pixels
+  std::string worst;             // where and what
   double peak = 0.0, lit = 0.0;  // the CPU image's peak; the fraction of interior pixels above 1% of it
   std::vector<bool> mask;        // the interior pixels
 };
@@ -167,8 +168,11 @@ class GlRenderModels : public ::testing::TestWithParam<NamedMaterial> {};
 
 TEST_P(GlRenderModels, PointLitSphereMatchesCpuDirectLighting) {
   ANISO_REQUIRE_GL();
-  const json objects = json::array(
-      {{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", GetParam().json}, {"tangent", {{"angle_deg", 30}}}}});
+  const json objects = json::array({{{"shape", "sphere"},
+                                     {"center", {0, 0, 0}},
+                                     {"radius", 1.0},
+                                     {"material", GetParam().json},
+                                     {"tangent", {{"angle_deg", 30}}}}});
   expect_parity(scene_json(objects, point_light()), GetParam().name);
 }
 
@@ -185,37 +189,51 @@ json with_material(json object, const json& material = kBrushed) {
 
 TEST(GlRender, AngleOnADisc) {
   ANISO_REQUIRE_GL();
-  const json disc = with_material({{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3},
-                                   {"tangent", {{"angle_deg", -50}}}});
+  const json disc = with_material(
+      {{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3}, {"tangent", {{"angle_deg", -50}}}});
   expect_parity(scene_json(json::array({disc}), point_light()), "angle_disc");
 }
 
 TEST(GlRender, ConcentricFieldOnADisc) {
   ANISO_REQUIRE_GL();
-  const json disc = with_material({{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3},
+  const json disc = with_material({{"shape", "disc"},
+                                   {"center", {0, 0, 0}},
+                                   {"normal", {0, 1, 0.8}},
+                                   {"radius", 1.3},
                                    {"tangent", {{"field", "concentric"}}}});
   expect_parity(scene_json(json::array({disc}), point_light()), "concentric_disc");
 }
 
 TEST(GlRender, SwirlFieldOnADisc) {
   ANISO_REQUIRE_GL();
-  const json disc = with_material({{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.8}}, {"radius", 1.3},
+  const json disc = with_material({{"shape", "disc"},
+                                   {"center", {0, 0, 0}},
+                                   {"normal", {0, 1, 0.8}},
+                                   {"radius", 1.3},
                                    {"tangent", {{"field", "swirl"}, {"swirl_deg", 30}, {"angle_deg", 10}}}});
   expect_parity(scene_json(json::array({disc}), point_light()), "swirl_disc");
 }
 
 TEST(GlRender, RadialFieldOnARectangle) {
   ANISO_REQUIRE_GL();
-  const json rect = with_material({{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.7}}, {"u", {1, 0, 0.2}},
-                                   {"size", {2.4, 1.8}}, {"tangent", {{"field", "radial"}, {"center", {0.3, 0.1, 0}}}}});
+  const json rect = with_material({{"shape", "rectangle"},
+                                   {"center", {0, 0, 0}},
+                                   {"normal", {0, 1, 0.7}},
+                                   {"u", {1, 0, 0.2}},
+                                   {"size", {2.4, 1.8}},
+                                   {"tangent", {{"field", "radial"}, {"center", {0.3, 0.1, 0}}}}});
   expect_parity(scene_json(json::array({rect}), point_light()), "radial_rectangle");
 }
 
 TEST(GlRender, ProjectedAndNoiseFieldsOnSpheres) {
   ANISO_REQUIRE_GL();
-  const json a = with_material({{"shape", "sphere"}, {"center", {-0.6, 0, 0}}, {"radius", 0.55},
+  const json a = with_material({{"shape", "sphere"},
+                                {"center", {-0.6, 0, 0}},
+                                {"radius", 0.55},
                                 {"tangent", {{"field", "projected"}, {"direction", {1, 1, 0}}}}});
-  const json b = with_material({{"shape", "sphere"}, {"center", {0.6, 0, 0}}, {"radius", 0.55},
+  const json b = with_material({{"shape", "sphere"},
+                                {"center", {0.6, 0, 0}},
+                                {"radius", 0.55},
                                 {"tangent", {{"field", "noise"}, {"scale", 3}, {"strength", 0.6}}}});
   expect_parity(scene_json(json::array({a, b}), point_light()), "projected_noise_spheres");
 }
@@ -226,8 +244,12 @@ TEST(GlRender, TangentMapOnARectangle) {
   // The seams run obliquely across the image (u turned by 25 degrees): a seam along an image axis
   // is where the GL backend's grid of sub-samples is weakest (scene_raster.cpp).
   const json map = {{"map", "assets/checker_tangents.png"}, {"encoding", "angle"}};
-  const json rect = with_material({{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0.9}}, {"u", {1, 0, 0.47}},
-                                   {"size", {2.2, 2.2}}, {"tangent", map}});
+  const json rect = with_material({{"shape", "rectangle"},
+                                   {"center", {0, 0, 0}},
+                                   {"normal", {0, 1, 0.9}},
+                                   {"u", {1, 0, 0.47}},
+                                   {"size", {2.2, 2.2}},
+                                   {"tangent", map}});
   // Its 45-degree seams are lines a third of a pixel wide, bright where the highlight crosses them:
   // both sides need more samples per pixel to agree there (at 256 spp and k = 8 the CPU's noise and
   // the grid's placement of the lines each reached 1.5 x the tolerance on a few seam pixels; at
@@ -255,9 +277,13 @@ TEST(GlRender, SmoothTangentMapsOnASphereBothEncodings) {
     }
   render::write_png((dir / "angle.png").string(), angle);
   render::write_png((dir / "xy.png").string(), xy);
-  const json a = with_material({{"shape", "sphere"}, {"center", {-0.55, 0, 0}}, {"radius", 0.6},
+  const json a = with_material({{"shape", "sphere"},
+                                {"center", {-0.55, 0, 0}},
+                                {"radius", 0.6},
                                 {"tangent", {{"map", (dir / "angle.png").string()}, {"encoding", "angle"}}}});
-  const json b = with_material({{"shape", "sphere"}, {"center", {0.65, 0, 0}}, {"radius", 0.6},
+  const json b = with_material({{"shape", "sphere"},
+                                {"center", {0.65, 0, 0}},
+                                {"radius", 0.6},
                                 {"tangent", {{"map", (dir / "xy.png").string()}, {"encoding", "xy"}, {"angle_deg", 20}}}});
   expect_parity(scene_json(json::array({a, b}), point_light()), "tangent_map_spheres");
   fs::remove_all(dir);
@@ -265,8 +291,8 @@ TEST(GlRender, SmoothTangentMapsOnASphereBothEncodings) {
 
 TEST(GlRender, TorusMeshWithItsTangents) {
   ANISO_REQUIRE_GL();
-  const json torus = with_material({{"shape", "torus"}, {"center", {0, 0, 0}}, {"major_radius", 1.0}, {"minor_radius", 0.4},
-                                    {"rotate_deg", {50, 0, 0}}});
+  const json torus = with_material(
+      {{"shape", "torus"}, {"center", {0, 0, 0}}, {"major_radius", 1.0}, {"minor_radius", 0.4}, {"rotate_deg", {50, 0, 0}}});
   expect_parity(scene_json(json::array({torus}), point_light()), "torus");
 }
 
@@ -274,7 +300,10 @@ TEST(GlRender, ObjMeshWithUvTangentsAndWithTriangleTangents) {
   ANISO_REQUIRE_GL();
   // examples/assets/vase.obj has normals and UVs: {"field": "uv"} gives smooth per-vertex tangents
   // (computed by the scene reader); without it each triangle's dp/du from its UVs.
-  const json uv = with_material({{"shape", "mesh"}, {"file", "assets/vase.obj"}, {"translate", {-0.6, -0.9, 0}}, {"scale", 0.9},
+  const json uv = with_material({{"shape", "mesh"},
+                                 {"file", "assets/vase.obj"},
+                                 {"translate", {-0.6, -0.9, 0}},
+                                 {"scale", 0.9},
                                  {"tangent", {{"field", "uv"}}}});
   const json tri = with_material({{"shape", "mesh"}, {"file", "assets/vase.obj"}, {"translate", {0.6, -0.9, 0}}, {"scale", 0.9}});
   expect_parity(scene_json(json::array({uv, tri}), point_light()), "vase_obj");
@@ -282,17 +311,18 @@ TEST(GlRender, ObjMeshWithUvTangentsAndWithTriangleTangents) {
 
 TEST(GlRender, DirectionalLight) {
   ANISO_REQUIRE_GL();
-  const json sphere = with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"tangent", {{"angle_deg", 70}}}},
-                                    {{"model", "ggx"}, {"kd", 0.15}, {"f0", {0.9, 0.7, 0.4}}, {"alpha_x", 0.08}, {"alpha_y", 0.3}});
+  const json sphere =
+      with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"tangent", {{"angle_deg", 70}}}},
+                    {{"model", "ggx"}, {"kd", 0.15}, {"f0", {0.9, 0.7, 0.4}}, {"alpha_x", 0.08}, {"alpha_y", 0.3}});
   const json lights = json::array({{{"type", "directional"}, {"to_light", {-0.5, 0.8, 0.6}}, {"irradiance", 2.5}}});
   expect_parity(scene_json(json::array({sphere}), lights), "directional");
 }
 
 TEST(GlRender, ShadowsOfAnalyticShapesAndBothLightKinds) {
   ANISO_REQUIRE_GL();
-  const json floor = with_material({{"shape", "rectangle"}, {"center", {0, -0.6, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}},
-                                    {"size", {3.0, 3.0}}},
-                                   {{"model", "lambert"}, {"kd", 0.6}});
+  const json floor = with_material(
+      {{"shape", "rectangle"}, {"center", {0, -0.6, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}}, {"size", {3.0, 3.0}}},
+      {{"model", "lambert"}, {"kd", 0.6}});
   const json ball = with_material({{"shape", "sphere"}, {"center", {-0.3, 0, 0}}, {"radius", 0.5}});
   const json card = with_material({{"shape", "disc"}, {"center", {0.7, 0.1, 0.4}}, {"normal", {0.3, 1, 0.2}}, {"radius", 0.3}});
   const json lights = json::array({{{"type", "point"}, {"position", {0.5, 2.5, 1.0}}, {"intensity", 8.0}},
@@ -309,11 +339,11 @@ TEST(GlRender, MeshShadowsFromShadowMaps) {
   // A torus over a floor, lit by a point and a directional light: its shadows on the floor (and on
   // itself) come from the shadow maps; the interior mask leaves out the pixels a shadow edge
   // crosses (the CPU's shadow rays decide that).
-  const json floor = with_material({{"shape", "rectangle"}, {"center", {0, -0.7, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}},
-                                    {"size", {3.2, 3.2}}},
-                                   {{"model", "lambert"}, {"kd", 0.6}});
-  const json torus = with_material({{"shape", "torus"}, {"center", {0, -0.1, 0}}, {"major_radius", 0.7}, {"minor_radius", 0.25},
-                                    {"rotate_deg", {25, 0, 0}}});
+  const json floor = with_material(
+      {{"shape", "rectangle"}, {"center", {0, -0.7, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}}, {"size", {3.2, 3.2}}},
+      {{"model", "lambert"}, {"kd", 0.6}});
+  const json torus = with_material(
+      {{"shape", "torus"}, {"center", {0, -0.1, 0}}, {"major_radius", 0.7}, {"minor_radius", 0.25}, {"rotate_deg", {25, 0, 0}}});
   const json lights = json::array({{{"type", "point"}, {"position", {0.6, 2.2, 0.8}}, {"intensity", 7.0}},
                                    {{"type", "directional"}, {"to_light", {-0.5, 0.8, 0.1}}, {"irradiance", 0.8}}});
   const json doc = scene_json(json::array({floor, torus}), lights);
@@ -330,7 +360,8 @@ TEST(GlRender, MeshShadowsFromShadowMaps) {
         EXPECT_EQ(max_component(c.gl.at(x, y)), 0.0f) << x << ", " << y;
       }
   EXPECT_GT(dark, 20) << "too few pixels in full shadow to test the shadow maps";
-  fmt::print("mesh_shadows: {} interior pixels, worst {:.3f} x the tolerance ({}), {} dark\n", c.interior, c.worst_excess, c.worst, dark);
+  fmt::print("mesh_shadows: {} interior pixels, worst {:.3f} x the tolerance ({}), {} dark\n", c.interior, c.worst_excess,
+             c.worst, dark);
 }
 
 TEST(GlRender, CameraInsideASphereAndOffAxisMeshes) {
@@ -340,8 +371,11 @@ TEST(GlRender, CameraInsideASphereAndOffAxisMeshes) {
   json doc = scene_json(json::array({with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 6.0}},
                                                    {{"model", "lambert"}, {"kd", 0.5}}),
                                      with_material({{"shape", "sphere"}, {"center", {0.8, -0.2, -1.0}}, {"radius", 0.6}}),
-                                     with_material({{"shape", "torus"}, {"center", {-0.9, 0.1, -0.5}}, {"major_radius", 0.5},
-                                                    {"minor_radius", 0.2}, {"rotate_deg", {70, 20, 0}}})}),
+                                     with_material({{"shape", "torus"},
+                                                    {"center", {-0.9, 0.1, -0.5}},
+                                                    {"major_radius", 0.5},
+                                                    {"minor_radius", 0.2},
+                                                    {"rotate_deg", {70, 20, 0}}})}),
                         json::array({{{"type", "point"}, {"position", {0.5, 1.5, 1.5}}, {"intensity", 10.0}}}));
   expect_parity(doc, "inside_sphere");
 }
@@ -351,11 +385,12 @@ TEST(GlRender, ManyLightsTakeSeveralPasses) {
   json lights = json::array();
   for (int i = 0; i < 40; ++i) {  // more than one pass holds (32)
     const double a = 2.0 * M_PI * i / 40.0;
-    lights.push_back({{"type", "point"}, {"position", {2.5 * std::cos(a), 1.5 + 0.02 * i, 2.5 * std::sin(a)}}, {"intensity", 0.6}});
+    lights.push_back(
+        {{"type", "point"}, {"position", {2.5 * std::cos(a), 1.5 + 0.02 * i, 2.5 * std::sin(a)}}, {"intensity", 0.6}});
   }
   json doc = scene_json(json::array({with_material({{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}})}), lights);
   doc["integrator"]["light_selection"] = "all";  // the CPU samples every light: no selection noise
-  expect_parity(doc, "forty_lights", 64);  // a smooth, broadly lit sphere: 64 samples per pixel suffice
+  expect_parity(doc, "forty_lights", 64);        // a smooth, broadly lit sphere: 64 samples per pixel suffice
 }
 
 // The shaders are GLSL 3.30 core (what a GL 3.3 window context, the explorer's, accepts), for every
@@ -391,7 +426,7 @@ render::Image gl_image(const render::Scene& scene) {
 TEST(GlRasterizer, SameStructureMaterialChangesAreUniformsOnlyAndEqualAFreshBuild) {
   ANISO_REQUIRE_GL();
   const json a = {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};
-  const json b = {{"model", "ward"}, {"kd", 0.3}, {"ks", 0.2}, {"alpha_x", 0.2}, {"alpha_y", 0.1}, {"form", "angle"},
+  const json b = {{"model", "ward"},        {"kd", 0.3}, {"ks", 0.2}, {"alpha_x", 0.2}, {"alpha_y", 0.1}, {"form", "angle"},
                   {"normalization", "duer"}};
   render::Scene scene = sphere_scene(a);
   gl::SceneRasterizer r(scene, gl::RasterSettings{2});
@@ -423,7 +458,8 @@ TEST(GlRasterizer, CameraLightsTangentAndSizeChangesEqualAFreshBuild) {
   changed.camera.position = Vec3(1.0f, 1.5f, 3.0f);
   changed.camera.fov_deg = 30.0f;
   changed.lights[0].position = Vec3(-2.0f, 1.0f, 2.0f);
-  changed.lights.push_back(render::Light{render::LightKind::Directional, Vec3(0.0f), glm::normalize(Vec3(0, 1, 1)), RGB(0.5f), 0.0f});
+  changed.lights.push_back(
+      render::Light{render::LightKind::Directional, Vec3(0.0f), glm::normalize(Vec3(0, 1, 1)), RGB(0.5f), 0.0f});
   changed.objects[0].tangent.field.kind = TangentFieldKind::Projected;
   changed.objects[0].tangent.field.direction = Vec3(0, 1, 0);
   changed.objects[0].tangent.field.angle = 0.3f;
@@ -443,12 +479,13 @@ TEST(GlRasterizer, CameraLightsTangentAndSizeChangesEqualAFreshBuild) {
 
 TEST(GlRasterizer, MovingALightRedrawsTheMeshShadowMaps) {
   ANISO_REQUIRE_GL();
-  json doc = scene_json(json::array({with_material({{"shape", "rectangle"}, {"center", {0, -0.7, 0}}, {"normal", {0, 1, 0}},
-                                                    {"u", {1, 0, 0}}, {"size", {3.0, 3.0}}},
-                                                   {{"model", "lambert"}, {"kd", 0.6}}),
-                                     with_material({{"shape", "torus"}, {"center", {0, -0.1, 0}}, {"major_radius", 0.7},
-                                                    {"minor_radius", 0.25}})}),
-                        point_light());
+  json doc = scene_json(
+      json::array(
+          {with_material(
+               {{"shape", "rectangle"}, {"center", {0, -0.7, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}}, {"size", {3.0, 3.0}}},
+               {{"model", "lambert"}, {"kd", 0.6}}),
+           with_material({{"shape", "torus"}, {"center", {0, -0.1, 0}}, {"major_radius", 0.7}, {"minor_radius", 0.25}})}),
+      point_light());
   doc["film"] = {{"width", 32}, {"height", 24}, {"spp", 4}};
   const render::Scene a = render::parse_scene(doc, "a", "");
   render::Scene b = a, c = a;
@@ -470,7 +507,10 @@ TEST(GlRasterizer, SetTangentUploadsAndRemovesAMap) {
   ANISO_REQUIRE_GL();
   const json m = {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.05}, {"alpha_y", 0.3}};
   const render::Scene plain = sphere_scene(m);
-  json doc = scene_json(json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", m},
+  json doc = scene_json(json::array({{{"shape", "sphere"},
+                                      {"center", {0, 0, 0}},
+                                      {"radius", 1.0},
+                                      {"material", m},
                                       {"tangent", {{"map", "assets/checker_tangents.png"}, {"angle_deg", 10}}}}}),
                         point_light());
   doc["film"] = {{"width", 32}, {"height", 24}, {"spp", 16}};
@@ -492,7 +532,8 @@ TEST(GlRasterizer, DrawTonemappedGivesThePngWritersBytes) {
   gl::SceneRasterizer r(sphere_scene({{"model", "ggx"}, {"kd", 0.3}, {"f0", 0.5}, {"alpha_x", 0.1}, {"alpha_y", 0.3}}),
                         gl::RasterSettings{2});
   r.render();
-  for (const render::ToneMapOptions tm : {render::ToneMapOptions{0.0f, render::ToneMap::Aces}, render::ToneMapOptions{1.5f, render::ToneMap::Clamp}}) {
+  for (const render::ToneMapOptions tm :
+       {render::ToneMapOptions{0.0f, render::ToneMap::Aces}, render::ToneMapOptions{1.5f, render::ToneMap::Clamp}}) {
     const render::DisplayImage want = render::tonemap(r.read_back(), tm);
     GLuint tex = 0, fbo = 0;
     glGenTextures(1, &tex);
@@ -524,8 +565,8 @@ TEST(GlRasterizer, CoverageIsTheFractionOfSubSamplesOnASurface) {
   r.render();
   const std::vector<float> cov = r.read_coverage();
   ASSERT_EQ(cov.size(), 32u * 24u);
-  EXPECT_EQ(cov[0], 0.0f);                 // a corner: background
-  EXPECT_EQ(cov[12 * 32 + 16], 1.0f);      // the centre: the sphere
+  EXPECT_EQ(cov[0], 0.0f);             // a corner: background
+  EXPECT_EQ(cov[12 * 32 + 16], 1.0f);  // the centre: the sphere
   int partial = 0;
   for (float c : cov) {
     EXPECT_TRUE(c == 0.0f || c == 1.0f || (c > 0.0f && c < 1.0f && std::fabs(c * 16.0f - std::round(c * 16.0f)) < 1e-4f));
@@ -571,8 +612,9 @@ TEST(GlRasterizer, AMeasuredMaterialIsAnInputErrorNamingTheObject) {
   const fs::path dir = fs::path(::testing::TempDir()) / fmt::format("aniso_gl_merl_{}", getpid());
   fs::create_directories(dir);
   const std::string merl = write_lambert_merl(dir);
-  const json objects = json::array({{{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}}, {"radius", 1}, {"material", "clay"}},
-                                    {{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", merl}}});
+  const json objects =
+      json::array({{{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}}, {"radius", 1}, {"material", "clay"}},
+                   {{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", merl}}});
   const render::Scene scene = render::parse_scene(scene_json(objects, point_light()), "merl.json", "");
   try {
     gl::check_gl_materials(scene);

@@ -2,10 +2,10 @@
 // 3.30 core and ES 3.00, every parameter table entry has a GLSL counterpart, and on llvmpipe (or
 // any GL 4.5) every model, form and normalisation matches the C++ float kernels on a grid of
 // direction pairs: f, pdf, and sampling fed the same u. A mismatch names the GLSL function.
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <iostream>
-#include <cstring>
 #include <sstream>
 
 #include "aniso/io/presets.h"
@@ -61,8 +61,8 @@ TEST(Docs, GlslExampleCompiles) {
 // Without a GL context the GL tests are reported as skipped, with the reason, not passed: run a
 // GL test in a child process whose EGL platform is forced to one that does not exist.
 TEST(GlslHost, WithoutGlTheGlTestsSkipWithTheReason) {
-  const std::string cmd = "ANISO_GL_PLATFORM=none /proc/" + std::to_string(getpid()) +
-                          "/exe --gtest_filter=GlslFunctions.EachMatchesItsCppTwin 2>&1";
+  const std::string cmd =
+      "ANISO_GL_PLATFORM=none /proc/" + std::to_string(getpid()) + "/exe --gtest_filter=GlslFunctions.EachMatchesItsCppTwin 2>&1";
   std::string out;
   FILE* p = popen(cmd.c_str(), "r");
   ASSERT_NE(p, nullptr);
@@ -80,7 +80,8 @@ std::vector<NamedMaterial> materials_with_presets() {
   std::vector<NamedMaterial> v = all_model_materials();
   // One of each preset family: the lecture's Lafortune fit, pbrt-v1 fits, metals (GGX and brushed
   // Ward + directional diffuse), Ngan 2005 fits.
-  for (const char* name : {"matte-steel", "clay", "brushedmetal", "gold", "brushed-copper", "ngan/ashikhminshirley/blue-acrylic"}) {
+  for (const char* name :
+       {"matte-steel", "clay", "brushedmetal", "gold", "brushed-copper", "ngan/ashikhminshirley/blue-acrylic"}) {
     const auto p = find_preset(name);
     if (p) v.push_back({std::string("preset_") + name, *p});
   }
@@ -156,7 +157,8 @@ Grid make_grid() {
     add(wi, wo, "near-mirror");
   }
   for (int i = 0; i < 200; ++i) {
-    const double t1 = M_PI / 2 - 0.06 * rng.uniform() - 1e-3, t2 = i % 2 ? M_PI / 2 - 0.06 * rng.uniform() - 1e-3 : std::acos(rng.uniform());
+    const double t1 = M_PI / 2 - 0.06 * rng.uniform() - 1e-3,
+                 t2 = i % 2 ? M_PI / 2 - 0.06 * rng.uniform() - 1e-3 : std::acos(rng.uniform());
     add(unit(t1, 2 * M_PI * rng.uniform()), unit(t2, 2 * M_PI * rng.uniform()), "grazing");
   }
   for (int i = 0; i < 100; ++i) {
@@ -224,7 +226,9 @@ TEST_P(GlslParity, MaterialMatchesCppFloat) {
   // Only where float is that ill-conditioned (its own error above 1e-3): everywhere else 1e-4.
   const double tol = float_vs_double > 1e-3 ? 4.0 * float_vs_double : 1e-4;
   RecordProperty("tolerance", fmt::format("{:.3g}", tol));
-  if (tol > 1e-4) std::cout << "[ NOTE     ] relative tolerance " << tol << ": C++ float differs from double by " << float_vs_double << " on this grid\n";
+  if (tol > 1e-4)
+    std::cout << "[ NOTE     ] relative tolerance " << tol << ": C++ float differs from double by " << float_vs_double
+              << " on this grid\n";
   int failures = 0;
   for (size_t i = 0; i < g.wi.size() && failures < 10; ++i) {
     const RGB f = cpu.f(g.wi[i], g.wo[i]);
@@ -233,8 +237,8 @@ TEST_P(GlslParity, MaterialMatchesCppFloat) {
     bool ok = true;
     for (int c = 0; c < 3; ++c)
       if (!close(r[i].f[c], f[c], tol)) {
-        ADD_FAILURE() << "GLSL " << f_name << " drifted from C++ f: channel " << c << " GLSL " << r[i].f[c] << " vs C++ "
-                      << f[c] << " at " << describe(g, i);
+        ADD_FAILURE() << "GLSL " << f_name << " drifted from C++ f: channel " << c << " GLSL " << r[i].f[c] << " vs C++ " << f[c]
+                      << " at " << describe(g, i);
         ok = false;
       }
     if (!close(r[i].pdf, pdf, tol)) {
@@ -257,8 +261,8 @@ TEST_P(GlslParity, MaterialMatchesCppFloat) {
       const double wi_tol = std::max(1e-4, 4.0 * 2.0 * std::ldexp(1.0, -24) / std::max(sin_h, 1e-30));
       for (int c = 0; c < 3; ++c) {
         if (!(std::abs(double(r[i].sample_wi[c]) - double(s.wi[c])) <= wi_tol)) {
-          ADD_FAILURE() << "GLSL " << sample_name << " wi[" << c << "] = " << r[i].sample_wi[c] << ", C++ " << s.wi[c]
-                        << " at " << describe(g, i);
+          ADD_FAILURE() << "GLSL " << sample_name << " wi[" << c << "] = " << r[i].sample_wi[c] << ", C++ " << s.wi[c] << " at "
+                        << describe(g, i);
           ok = false;
         }
       }
@@ -270,8 +274,8 @@ TEST_P(GlslParity, MaterialMatchesCppFloat) {
       const RGB w_at = cpu.f(gwi, g.wo[i]) * (gwi.z / p_at);
       for (int c = 0; c < 3; ++c)
         if (!close(r[i].sample_weight[c], w_at[c], tol)) {
-          ADD_FAILURE() << "GLSL " << sample_name << " weight[" << c << "] = " << r[i].sample_weight[c] << ", C++ "
-                        << w_at[c] << " (f cos / pdf at the GLSL wi; C++ sample gave " << s.weight[c] << ") at " << describe(g, i);
+          ADD_FAILURE() << "GLSL " << sample_name << " weight[" << c << "] = " << r[i].sample_weight[c] << ", C++ " << w_at[c]
+                        << " (f cos / pdf at the GLSL wi; C++ sample gave " << s.weight[c] << ") at " << describe(g, i);
           ok = false;
         }
       if (!close(r[i].sample_pdf, p_at, tol)) {
@@ -311,10 +315,28 @@ TEST_P(GlslParity, UniformBlockMatchesPlainUniforms) {
     }
   });
   for (size_t i = 0; i < g.wi.size(); ++i) {
-    const float fa[] = {a[i].f.x, a[i].f.y, a[i].f.z, a[i].pdf, a[i].sample_wi.x, a[i].sample_wi.y, a[i].sample_wi.z,
-                        a[i].sample_weight.x, a[i].sample_weight.y, a[i].sample_weight.z, a[i].sample_pdf};
-    const float fb[] = {b[i].f.x, b[i].f.y, b[i].f.z, b[i].pdf, b[i].sample_wi.x, b[i].sample_wi.y, b[i].sample_wi.z,
-                        b[i].sample_weight.x, b[i].sample_weight.y, b[i].sample_weight.z, b[i].sample_pdf};
+    const float fa[] = {a[i].f.x,
+                        a[i].f.y,
+                        a[i].f.z,
+                        a[i].pdf,
+                        a[i].sample_wi.x,
+                        a[i].sample_wi.y,
+                        a[i].sample_wi.z,
+                        a[i].sample_weight.x,
+                        a[i].sample_weight.y,
+                        a[i].sample_weight.z,
+                        a[i].sample_pdf};
+    const float fb[] = {b[i].f.x,
+                        b[i].f.y,
+                        b[i].f.z,
+                        b[i].pdf,
+                        b[i].sample_wi.x,
+                        b[i].sample_wi.y,
+                        b[i].sample_wi.z,
+                        b[i].sample_weight.x,
+                        b[i].sample_weight.y,
+                        b[i].sample_weight.z,
+                        b[i].sample_pdf};
     ASSERT_TRUE(std::memcmp(fa, fb, sizeof fa) == 0 && a[i].sample_valid == b[i].sample_valid)
         << "uniform block differs from plain uniforms at " << describe(g, i);
   }
@@ -343,8 +365,8 @@ TEST_P(GlslParity, SamplesPassChiSquare) {
       u.y = rng.uniform_as<float>();
       u.z = rng.uniform_as<float>();
     }
-    const auto r = run_pairs(gm.declarations + gm.code, "  s = Material_sample(aniso_material(), wo, u.x, u.yz);\n", wi,
-                             wos, us, [&](const gl::ComputeProgram& p) { gl::set_uniforms(p, gm, "u_"); });
+    const auto r = run_pairs(gm.declarations + gm.code, "  s = Material_sample(aniso_material(), wo, u.x, u.yz);\n", wi, wos, us,
+                             [&](const gl::ComputeProgram& p) { gl::set_uniforms(p, gm, "u_"); });
     size_t next = 0;
     const Chi2Result c = chi2_test(
         [&](float, Vec2) {
@@ -360,9 +382,8 @@ TEST_P(GlslParity, SamplesPassChiSquare) {
     ASSERT_TRUE(c.message.empty()) << gm.model_struct << "_sample, wo theta " << view[0] << ": " << c.message;
     // 1% for the family (materials x views), Sidak-corrected.
     const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(2 * materials_with_presets().size()));
-    EXPECT_GT(c.p_value, alpha) << "GLSL " << gm.model_struct << "_sample, wo theta " << view[0] << ": chi2 " << c.chi2
-                                << " dof " << c.dof << " pdf integral " << c.pdf_integral << " accepted "
-                                << c.accepted_fraction;
+    EXPECT_GT(c.p_value, alpha) << "GLSL " << gm.model_struct << "_sample, wo theta " << view[0] << ": chi2 " << c.chi2 << " dof "
+                                << c.dof << " pdf integral " << c.pdf_integral << " accepted " << c.accepted_fraction;
   }
 }
 

@@ -103,7 +103,8 @@ struct World {
   glm::vec3 N, X, Y;
 };
 World random_world(Rng& rng) {
-  const glm::vec3 n = glm::normalize(glm::vec3(float(rng.uniform() - 0.5), float(rng.uniform() - 0.5), float(rng.uniform() - 0.5)));
+  const glm::vec3 n =
+      glm::normalize(glm::vec3(float(rng.uniform() - 0.5), float(rng.uniform() - 0.5), float(rng.uniform() - 0.5)));
   const aniso::Frame f = aniso::Frame::from_normal_tangent(n, glm::vec3(0.3f, 1.f, -0.2f));
   return {f.n, f.t, f.b};
 }
@@ -186,8 +187,8 @@ TEST_P(GlslExport, ExportGlslCompilesAndMatchesEval) {
       }
       // World space: the frame change costs a few float roundings on wi and wo, so 1e-3.
       if (!close(world[i].f[c], ref[i][c], 1e-3, 1e-5)) {
-        ADD_FAILURE() << m.name << ": aniso_f_world channel " << c << " = " << world[i].f[c] << ", aniso eval "
-                      << ref[i][c] << " at pair " << i;
+        ADD_FAILURE() << m.name << ": aniso_f_world channel " << c << " = " << world[i].f[c] << ", aniso eval " << ref[i][c]
+                      << " at pair " << i;
         ok = false;
       }
     }
@@ -198,7 +199,8 @@ TEST_P(GlslExport, ExportGlslCompilesAndMatchesEval) {
     const double pdf_at_pair = cpu_d.pdf(Vec3d(p.wi[i]), Vec3d(p.wo[i]));
     const double pdf_ref = close(pdf_at_pair, ref[i][3], tol) ? ref[i][3] : pdf_at_pair;
     if (!close(local[i].pdf, pdf_ref, tol)) {
-      ADD_FAILURE() << m.name << ": aniso_pdf = " << local[i].pdf << ", aniso eval " << ref[i][3] << ", double kernel at the float pair " << pdf_at_pair << " at pair " << i;
+      ADD_FAILURE() << m.name << ": aniso_pdf = " << local[i].pdf << ", aniso eval " << ref[i][3]
+                    << ", double kernel at the float pair " << pdf_at_pair << " at pair " << i;
       ok = false;
     }
     // aniso_sample: the C++ float sampler fed the same u (u.x picks the lobe, u.yz the direction).
@@ -363,7 +365,8 @@ TEST(GlslExportErrors, BadMaterialsAreRejectedLikeEvalAndWriteNoFile) {
   const fs::path bad = dir / "bad.json";
   std::ofstream(bad) << R"({"model": "ward", "alpha_x": 0})";
   const fs::path nolobe = dir / "dd.json";
-  std::ofstream(nolobe) << R"({"model": "metal", "metal": "gold", "lobe": {"model": "ggx"}, "directional_diffuse": {"cxy": 0, "cz": 0}})";
+  std::ofstream(nolobe)
+      << R"({"model": "metal", "metal": "gold", "lobe": {"model": "ggx"}, "directional_diffuse": {"cxy": 0, "cz": 0}})";
   for (const fs::path& m : {bad, nolobe, dir / "missing.json"}) {
     const CliRun ev = run_cli("eval -m " + quote(m.string()), "0 0 1 0 0 1\n");
     for (const char* cmd : {"export-glsl", "export-brdf"}) {

@@ -35,7 +35,9 @@ std::string error_of(const std::function<void()>& fn) {
   return "(no error)";
 }
 
-std::string parse_error(const json& j) { return error_of([&] { parse_material(j, "m.json"); }); }
+std::string parse_error(const json& j) {
+  return error_of([&] { parse_material(j, "m.json"); });
+}
 
 // --- anisotropic pairs (docs/conventions.md, "Anisotropic pairs") -------------------------------
 
@@ -45,13 +47,13 @@ TEST(AnisotropicPairs, HalfAPairNamesThePartner) {
                        "key \"n_u\": given without its partner \"n_v\""));
   EXPECT_TRUE(contains(parse_error({{"model", "ward"}, {"alpha_y", 0.2}}), "partner \"alpha_x\""));
   EXPECT_TRUE(contains(parse_error({{"model", "ggx"}, {"alpha_x", 0.2}}), "partner \"alpha_y\""));
-  EXPECT_TRUE(contains(parse_error({{"model", "lafortune"}, {"lobes", json::array({{{"cx", -1}, {"n", 5}}})}}),
-                       "partner \"cy\""));
+  EXPECT_TRUE(
+      contains(parse_error({{"model", "lafortune"}, {"lobes", json::array({{{"cx", -1}, {"n", 5}}})}}), "partner \"cy\""));
   EXPECT_TRUE(contains(parse_error({{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ggx"}, {"alpha_x", 0.1}}}}),
                        "partner \"alpha_y\""));
-  EXPECT_TRUE(contains(parse_error({{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ward"}}},
-                                    {"directional_diffuse", {{"cy", -1}}}}),
-                       "partner \"cx\""));
+  EXPECT_TRUE(contains(
+      parse_error({{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ward"}}}, {"directional_diffuse", {{"cy", -1}}}}),
+      "partner \"cx\""));
   // The message offers the shorthand.
   EXPECT_TRUE(contains(parse_error({{"model", "ward"}, {"alpha_x", 0.2}}), "or \"alpha\" alone"));
 }
@@ -77,8 +79,8 @@ TEST(JsonRead, DuplicateKeysAreErrorsNamingKeyAndPath) {
                        "f.json: alpha_x: duplicate key \"alpha_x\""));
   // Both orders (issue 13: one order was accepted, the other rejected by range).
   EXPECT_TRUE(contains(error_of([] { parse_json_text(R"({"kd": 2, "kd": 0.5})", "f"); }), "duplicate key \"kd\""));
-  EXPECT_TRUE(contains(error_of([] { parse_json_text(R"({"model": "ward", "model": "lambert"})", "f"); }),
-                       "duplicate key \"model\""));
+  EXPECT_TRUE(
+      contains(error_of([] { parse_json_text(R"({"model": "ward", "model": "lambert"})", "f"); }), "duplicate key \"model\""));
   EXPECT_TRUE(contains(error_of([] { parse_json_text(R"({"lobes": [{"n": 1}, {"n": 2, "n": 3}]})", "f"); }),
                        "lobes[1].n: duplicate key"));
   // The same key in different objects is fine.
@@ -132,7 +134,8 @@ TEST(MaterialSpec, InlineJsonAndNames) {
   EXPECT_NO_THROW(load_material("aluminum"));
   EXPECT_NO_THROW(load_material("brushed-aluminum"));
   EXPECT_NO_THROW(parse_material({{"model", "metal"}, {"metal", "aluminum"}, {"lobe", {{"model", "ggx"}}}}, "m"));
-  EXPECT_TRUE(contains(parse_error({{"model", "metal"}, {"metal", "gld"}, {"lobe", {{"model", "ggx"}}}}), "did you mean \"gold\""));
+  EXPECT_TRUE(
+      contains(parse_error({{"model", "metal"}, {"metal", "gld"}, {"lobe", {{"model", "ggx"}}}}), "did you mean \"gold\""));
 }
 
 TEST(MaterialSpec, ResolvedJsonIsValidInputGivingTheSameMaterial) {
@@ -269,9 +272,9 @@ TEST_F(Hardening, OutputToAFifoWritesThroughIt) {
     std::string args;
     for (const std::string& a : commands[i]) args += fmt::format(" {}", shell_quote(a));
     // A reader on the FIFO in the background, the command writing into it, then the command's status.
-    const std::string cmd = fmt::format("cat {0} > {1} & {2}{3} -o {0} > /dev/null 2> {4}; rc=$?; wait; exit $rc",
-                                        shell_quote(fifo.string()), shell_quote(got.string()), shell_quote(ANISO_CLI), args,
-                                        shell_quote((dir_ / "err").string()));
+    const std::string cmd =
+        fmt::format("cat {0} > {1} & {2}{3} -o {0} > /dev/null 2> {4}; rc=$?; wait; exit $rc", shell_quote(fifo.string()),
+                    shell_quote(got.string()), shell_quote(ANISO_CLI), args, shell_quote((dir_ / "err").string()));
     const int status = std::system(fmt::format("sh -c {}", shell_quote(cmd)).c_str());
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 0) << commands[i][0] << ": " << read_file(dir_ / "err");
@@ -343,9 +346,9 @@ TEST_F(Hardening, EvalAnglesHugePhiIsReducedNotNaN) {
 TEST_F(Hardening, EvalAnglesEqualsVectors) {
   const Result a = run({"eval", "-m", "brushed-gold", "--angles"}, "30 0 45 180\n");
   const double t = M_PI / 6, o = M_PI / 4;
-  const Result v = run({"eval", "-m", "brushed-gold"},
-                       fmt::format("{:.17g} 0 {:.17g} {:.17g} {:.17g} {:.17g}\n", std::sin(t), std::cos(t), -std::sin(o),
-                                   std::sin(o) * std::sin(M_PI), std::cos(o)));
+  const Result v =
+      run({"eval", "-m", "brushed-gold"}, fmt::format("{:.17g} 0 {:.17g} {:.17g} {:.17g} {:.17g}\n", std::sin(t), std::cos(t),
+                                                      -std::sin(o), std::sin(o) * std::sin(M_PI), std::cos(o)));
   EXPECT_EQ(a.code, 0) << a.err;
   EXPECT_EQ(a.out, v.out);
 }

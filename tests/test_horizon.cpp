@@ -97,9 +97,9 @@ template <typename T> void check_near_opposite(const std::string& name, const Ma
     const RGBT<T> f = m.f(wi, wo);
     const T pdf = m.pdf(wi, wo);
     for (int c = 0; c < 3; ++c)
-      ASSERT_TRUE(std::isfinite(f[c]) && f[c] >= T(0)) << name << " f[" << c << "] = " << f[c] << " at wi ("
-                                                       << wi.x << ", " << wi.y << ", " << wi.z << ") wo (" << wo.x
-                                                       << ", " << wo.y << ", " << wo.z << ")";
+      ASSERT_TRUE(std::isfinite(f[c]) && f[c] >= T(0))
+          << name << " f[" << c << "] = " << f[c] << " at wi (" << wi.x << ", " << wi.y << ", " << wi.z << ") wo (" << wo.x
+          << ", " << wo.y << ", " << wo.z << ")";
     ASSERT_TRUE(std::isfinite(pdf) && pdf >= T(0)) << name << " pdf = " << pdf;
   }
   for (int i = 0; i < 400; ++i) {
@@ -133,7 +133,8 @@ TEST(Horizon, AshikhminShirleyOppositeGrazingPairIsNotNegative) {
   const MaterialT<double> m = build<double>({{"model", "ashikhmin-shirley"}});
   const Vec3d f = m.f(wi, wo);
   for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(f[c]) && f[c] >= 0.0) << f[c];
-  const MaterialT<double> metal = build<double>({{"model", "metal"}, {"eta", {0.2, 0.9, 1.1}}, {"k", {3.9, 2.4, 2.2}}, {"lobe", {{"model", "ashikhmin-shirley"}}}});
+  const MaterialT<double> metal = build<double>(
+      {{"model", "metal"}, {"eta", {0.2, 0.9, 1.1}}, {"k", {3.9, 2.4, 2.2}}, {"lobe", {{"model", "ashikhmin-shirley"}}}});
   const Vec3d fm = metal.f(wi, wo);
   for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(fm[c]) && fm[c] >= 0.0) << fm[c];
 }

@@ -312,8 +312,9 @@ TEST(ImageIo, ImagesBeyondTheSizeLimitAreRefusedFromTheHeader) {
     return s + std::string("\0\0\0\0IEND\xae\x42\x60\x82", 12);
   };
   write_bytes(dir.path("big.png"), png_header(16384, 16384));
-  expect_read_error(dir.path("big.png"),
-                    "image too large (16384 x 16384 = 268435456 pixels; at most 67108864 pixels, e.g. 8192 x 8192 or 16384 x 4096)");
+  expect_read_error(
+      dir.path("big.png"),
+      "image too large (16384 x 16384 = 268435456 pixels; at most 67108864 pixels, e.g. 8192 x 8192 or 16384 x 4096)");
   write_bytes(dir.path("wide.png"), png_header(16384, 4097));
   expect_read_error(dir.path("wide.png"), "image too large (16384 x 4097");
   // At the limit the header passes and decoding starts (and fails on the missing pixel data).
@@ -421,8 +422,7 @@ TEST(ImageIo, FailedWritesLeaveNothingBehind) {
 
 // ---------------------------------------------------------------------------------------------
 
-int changed_pixels(const DisplayImage& a, const DisplayImage& b, int x0 = 0, int y0 = 0, int x1 = 1 << 30,
-                   int y1 = 1 << 30) {
+int changed_pixels(const DisplayImage& a, const DisplayImage& b, int x0 = 0, int y0 = 0, int x1 = 1 << 30, int y1 = 1 << 30) {
   int n = 0;
   for (int y = std::max(y0, 0); y < std::min(y1, a.height); ++y)
     for (int x = std::max(x0, 0); x < std::min(x1, a.width); ++x) {
@@ -477,7 +477,11 @@ TEST(ImageText, Width) {
 TEST(ImageText, ClippedAtTheEdges) {
   DisplayImage img(50, 20, 255);
   const DisplayImage blank = img;
-  for (auto [x, y] : {std::pair{-30, -10}, {-1000, 5}, {40, 15}, {1 << 30, 0}, {0, 1 << 30},
+  for (auto [x, y] : {std::pair{-30, -10},
+                      {-1000, 5},
+                      {40, 15},
+                      {1 << 30, 0},
+                      {0, 1 << 30},
                       {std::numeric_limits<int>::max(), std::numeric_limits<int>::max()},
                       {std::numeric_limits<int>::min(), std::numeric_limits<int>::min()}})
     draw_text(img, x, y, "Clipped α ψ°", 24.0f, {0, 0, 0});

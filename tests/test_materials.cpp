@@ -51,9 +51,9 @@ template <typename T> std::vector<std::pair<Vec3T<T>, Vec3T<T>>> probe_direction
     const Vec3d v = test::spherical(theta, phi);
     return Vec3T<T>(T(v.x), T(v.y), T(v.z));
   };
-  out.push_back({d(0, 0), d(0, 0)});          // normal incidence and view
-  out.push_back({d(30, 0), d(30, 180)});      // mirror: h = n
-  out.push_back({d(60, 90), d(60, 270)});     // mirror along the bitangent
+  out.push_back({d(0, 0), d(0, 0)});       // normal incidence and view
+  out.push_back({d(30, 0), d(30, 180)});   // mirror: h = n
+  out.push_back({d(60, 90), d(60, 270)});  // mirror along the bitangent
   out.push_back({d(45, 20), d(10, 150)});
   out.push_back({d(89.5, 0), d(89.5, 180)});  // grazing mirror
   out.push_back({d(89.9, 45), d(5, 300)});    // grazing light
@@ -72,8 +72,8 @@ template <typename T> void check_preset_builds_and_evaluates(const PresetInfo& p
   for (const auto& [wi, wo] : probe_directions<T>()) {
     const RGBT<T> f = m.f(wi, wo);
     for (int c = 0; c < 3; ++c) {
-      ASSERT_TRUE(std::isfinite(double(f[c]))) << "channel " << c << " at wi (" << wi.x << ", " << wi.y << ", "
-                                               << wi.z << "), wo (" << wo.x << ", " << wo.y << ", " << wo.z << ")";
+      ASSERT_TRUE(std::isfinite(double(f[c]))) << "channel " << c << " at wi (" << wi.x << ", " << wi.y << ", " << wi.z
+                                               << "), wo (" << wo.x << ", " << wo.y << ", " << wo.z << ")";
       ASSERT_GE(f[c], T(0)) << "channel " << c;
     }
     const T pdf = m.pdf(wi, wo);
@@ -202,9 +202,8 @@ TEST(MaterialPresets, MetalPresetsDoNotGainEnergy) {
         for (double phi : {0.0, 90.0}) {
           const AlbedoEstimate a = albedo_importance(m, test::spherical(theta, phi), 1 << 14, 5);
           for (int c = 0; c < 3; ++c) {
-            EXPECT_LE(a.mean[c], 1.0 + 4.0 * a.std_error[c] + 1e-3)
-                << name << " theta " << theta << " phi " << phi << " channel " << c << ": albedo " << a.mean[c]
-                << " +- " << a.std_error[c];
+            EXPECT_LE(a.mean[c], 1.0 + 4.0 * a.std_error[c] + 1e-3) << name << " theta " << theta << " phi " << phi << " channel "
+                                                                    << c << ": albedo " << a.mean[c] << " +- " << a.std_error[c];
           }
         }
       }
@@ -257,14 +256,9 @@ void check_table(const ModelSpec& spec, std::set<const ModelSpec*>& seen) {
           EXPECT_TRUE(default_in_range(*p)) << "default " << p->default_value << " outside " << describe_range(*p);
         }
         break;
-      case ParamKind::Bool:
-        EXPECT_TRUE(p->default_value == 0.0 || p->default_value == 1.0);
-        break;
-      case ParamKind::Choice:
-        EXPECT_FALSE(p->choices.empty());
-        break;
-      case ParamKind::String:
-        break;
+      case ParamKind::Bool: EXPECT_TRUE(p->default_value == 0.0 || p->default_value == 1.0); break;
+      case ParamKind::Choice: EXPECT_FALSE(p->choices.empty()); break;
+      case ParamKind::String: break;
       case ParamKind::Object:
         ASSERT_NE(p->sub, nullptr);
         check_table(*p->sub, seen);
@@ -303,8 +297,8 @@ TEST(MaterialParamTables, EveryModelIsListedAndFound) {
     names.emplace_back(m->name);
     EXPECT_EQ(find_model_spec(m->name), m);
   }
-  const std::vector<std::string> expected = {"lambert", "phong",  "ward",       "ashikhmin-shirley", "lafortune",
-                                            "ggx",     "metal", "principled", "measured", "rgl"};
+  const std::vector<std::string> expected = {"lambert", "phong", "ward",       "ashikhmin-shirley", "lafortune",
+                                             "ggx",     "metal", "principled", "measured",          "rgl"};
   EXPECT_EQ(names, expected);
   EXPECT_EQ(find_model_spec("cooktorrance"), nullptr);
 }
@@ -325,9 +319,9 @@ TEST(MaterialParamTables, DefaultsBuildAValidMaterial) {
     ASSERT_NO_THROW(d = parse_material(j, "test.json"));
     // Every optional key with a default is filled in.
     for (const ParamSpec* p : m->params()) {
-      const bool has_default = !p->required && (((p->kind == ParamKind::Scalar || p->kind == ParamKind::Color) &&
-                                                  !std::isnan(p->default_value)) ||
-                                                 p->kind == ParamKind::Bool || p->kind == ParamKind::Choice);
+      const bool has_default =
+          !p->required && (((p->kind == ParamKind::Scalar || p->kind == ParamKind::Color) && !std::isnan(p->default_value)) ||
+                           p->kind == ParamKind::Bool || p->kind == ParamKind::Choice);
       if (has_default) {
         EXPECT_TRUE(d.params.has(p->name)) << p->name;
       }
@@ -376,8 +370,7 @@ TEST(MaterialErrors, MessagesNameTheKeyAndTheRange) {
       {{{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "phong"}}}}, {"lobe.model", "\"ggx\""}},
       {{{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ward"}, {"alpha_y", 2.0}}}},
        {"lobe", "\"alpha_y\"", "[0.001, 1]"}},
-      {{{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ggx"}, {"kd", 0.1}}}},
-       {"lobe", "unknown key \"kd\""}},
+      {{{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ggx"}, {"kd", 0.1}}}}, {"lobe", "unknown key \"kd\""}},
       {{{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ggx"}}}, {"directional_diffuse", {{"albedo", 2.0}}}},
        {"directional_diffuse", "\"albedo\"", "[0, 1]"}},
   };
@@ -516,7 +509,8 @@ class MaterialFiles : public ::testing::Test {
 };
 
 TEST_F(MaterialFiles, ValidFileLoads) {
-  const std::string path = write("m.json", R"({"model": "ward", "kd": 0.1, "ks": [0.2, 0.3, 0.4], "alpha_x": 0.05, "alpha_y": 0.3})");
+  const std::string path =
+      write("m.json", R"({"model": "ward", "kd": 0.1, "ks": [0.2, 0.3, 0.4], "alpha_x": 0.05, "alpha_y": 0.3})");
   const MaterialDesc d = load_material(path);
   EXPECT_EQ(d.model, "ward");
   EXPECT_DOUBLE_EQ(d.params.scalar("alpha_y"), 0.3);

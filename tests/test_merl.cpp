@@ -253,8 +253,9 @@ TEST(Merl, BadFilesAreErrorsNamingFileAndOffset) {
   cases.push_back({"text.binary", "theta_h theta_d phi_d\n1 2 3\n", "byte offset 0: header: theta_h resolution"});
   cases.push_back({"truncated-in-header-data.binary", bytes.substr(0, 12 + 8 * 1000 + 3),
                    "byte offset 8015: truncated: the file ends inside value 1000"});
-  cases.push_back({"truncated-blue.binary", bytes.substr(0, bytes.size() - 8),
-                   "truncated: the file ends inside value 4373999 of 4374000 (channel B, bin (theta_h 89, theta_d 89, phi_d 179))"});
+  cases.push_back(
+      {"truncated-blue.binary", bytes.substr(0, bytes.size() - 8),
+       "truncated: the file ends inside value 4373999 of 4374000 (channel B, bin (theta_h 89, theta_d 89, phi_d 179))"});
   cases.push_back({"long.binary", bytes + "x", "byte offset 34992012: trailing data: the file is 34992013 bytes"});
   for (const Case& c : cases) {
     const std::string p = dir.file(c.name);
@@ -265,15 +266,17 @@ TEST(Merl, BadFilesAreErrorsNamingFileAndOffset) {
     fs::remove(p);
   }
   // A NaN and an infinity in the data, named by offset and bin.
-  for (const auto& [value, what] : {std::pair{std::nan(""), "NaN"}, std::pair{HUGE_VAL, "infinite value"}, std::pair{1e300, "1e+300"}}) {
+  for (const auto& [value, what] :
+       {std::pair{std::nan(""), "NaN"}, std::pair{HUGE_VAL, "infinite value"}, std::pair{1e300, "1e+300"}}) {
     std::string b = bytes;
     const size_t n = size_t(MerlBrdf::kBins) + size_t(MerlBrdf::index(3, 17, 120));  // green
     std::memcpy(b.data() + 12 + 8 * n, &value, 8);
     const std::string p = dir.file("nan.binary");
     write_bytes(p, b);
     const std::string msg = read_error(p);
-    EXPECT_NE(msg.find(fmt::format("{}: byte offset {}: {} (channel G, bin (theta_h 3, theta_d 17, phi_d 120))", p, 12 + 8 * n, what)),
-              std::string::npos)
+    EXPECT_NE(
+        msg.find(fmt::format("{}: byte offset {}: {} (channel G, bin (theta_h 3, theta_d 17, phi_d 120))", p, 12 + 8 * n, what)),
+        std::string::npos)
         << msg;
     fs::remove(p);
   }

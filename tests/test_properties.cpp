@@ -35,9 +35,8 @@ TEST_P(PropertyTest, FiniteAndNonNegativeEverywhere) {
     const Vec3 f = m.f(wi, wo);
     const float pdf = m.pdf(wi, wo);
     for (int c = 0; c < 3; ++c) {
-      ASSERT_TRUE(std::isfinite(f[c]) && f[c] >= 0.0f)
-          << GetParam().name << " f = " << f[c] << " at wi " << wi.x << " " << wi.y << " " << wi.z << " wo " << wo.x
-          << " " << wo.y << " " << wo.z;
+      ASSERT_TRUE(std::isfinite(f[c]) && f[c] >= 0.0f) << GetParam().name << " f = " << f[c] << " at wi " << wi.x << " " << wi.y
+                                                       << " " << wi.z << " wo " << wo.x << " " << wo.y << " " << wo.z;
     }
     ASSERT_TRUE(std::isfinite(pdf) && pdf >= 0.0f) << GetParam().name << " pdf = " << pdf;
   };
@@ -113,7 +112,9 @@ TEST(Isotropy, RotationAboutNormalLeavesIsotropicModelsUnchanged) {
       {{"model", "lafortune"}, {"rho_d", 0.1}, {"lobes", json::array({{{"cxy", -1.0}, {"cz", 0.9}, {"n", 12.0}}})}},
       {{"model", "ggx"}, {"kd", 0.1}, {"f0", 0.5}, {"alpha_x", 0.25}, {"alpha_y", 0.25}},
       {{"model", "phong"}, {"kd", 0.1}, {"ks", 0.5}, {"exponent", 40.0}},
-      {{"model", "metal"}, {"metal", "silver"}, {"lobe", {{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.1}}},
+      {{"model", "metal"},
+       {"metal", "silver"},
+       {"lobe", {{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.1}}},
        {"directional_diffuse", {{"albedo", 0.3}}}},
   };
   Rng rng(17);
@@ -174,8 +175,7 @@ TEST(Frame, RotationByPsiRotatesTheHighlight) {
   const FrameT<double> rotated = base.rotated(M_PI / 2);
   EXPECT_NEAR(glm::length(rotated.t - Vec3d(0, 1, 0)), 0.0, 1e-12);
   EXPECT_NEAR(glm::length(rotated.b - Vec3d(-1, 0, 0)), 0.0, 1e-12);
-  const MaterialT<double> m = build<double>(
-      {{"model", "ward"}, {"ks", 0.5}, {"alpha_x", 0.05}, {"alpha_y", 0.4}});
+  const MaterialT<double> m = build<double>({{"model", "ward"}, {"ks", 0.5}, {"alpha_x", 0.05}, {"alpha_y", 0.4}});
   Rng rng(23);
   const FrameT<double> r30 = base.rotated(M_PI / 6);
   for (int i = 0; i < 1000; ++i) {

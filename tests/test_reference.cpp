@@ -80,8 +80,7 @@ struct ErrStats {
 // Compares the library material (built from `mat`, double and float) with `ref` at every pair.
 // rel_float: the float bound (kRelFloat unless the model raises values to large powers).
 ErrStats check_against_reference(const std::string& name, const json& mat,
-                                 const std::function<R::C3(const R::V3&, const R::V3&)>& ref,
-                                 double rel_float = kRelFloat) {
+                                 const std::function<R::C3(const R::V3&, const R::V3&)>& ref, double rel_float = kRelFloat) {
   SCOPED_TRACE("material " + name + ": " + mat.dump());
   const aniso::MaterialD md = aniso::test::build<double>(mat);
   const aniso::Material mf = aniso::test::build<float>(mat);
@@ -95,8 +94,7 @@ ErrStats check_against_reference(const std::string& name, const json& mat,
       EXPECT_TRUE(std::isfinite(r[c]));
       EXPECT_NEAR(fd[c], r[c], kRelDouble * std::abs(r[c]) + kAbsDouble) << "channel " << c;
       EXPECT_NEAR(double(ff[c]), r[c], rel_float * std::abs(r[c]) + kAbsFloat) << "channel " << c << " (float)";
-      if (std::abs(r[c]) > kAbsDouble)
-        st.max_rel_double = std::max(st.max_rel_double, std::abs(fd[c] - r[c]) / std::abs(r[c]));
+      if (std::abs(r[c]) > kAbsDouble) st.max_rel_double = std::max(st.max_rel_double, std::abs(fd[c] - r[c]) / std::abs(r[c]));
       if (std::abs(r[c]) > kAbsFloat)
         st.max_rel_float = std::max(st.max_rel_float, std::abs(double(ff[c]) - r[c]) / std::abs(r[c]));
     }
@@ -112,8 +110,7 @@ ErrStats check_against_reference(const std::string& name, const json& mat,
       EXPECT_EQ(ff[c], 0.0f);
     }
   }
-  std::printf("[reference] %-34s max rel. error: double %.2e, float %.2e\n", name.c_str(), st.max_rel_double,
-              st.max_rel_float);
+  std::printf("[reference] %-34s max rel. error: double %.2e, float %.2e\n", name.c_str(), st.max_rel_double, st.max_rel_float);
   return st;
 }
 
@@ -141,21 +138,19 @@ TEST(ReferenceValues, Lambert) {
 }
 
 TEST(ReferenceValues, Phong) {
-  check_against_reference(
-      "phong normalised s=30",
-      {{"model", "phong"}, {"kd", 0.2}, {"ks", {0.5, 0.4, 0.3}}, {"exponent", 30.0}, {"normalized", true}},
-      [](const R::V3& wi, const R::V3& wo) {
-        return R::phong(R::grey(0.2), {0.5, 0.4, 0.3}, 30.0, true, wi, wo);
-      });
+  check_against_reference("phong normalised s=30",
+                          {{"model", "phong"}, {"kd", 0.2}, {"ks", {0.5, 0.4, 0.3}}, {"exponent", 30.0}, {"normalized", true}},
+                          [](const R::V3& wi, const R::V3& wo) {
+                            return R::phong(R::grey(0.2), {0.5, 0.4, 0.3}, 30.0, true, wi, wo);
+                          });
   check_against_reference(
       "phong plain s=8", {{"model", "phong"}, {"kd", 0.1}, {"ks", 0.3}, {"exponent", 8.0}, {"normalized", false}},
       [](const R::V3& wi, const R::V3& wo) { return R::phong(R::grey(0.1), R::grey(0.3), 8.0, false, wi, wo); });
-  check_against_reference(
-      "phong plain s=1.5 ks>1",
-      {{"model", "phong"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", 2.0}, {"exponent", 1.5}, {"normalized", false}},
-      [](const R::V3& wi, const R::V3& wo) {
-        return R::phong({0.3, 0.2, 0.1}, R::grey(2.0), 1.5, false, wi, wo);
-      });
+  check_against_reference("phong plain s=1.5 ks>1",
+                          {{"model", "phong"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", 2.0}, {"exponent", 1.5}, {"normalized", false}},
+                          [](const R::V3& wi, const R::V3& wo) {
+                            return R::phong({0.3, 0.2, 0.1}, R::grey(2.0), 1.5, false, wi, wo);
+                          });
 }
 
 // --- Ward: every form x normalisation -------------------------------------------------------------
@@ -174,18 +169,16 @@ TEST(ReferenceValues, WardEveryFormAndNormalisation) {
         check_against_reference(
             name, mat,
             [&](const R::V3& wi, const R::V3& wo) {
-              return R::ward({0.1, 0.05, 0.02}, {0.4, 0.3, 0.2}, lobe.ax, lobe.ay, ref_form(form), ref_norm(norm), wi,
-                             wo);
+              return R::ward({0.1, 0.05, 0.02}, {0.4, 0.3, 0.2}, lobe.ax, lobe.ay, ref_form(form), ref_norm(norm), wi, wo);
             },
             float_tolerance_ward(form, lobe.ax, lobe.ay));
       }
   // Defaults: form "vector", normalization "ward".
-  check_against_reference("ward defaults (vector/ward)",
-                          {{"model", "ward"}, {"kd", 0.2}, {"ks", 0.3}, {"alpha_x", 0.15}, {"alpha_y", 0.15}},
-                          [](const R::V3& wi, const R::V3& wo) {
-                            return R::ward(R::grey(0.2), R::grey(0.3), 0.15, 0.15, R::WardForm::Angle,
-                                           R::WardNorm::Ward1992, wi, wo);
-                          });
+  check_against_reference(
+      "ward defaults (vector/ward)", {{"model", "ward"}, {"kd", 0.2}, {"ks", 0.3}, {"alpha_x", 0.15}, {"alpha_y", 0.15}},
+      [](const R::V3& wi, const R::V3& wo) {
+        return R::ward(R::grey(0.2), R::grey(0.3), 0.15, 0.15, R::WardForm::Angle, R::WardNorm::Ward1992, wi, wo);
+      });
 }
 
 // --- Ashikhmin-Shirley -----------------------------------------------------------------------------
@@ -200,8 +193,7 @@ TEST(ReferenceValues, AshikhminShirley) {
       },
       4e-5);
   check_against_reference(
-      "as iso nu=nv=80",
-      {{"model", "ashikhmin-shirley"}, {"rd", 0.4}, {"rs", {0.5, 0.6, 0.7}}, {"n_u", 80.0}, {"n_v", 80.0}},
+      "as iso nu=nv=80", {{"model", "ashikhmin-shirley"}, {"rd", 0.4}, {"rs", {0.5, 0.6, 0.7}}, {"n_u", 80.0}, {"n_v", 80.0}},
       [](const R::V3& wi, const R::V3& wo) {
         return R::ashikhmin_shirley(R::grey(0.4), {0.5, 0.6, 0.7}, 80.0, 80.0, R::grey(0.0), R::grey(1.0), wi, wo);
       });
@@ -229,9 +221,8 @@ TEST(ReferenceValues, Lafortune) {
     std::vector<R::LafortuneLobe> lobes(2);
     lobes[0] = {R::grey(-0.9), R::grey(-1.1), R::grey(0.95), {20.0, 25.0, 30.0}, R::grey(1.0)};
     lobes[1] = {R::grey(0.6), R::grey(0.6), R::grey(0.3), R::grey(3.0), R::grey(0.5)};  // retro-reflective
-    check_against_reference("lafortune aniso + retro", mat, [&](const R::V3& wi, const R::V3& wo) {
-      return R::lafortune(R::grey(0.1), lobes, wi, wo);
-    });
+    check_against_reference("lafortune aniso + retro", mat,
+                            [&](const R::V3& wi, const R::V3& wo) { return R::lafortune(R::grey(0.1), lobes, wi, wo); });
   }
   {
     // Off-specular lobe (|C_z| < |C_x|), per-channel C.
@@ -253,8 +244,8 @@ TEST(ReferenceValues, MatteSteelPresetMatchesTheLecturesTable) {
   const auto lobes = R::matte_steel_lobes();
   // Exponents up to 196: float pow amplifies the rounding of the directions (~1e-7) by n.
   check_against_reference(
-      "preset matte-steel", *preset,
-      [&](const R::V3& wi, const R::V3& wo) { return R::lafortune(R::grey(0.0), lobes, wi, wo); }, 4e-5);
+      "preset matte-steel", *preset, [&](const R::V3& wi, const R::V3& wo) { return R::lafortune(R::grey(0.0), lobes, wi, wo); },
+      4e-5);
   // And at a few more directions around the highlight, where all three lobes matter.
   const aniso::MaterialD md = aniso::test::build<double>(*preset);
   for (double t : {0.0, 10.0, 25.0, 40.0, 60.0, 75.0})
@@ -276,9 +267,8 @@ TEST(ReferenceValues, GGX) {
                           [](const R::V3& wi, const R::V3& wo) {
                             return R::ggx(R::grey(0.2), {0.9, 0.6, 0.3}, 0.05, 0.4, wi, wo);
                           });
-  check_against_reference(
-      "ggx iso 0.3", {{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.04}, {"alpha_x", 0.3}, {"alpha_y", 0.3}},
-      [](const R::V3& wi, const R::V3& wo) { return R::ggx(R::grey(0.0), R::grey(0.04), 0.3, 0.3, wi, wo); });
+  check_against_reference("ggx iso 0.3", {{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.04}, {"alpha_x", 0.3}, {"alpha_y", 0.3}},
+                          [](const R::V3& wi, const R::V3& wo) { return R::ggx(R::grey(0.0), R::grey(0.04), 0.3, 0.3, wi, wo); });
   check_against_reference("ggx aniso 0.7/0.2",
                           {{"model", "ggx"}, {"kd", {0.3, 0.2, 0.1}}, {"f0", 0.5}, {"alpha_x", 0.7}, {"alpha_y", 0.2}},
                           [](const R::V3& wi, const R::V3& wo) {
@@ -304,13 +294,12 @@ TEST(ReferenceValues, Metal) {
     p.lobe = R::MetalLobe::Ward;
     p.ax = 0.1, p.ay = 0.35, p.norm = R::WardNorm::Balanced;
     p.dd = true, p.dd_albedo = R::grey(0.2), p.dd_n = 4.0;
-    check_against_reference(
-        "metal gold ward balanced + dd",
-        {{"model", "metal"},
-         {"metal", "gold"},
-         {"lobe", {{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.35}, {"normalization", "balanced"}}},
-         {"directional_diffuse", {{"albedo", 0.2}, {"n", 4.0}}}},
-        [&](const R::V3& wi, const R::V3& wo) { return R::metal(p, wi, wo); });
+    check_against_reference("metal gold ward balanced + dd",
+                            {{"model", "metal"},
+                             {"metal", "gold"},
+                             {"lobe", {{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.35}, {"normalization", "balanced"}}},
+                             {"directional_diffuse", {{"albedo", 0.2}, {"n", 4.0}}}},
+                            [&](const R::V3& wi, const R::V3& wo) { return R::metal(p, wi, wo); });
   }
   for (const char* form : {"vector", "angle", "approx"})
     for (const char* norm : {"ward", "duer", "balanced"}) {
@@ -330,9 +319,7 @@ TEST(ReferenceValues, Metal) {
     p.nu = 20.0, p.nv = 300.0;
     check_against_reference(
         "metal copper ashikhmin-shirley",
-        {{"model", "metal"},
-         {"metal", "copper"},
-         {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 20.0}, {"n_v", 300.0}}}},
+        {{"model", "metal"}, {"metal", "copper"}, {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 20.0}, {"n_v", 300.0}}}},
         [&](const R::V3& wi, const R::V3& wo) { return R::metal(p, wi, wo); }, 4e-5);
   }
   {
@@ -365,8 +352,7 @@ TEST(ReferenceValues, Metal) {
 
 // --- Ward: angle form == vector form; the 1992 approximation is a different function -------------
 // A grid over both hemispheres (theta 0..88 in 4 degree steps, phi in 30 degree steps).
-template <typename Fn>
-void for_grid(Fn&& fn) {
+template <typename Fn> void for_grid(Fn&& fn) {
   for (double ti = 0.0; ti <= 88.0; ti += 4.0)
     for (double pi = 0.0; pi < 360.0; pi += 30.0)
       for (double to = 0.0; to <= 88.0; to += 4.0)
@@ -414,8 +400,7 @@ TEST(ReferenceWard, AngleFormEqualsVectorForm) {
   };
   for (const Lobe lobe : {Lobe{0.08, 0.3}, Lobe{0.15, 0.15}, Lobe{0.5, 0.05}, Lobe{1.0, 0.6}})
     for (const char* norm : {"ward", "duer", "balanced"}) {
-      SCOPED_TRACE(std::string("normalization ") + norm + ", alpha " + std::to_string(lobe.ax) + " " +
-                   std::to_string(lobe.ay));
+      SCOPED_TRACE(std::string("normalization ") + norm + ", alpha " + std::to_string(lobe.ax) + " " + std::to_string(lobe.ay));
       auto mat = [&](const char* form) {
         return aniso::test::build<double>({{"model", "ward"},
                                            {"kd", 0.0},
@@ -442,8 +427,8 @@ TEST(ReferenceWard, AngleFormEqualsVectorForm) {
       });
       EXPECT_EQ(failures, 0) << "of " << n << " grid points; max relative difference " << max_rel;
       EXPECT_LT(max_rel_body, 1e-12);
-      std::printf("[reference] ward angle vs vector (%s, %g/%g): max rel. diff %.2e (E >= 1e-100: %.2e)\n", norm,
-                  lobe.ax, lobe.ay, max_rel, max_rel_body);
+      std::printf("[reference] ward angle vs vector (%s, %g/%g): max rel. diff %.2e (E >= 1e-100: %.2e)\n", norm, lobe.ax,
+                  lobe.ay, max_rel, max_rel_body);
     }
 }
 
@@ -492,8 +477,8 @@ TEST(ReferenceWard, ApproxFormDiffersByAMeasuredAmount) {
   };
   for (const Band& b : bands) {
     const ApproxError e = ward_approx_error(b.alpha);
-    std::printf("[reference] Ward approx vs exact, alpha %.1f: body max rel %.6g, max |E_a - E_e| %.6g\n", b.alpha,
-                e.body_rel, e.abs_e);
+    std::printf("[reference] Ward approx vs exact, alpha %.1f: body max rel %.6g, max |E_a - E_e| %.6g\n", b.alpha, e.body_rel,
+                e.abs_e);
     const std::string key = "ward_approx_alpha_" + std::to_string(int(std::lround(b.alpha * 10)));
     ::testing::Test::RecordProperty(key + "_body_max_rel", std::to_string(e.body_rel));
     ::testing::Test::RecordProperty(key + "_max_abs_gaussian", std::to_string(e.abs_e));
@@ -545,8 +530,7 @@ TEST(ReferenceFresnel, ConductorMatchesTheComplexForm) {
   EXPECT_NEAR(F.x, R::fresnel_conductor(0.5, 0.2, 3.9), 1e-12);
   EXPECT_NEAR(F.y, R::fresnel_conductor(0.5, 0.9, 2.4), 1e-12);
   EXPECT_NEAR(F.z, R::fresnel_conductor(0.5, 1.1, 2.2), 1e-12);
-  std::printf("[reference] F_Conductor vs complex form: max rel. error double %.2e, float %.2e\n", max_rel_d,
-              max_rel_f);
+  std::printf("[reference] F_Conductor vs complex form: max rel. error double %.2e, float %.2e\n", max_rel_d, max_rel_f);
 }
 
 TEST(ReferenceFresnel, Schlick) {
@@ -558,8 +542,8 @@ TEST(ReferenceFresnel, Schlick) {
 TEST(ReferenceFresnel, EveryMetalOfTheTable) {
   const auto table = aniso::metal_table();
   ASSERT_EQ(table.size(), 12u);
-  for (const char* name : {"gold", "silver", "copper", "aluminium", "chromium", "iron", "nickel", "titanium",
-                           "platinum", "tungsten", "zinc", "brass"})
+  for (const char* name : {"gold", "silver", "copper", "aluminium", "chromium", "iron", "nickel", "titanium", "platinum",
+                           "tungsten", "zinc", "brass"})
     EXPECT_NE(aniso::find_metal(name), nullptr) << name;
   double worst = 0.0;
   for (const aniso::MetalData& m : table) {
@@ -610,8 +594,7 @@ TEST(ReferencePdf, WardWalter2005) {
         for (const DirPair& p : degenerate_pairs()) EXPECT_EQ(md.pdf(p.wi, p.wo), 0.0) << p.name;
       }
   // The metal material with a Ward lobe and no directional diffuse samples only the lobe.
-  const json gold = {
-      {"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.35}}}};
+  const json gold = {{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.35}}}};
   const aniso::MaterialD md = aniso::test::build<double>(gold);
   for (const DirPair& p : direction_pairs()) {
     const double r = R::ward_pdf(0.1, 0.35, ref_v(p.wi), ref_v(p.wo));
@@ -636,9 +619,8 @@ TEST(ReferencePdf, AshikhminShirleyHalfVector) {
     }
     for (const DirPair& p : degenerate_pairs()) EXPECT_EQ(md.pdf(p.wi, p.wo), 0.0) << p.name;
   }
-  const json copper = {{"model", "metal"},
-                       {"metal", "copper"},
-                       {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 20.0}, {"n_v", 300.0}}}};
+  const json copper = {
+      {"model", "metal"}, {"metal", "copper"}, {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 20.0}, {"n_v", 300.0}}}};
   const aniso::MaterialD md = aniso::test::build<double>(copper);
   for (const DirPair& p : direction_pairs()) {
     const double r = R::as_pdf(20.0, 300.0, ref_v(p.wi), ref_v(p.wo));
@@ -683,11 +665,10 @@ TEST(ReferencePinned, LiteralValues) {
     const char* what;
     double pinned, library, reference;
   };
-  const auto as = aniso::test::build<double>(
-      {{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"rs", 0.05}, {"n_u", 10.0}, {"n_v", 500.0}});
+  const auto as =
+      aniso::test::build<double>({{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"rs", 0.05}, {"n_u", 10.0}, {"n_v", 500.0}});
   const auto steel = aniso::test::build<double>(*aniso::find_preset("matte-steel"));
-  const auto ggx =
-      aniso::test::build<double>({{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.9}, {"alpha_x", 0.05}, {"alpha_y", 0.4}});
+  const auto ggx = aniso::test::build<double>({{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.9}, {"alpha_x", 0.05}, {"alpha_y", 0.4}});
   const R::C3 steel_ref = R::lafortune(R::grey(0.0), R::matte_steel_lobes(), pi, po);
   const double c899 = std::cos(89.9 * M_PI / 180.0);
   const Pin pins[] = {
@@ -701,16 +682,14 @@ TEST(ReferencePinned, LiteralValues) {
        R::ward_lobe(0.08, 0.3, R::WardForm::Angle, R::WardNorm::Duer, pi, po)},
       {"ward vector/balanced (0.08, 0.3), ks 1, P", 5.5948620564614142, ward("vector", "balanced").f(Pi, Po).x,
        R::ward_lobe(0.08, 0.3, R::WardForm::Angle, R::WardNorm::Balanced, pi, po)},
-      {"ward pdf (0.08, 0.3), P", 4.1210389441483315, ward("vector", "ward").pdf(Pi, Po),
-       R::ward_pdf(0.08, 0.3, pi, po)},
+      {"ward pdf (0.08, 0.3), P", 4.1210389441483315, ward("vector", "ward").pdf(Pi, Po), R::ward_pdf(0.08, 0.3, pi, po)},
       {"ashikhmin-shirley rd 0, rs 0.05, n (10, 500), P", 0.034280465954297339, as.f(Pi, Po).x,
        R::ashikhmin_shirley(R::grey(0), R::grey(0.05), 10, 500, R::grey(0), R::grey(1), pi, po)[0]},
       {"ashikhmin-shirley pdf n (10, 500), P", 0.51352843403289872, as.pdf(Pi, Po), R::as_pdf(10, 500, pi, po)},
       {"matte steel R, P", 2.8008058538764775, steel.f(Pi, Po).x, steel_ref[0]},
       {"matte steel G, P", 2.7526602251185812, steel.f(Pi, Po).y, steel_ref[1]},
       {"matte steel B, P", 2.7640835421514862, steel.f(Pi, Po).z, steel_ref[2]},
-      {"ggx (0.05, 0.4), f0 0.9, P", 5.8514821469737655, ggx.f(Pi, Po).x,
-       R::ggx(R::grey(0), R::grey(0.9), 0.05, 0.4, pi, po)[0]},
+      {"ggx (0.05, 0.4), f0 0.9, P", 5.8514821469737655, ggx.f(Pi, Po).x, R::ggx(R::grey(0), R::grey(0.9), 0.05, 0.4, pi, po)[0]},
       {"ggx (0.05, 0.4), f0 0.9, G (grazing)", 0.15493906317800424, ggx.f(Gi, Go).x,
        R::ggx(R::grey(0), R::grey(0.9), 0.05, 0.4, gi, go)[0]},
       {"F_conductor(60 deg; 0.2 + 3.9i)", 0.94588238180133355, aniso::F_Conductor<double>(0.5, 0.2, 3.9),

@@ -31,8 +31,8 @@ namespace {
 
 // Each row's kernel converts to MaterialT (float and double) and the union holds it as the row's
 // member.
-#define ANISO_X(Tag, Type, member, name, batch, glsl)                                                        \
-  static_assert(std::is_constructible_v<MaterialT<float>, const Type<float>&>, #Tag ": no MaterialT constructor"); \
+#define ANISO_X(Tag, Type, member, name, batch, glsl)                                                                \
+  static_assert(std::is_constructible_v<MaterialT<float>, const Type<float>&>, #Tag ": no MaterialT constructor");   \
   static_assert(std::is_constructible_v<MaterialT<double>, const Type<double>&>, #Tag ": no MaterialT constructor"); \
   static_assert(std::is_same_v<decltype(MaterialT<float>::member), Type<float>>, #Tag ": union member");
 ANISO_MODELS(ANISO_X)
@@ -47,18 +47,18 @@ std::string read_text(const std::filesystem::path& p) {
 
 const std::filesystem::path kRoot = ANISO_SOURCE_DIR;
 
-TEST(Registry, VisitReachesEachRowsMember) {
-  // visit hands the row's own kernel type to the function, for every row (no default case).
-#define ANISO_X(Tag, Type, member, name, batch, glsl)                                                              \
-  {                                                                                                             \
-    const MaterialT<float> m{Type<float>{}};                                                                    \
-    EXPECT_EQ(m.kind, ModelKind::Tag);                                                                          \
-    EXPECT_TRUE(m.visit([](const auto& x) { return std::is_same_v<std::decay_t<decltype(x)>, Type<float>>; })) \
-        << #Tag;                                                                                                \
-    EXPECT_TRUE(visit_kind<double>(ModelKind::Tag, [](auto t) { return std::is_same_v<typename decltype(t)::type, Type<double>>; })) \
-        << #Tag;                                                                                                \
+TEST(Registry, VisitReachesEachRowsMember){
+// visit hands the row's own kernel type to the function, for every row (no default case).
+#define ANISO_X(Tag, Type, member, name, batch, glsl)                                                                   \
+  {                                                                                                                     \
+    const MaterialT<float> m{Type<float>{}};                                                                            \
+    EXPECT_EQ(m.kind, ModelKind::Tag);                                                                                  \
+    EXPECT_TRUE(m.visit([](const auto& x) { return std::is_same_v<std::decay_t<decltype(x)>, Type<float>>; })) << #Tag; \
+    EXPECT_TRUE(visit_kind<double>(ModelKind::Tag, [](auto t) {                                                         \
+      return std::is_same_v<typename decltype(t)::type, Type<double>>;                                                  \
+    })) << #Tag;                                                                                                        \
   }
-  ANISO_MODELS(ANISO_X)
+    ANISO_MODELS(ANISO_X)
 #undef ANISO_X
 }
 
@@ -105,8 +105,10 @@ TEST(Registry, EveryGlslRowHasItsTwinInTheLibraryAndTheDispatch) {
 TEST(Registry, EveryRowHasABatchPath) {
   for (const ModelInfo& m : kModels) {
     const std::filesystem::path twin = kRoot / "src" / "batch" / "twins" / (std::string(m.member) + "-inl.h");
-    if (m.batch == BatchPath::Simd) EXPECT_TRUE(std::filesystem::exists(twin)) << twin;
-    else EXPECT_FALSE(std::filesystem::exists(twin)) << twin << ": the registry says Scalar";
+    if (m.batch == BatchPath::Simd)
+      EXPECT_TRUE(std::filesystem::exists(twin)) << twin;
+    else
+      EXPECT_FALSE(std::filesystem::exists(twin)) << twin << ": the registry says Scalar";
   }
 }
 

@@ -6,9 +6,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
-#include <map>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include <unistd.h>
 
@@ -37,7 +37,8 @@ json sphere_scene(const json& material, int size, int spp) {
 // ANISO_TEST_SAMPLER=independent runs the tests with plain Monte Carlo samples instead of Sobol'
 // (how the "independent samples" figures quoted below were measured; the bounds are for Sobol').
 Image render_json(json j, uint64_t seed = 1, int threads = 0, RenderStats* st = nullptr) {
-  if (const char* s = std::getenv("ANISO_TEST_SAMPLER"); s && !j["integrator"].contains("sampler")) j["integrator"]["sampler"] = s;
+  if (const char* s = std::getenv("ANISO_TEST_SAMPLER"); s && !j["integrator"].contains("sampler"))
+    j["integrator"]["sampler"] = s;
   RenderOptions o;
   o.seed = seed;
   o.threads = threads;
@@ -79,9 +80,10 @@ TEST(RenderFurnace, LambertAlbedoOneIsInvisible) {
 }
 
 TEST(RenderFurnace, EnergyConservingMaterialsStayBelowOne) {
-  for (const json& m : {json{{"model", "ashikhmin-shirley"}, {"rd", 0.5}, {"rs", 0.5}, {"n_u", 20}, {"n_v", 200}},
-                        json{{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.1}, {"alpha_y", 0.3}, {"normalization", "balanced"}},
-                        json{{"model", "ward"}, {"kd", 0.5}, {"ks", 0.5}, {"alpha_x", 0.2}, {"alpha_y", 0.2}, {"normalization", "balanced"}}}) {
+  for (const json& m :
+       {json{{"model", "ashikhmin-shirley"}, {"rd", 0.5}, {"rs", 0.5}, {"n_u", 20}, {"n_v", 200}},
+        json{{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.1}, {"alpha_y", 0.3}, {"normalization", "balanced"}},
+        json{{"model", "ward"}, {"kd", 0.5}, {"ks", 0.5}, {"alpha_x", 0.2}, {"alpha_y", 0.2}, {"normalization", "balanced"}}}) {
     json j = sphere_scene(m, 24, 64);
     j["environment"] = {{"type", "uniform"}, {"radiance", 1.0}};
     const Image img = render_json(j, 3);
@@ -104,12 +106,15 @@ TEST(RenderDirect, SphereUnderDirectionalLightMatchesIndependentComputation) {
   const double ax = 0.15, ay = 0.4, kd = 0.2, ks = 0.6;
   const aniso_ref::V3 to_light = aniso_ref::normalize({0.4, 0.7, 0.6});
   const double E = 2.5;
-  json j = {{"camera", {{"position", {0.3, 0.5, 3.5}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 40}}},
-            {"film", {{"width", W}, {"height", H}, {"spp", 256}}},
-            {"integrator", {{"max_depth", 1}, {"strategy", "light"}}},
-            {"lights", json::array({{{"type", "directional"}, {"to_light", {to_light.x, to_light.y, to_light.z}}, {"irradiance", E}}})},
-            {"objects", json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0},
-                                      {"material", {{"model", "ward"}, {"kd", kd}, {"ks", ks}, {"alpha_x", ax}, {"alpha_y", ay}}}}})}};
+  json j = {
+      {"camera", {{"position", {0.3, 0.5, 3.5}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 40}}},
+      {"film", {{"width", W}, {"height", H}, {"spp", 256}}},
+      {"integrator", {{"max_depth", 1}, {"strategy", "light"}}},
+      {"lights", json::array({{{"type", "directional"}, {"to_light", {to_light.x, to_light.y, to_light.z}}, {"irradiance", E}}})},
+      {"objects", json::array({{{"shape", "sphere"},
+                                {"center", {0, 0, 0}},
+                                {"radius", 1.0},
+                                {"material", {{"model", "ward"}, {"kd", kd}, {"ks", ks}, {"alpha_x", ax}, {"alpha_y", ay}}}}})}};
   const Image img = render_json(j, 11);
 
   // Independent camera: pinhole, vertical fov, pixel (0, 0) top-left.
@@ -176,8 +181,12 @@ TEST(RenderDirect, PointLightUnits) {
             {"film", {{"width", 4}, {"height", 4}, {"spp", 16}}},
             {"integrator", {{"max_depth", 1}}},
             {"lights", json::array({{{"type", "point"}, {"position", {0, 0, 3}}, {"intensity", 8.0}}})},
-            {"objects", json::array({{{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}}, {"u", {1, 0, 0}},
-                                      {"size", {10, 10}}, {"material", {{"model", "lambert"}, {"kd", 0.5}}}}})}};
+            {"objects", json::array({{{"shape", "rectangle"},
+                                      {"center", {0, 0, 0}},
+                                      {"normal", {0, 0, 1}},
+                                      {"u", {1, 0, 0}},
+                                      {"size", {10, 10}},
+                                      {"material", {{"model", "lambert"}, {"kd", 0.5}}}}})}};
   const Image img = render_json(j);
   // Near the axis: f = 0.5 / pi, cos = 1, d = 3.
   EXPECT_NEAR(img.at(1, 1).x, 0.5 / M_PI * 8.0 / 9.0, 2e-4);
@@ -244,9 +253,11 @@ json lit_by_directional(json j) {
 // depend on h.x^2 and h.y^2 only). With one directional light and next-event estimation only,
 // each sample is a deterministic function of its sub-pixel position: same seed, same image.
 TEST(RenderTangents, Rotation90EqualsSwappingAlphas) {
-  json a = lit_by_directional(sphere_scene({{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.05}, {"alpha_y", 0.3}}, 32, 4));
+  json a =
+      lit_by_directional(sphere_scene({{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.05}, {"alpha_y", 0.3}}, 32, 4));
   a["objects"][0]["tangent"] = {{"angle_deg", 90}};
-  json b = lit_by_directional(sphere_scene({{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.3}, {"alpha_y", 0.05}}, 32, 4));
+  json b =
+      lit_by_directional(sphere_scene({{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.3}, {"alpha_y", 0.05}}, 32, 4));
   const Image ia = render_json(a, 5), ib = render_json(b, 5);
   double max_diff = 0, max_val = 0;
   for (size_t i = 0; i < ia.rgb.size(); ++i) {
@@ -301,9 +312,13 @@ TEST(RenderTangents, ConcentricDiscIsRotationallySymmetric) {
             {"film", {{"width", 32}, {"height", 32}, {"spp", 64}}},
             {"integrator", {{"max_depth", 1}, {"strategy", "light"}}},
             {"lights", json::array({{{"type", "point"}, {"position", {0.0, 3.0, 0.0}}, {"intensity", 10.0}}})},
-            {"objects", json::array({{{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"radius", 1.1},
-                                      {"tangent", {{"field", "concentric"}}},
-                                      {"material", {{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.05}, {"alpha_y", 0.4}}}}})}};
+            {"objects",
+             json::array({{{"shape", "disc"},
+                           {"center", {0, 0, 0}},
+                           {"normal", {0, 1, 0}},
+                           {"radius", 1.1},
+                           {"tangent", {{"field", "concentric"}}},
+                           {"material", {{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.05}, {"alpha_y", 0.4}}}}})}};
   const Image img = render_json(j, 9);
   // Mean absolute difference: the pixels next to the centre, where the concentric field turns
   // through every direction inside one pixel, carry most of the sampling noise.
@@ -345,8 +360,12 @@ TEST(RenderTangents, ConstantTangentMapEqualsAngleDeg) {
   const json mat = {{"model", "ward"}, {"kd", 0.0}, {"ks", 1.0}, {"alpha_x", 0.05}, {"alpha_y", 0.4}};
   json rect = {{"camera", {{"position", {0, 2.5, 2.5}}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", 40}}},
                {"film", {{"width", 24}, {"height", 24}, {"spp", 4}}},
-               {"objects", json::array({{{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}},
-                                         {"size", {3, 3}}, {"material", mat}}})}};
+               {"objects", json::array({{{"shape", "rectangle"},
+                                         {"center", {0, 0, 0}},
+                                         {"normal", {0, 1, 0}},
+                                         {"u", {1, 0, 0}},
+                                         {"size", {3, 3}},
+                                         {"material", mat}}})}};
   rect = lit_by_directional(rect);
   json a = rect, b = rect;
   a["objects"][0]["tangent"] = {{"map", map.string()}, {"encoding", "angle"}};
@@ -373,7 +392,9 @@ TEST(RenderDeterminism, SameImageForAnyThreadCount) {
   // Also with one light chosen by power per vertex (six sphere lights and the sky: "auto" picks
   // by power) and with independent samples.
   json lights = json::array();
-  for (int i = 0; i < 6; ++i) lights.push_back({{"type", "sphere"}, {"center", {3.0 * std::cos(i), 2.0, 3.0 * std::sin(i)}}, {"radius", 0.3}, {"radiance", 5.0 + i}});
+  for (int i = 0; i < 6; ++i)
+    lights.push_back(
+        {{"type", "sphere"}, {"center", {3.0 * std::cos(i), 2.0, 3.0 * std::sin(i)}}, {"radius", 0.3}, {"radiance", 5.0 + i}});
   j["lights"] = lights;
   const Image d = render_json(j, 42, 1), e = render_json(j, 42, 2);
   EXPECT_EQ(d.rgb, e.rgb);
@@ -544,8 +565,12 @@ TEST(RenderSampler, SobolHasLowerErrorThanIndependentAtEqualSpp) {
 // view and so that none shadows another from the visible part of the plane (they sit at height 2,
 // at least 1.2 apart, radii <= 0.25; the camera sees |x|, |z| < 1.1).
 TEST(RenderLights, OneLightChosenByPowerMatchesTheSumOverAllLights) {
-  struct PL { double x, y, z, I; };
-  struct SL { double x, y, z, r, L; };
+  struct PL {
+    double x, y, z, I;
+  };
+  struct SL {
+    double x, y, z, r, L;
+  };
   std::vector<PL> points;
   std::vector<SL> spheres;
   json lights = json::array();
@@ -568,8 +593,12 @@ TEST(RenderLights, OneLightChosenByPowerMatchesTheSumOverAllLights) {
             {"film", {{"width", W}, {"height", W}, {"spp", 64}}},
             {"integrator", {{"max_depth", 1}}},
             {"lights", lights},
-            {"objects", json::array({{{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"u", {1, 0, 0}},
-                                      {"size", {20, 20}}, {"material", {{"model", "lambert"}, {"kd", kd}}}}})}};
+            {"objects", json::array({{{"shape", "rectangle"},
+                                      {"center", {0, 0, 0}},
+                                      {"normal", {0, 1, 0}},
+                                      {"u", {1, 0, 0}},
+                                      {"size", {20, 20}},
+                                      {"material", {{"model", "lambert"}, {"kd", kd}}}}})}};
   // Irradiance at (x, 0, z) on the plane (normal +y).
   const auto irradiance = [&](double x, double z) {
     double e = E;
@@ -601,7 +630,8 @@ TEST(RenderLights, OneLightChosenByPowerMatchesTheSumOverAllLights) {
     SceneGeometry geo(sc);
     PathTracer pt(sc, geo);
     const double p0 = pt.light_probability(0), p2 = pt.light_probability(2);  // spheres 0 and 1
-    EXPECT_NEAR(p2 / p0, (spheres[1].L * spheres[1].r * spheres[1].r) / (spheres[0].L * spheres[0].r * spheres[0].r), 1e-3 * p2 / p0);
+    EXPECT_NEAR(p2 / p0, (spheres[1].L * spheres[1].r * spheres[1].r) / (spheres[0].L * spheres[0].r * spheres[0].r),
+                1e-3 * p2 / p0);
     EXPECT_EQ(pt.light_probability(sc.lights.size()), 0.0f);  // no environment
     double total = 0;
     for (size_t i = 0; i <= sc.lights.size(); ++i) total += pt.light_probability(i);
@@ -640,8 +670,10 @@ TEST(RenderLights, EstimatorsAgreeWithManyLightsAndAnEnvironment) {
   json lights = json::array();
   for (int i = 0; i < 6; ++i) {
     const double a = i * M_PI / 3;
-    lights.push_back({{"type", "sphere"}, {"center", {2.5 * std::cos(a), 1.0 + 0.4 * i, 2.5 * std::sin(a) + 1.0}},
-                      {"radius", 0.3 + 0.05 * i}, {"radiance", 3.0 * (i + 1)}});
+    lights.push_back({{"type", "sphere"},
+                      {"center", {2.5 * std::cos(a), 1.0 + 0.4 * i, 2.5 * std::sin(a) + 1.0}},
+                      {"radius", 0.3 + 0.05 * i},
+                      {"radiance", 3.0 * (i + 1)}});
   }
   base["lights"] = lights;
   base["integrator"]["max_depth"] = 3;
@@ -689,8 +721,8 @@ SurfaceHit shade_one(const json& object, const Ray& ray, float t, int prim = 0, 
 }
 
 void expect_vec(const Vec3& got, const Vec3& want, float tol, const char* what) {
-  EXPECT_LT(glm::length(got - want), tol) << what << ": got (" << got.x << ", " << got.y << ", " << got.z << "), want ("
-                                          << want.x << ", " << want.y << ", " << want.z << ")";
+  EXPECT_LT(glm::length(got - want), tol) << what << ": got (" << got.x << ", " << got.y << ", " << got.z << "), want (" << want.x
+                                          << ", " << want.y << ", " << want.z << ")";
 }
 
 TEST(RenderShade, SphereUvAndTangentFollowLatitudeLongitude) {
@@ -718,7 +750,8 @@ TEST(RenderShade, SphereUvAndTangentFollowLatitudeLongitude) {
 }
 
 TEST(RenderShade, DiscUAxisIsWorldXProjectedAndUvIsCentred) {
-  const json disc = {{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"radius", 2.0}, {"material", "matte-steel"}};
+  const json disc = {
+      {"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 1, 0}}, {"radius", 2.0}, {"material", "matte-steel"}};
   // e_u = +x, e_v = n x e_u = -z; uv = 0.5 + offset / (2 radius).
   SurfaceHit h = shade_one(disc, Ray{{1, 5, 0.5}, {0, -1, 0}}, 5.0f);
   expect_vec(h.frame.t, Vec3(1, 0, 0), 1e-6f, "t");
@@ -731,14 +764,15 @@ TEST(RenderShade, DiscUAxisIsWorldXProjectedAndUvIsCentred) {
   expect_vec(h.ng, Vec3(0, -1, 0), 1e-6f, "ng from below");
   expect_vec(h.frame.t, Vec3(1, 0, 0), 1e-6f, "t from below");
   // A normal along x: world z is projected instead.
-  const json side = {{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {1, 0, 0}}, {"radius", 1.0}, {"material", "matte-steel"}};
+  const json side = {
+      {"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {1, 0, 0}}, {"radius", 1.0}, {"material", "matte-steel"}};
   h = shade_one(side, Ray{{5, 0, 0}, {-1, 0, 0}}, 5.0f);
   expect_vec(h.frame.t, Vec3(0, 0, 1), 1e-6f, "t, normal along x");
 }
 
 TEST(RenderShade, RectangleUFollowsItsUKey) {
-  const json rect = {{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}}, {"u", {1, 0, 0}},
-                     {"size", {4, 2}}, {"material", "matte-steel"}};
+  const json rect = {{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}},
+                     {"u", {1, 0, 0}},       {"size", {4, 2}},      {"material", "matte-steel"}};
   // v along normal x u = +y; uv in [0, 1]^2 over the rectangle.
   SurfaceHit h = shade_one(rect, Ray{{1, 0.5, 5}, {0, 0, -1}}, 5.0f);
   expect_vec(h.frame.t, Vec3(1, 0, 0), 1e-6f, "t");
@@ -771,7 +805,8 @@ TEST(RenderShade, MeshTangentIsDpDuFromItsUvs) {
   fs::remove_all(dir);
   // The torus's tangents run along the major circle: at (R + r, 0, 0), -z (u counter-clockwise
   // from above, d/dtheta of (cos theta, 0, -sin theta)).
-  const json torus = {{"shape", "torus"}, {"center", {0, 0, 0}}, {"major_radius", 1.0}, {"minor_radius", 0.3}, {"material", "matte-steel"}};
+  const json torus = {
+      {"shape", "torus"}, {"center", {0, 0, 0}}, {"major_radius", 1.0}, {"minor_radius", 0.3}, {"material", "matte-steel"}};
   h = shade_one(torus, Ray{{5, 0, 0}, {-1, 0, 0}}, 3.7f, 0, 1e-4f, 1e-4f);
   expect_vec(h.frame.t, Vec3(0, 0, -1), 1e-3f, "torus t");
   expect_vec(h.frame.n, Vec3(1, 0, 0), 1e-3f, "torus n");

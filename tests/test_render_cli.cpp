@@ -55,9 +55,7 @@ class RenderCli : public ::testing::Test {
     fs::remove(dir_ / "stderr.txt");
     return r;
   }
-  void write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name, std::ios::binary) << text;
-  }
+  void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name, std::ios::binary) << text; }
   // The output image out.png and anything derived from its name (temporary files).
   std::vector<std::string> images() const {
     std::vector<std::string> v;
@@ -74,8 +72,12 @@ class RenderCli : public ::testing::Test {
             {"environment", {{"type", "uniform"}, {"radiance", 0.5}}},
             {"lights", json::array({{{"type", "point"}, {"position", {2, 2, 2}}, {"intensity", 5}}})},
             {"objects", json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", "brushed-gold"}},
-                                     {{"shape", "disc"}, {"center", {0, -1, 0}}, {"normal", {0, 1, 0}}, {"radius", 3},
-                                      {"material", {{"model", "lambert"}, {"kd", 0.5}}}, {"tangent", {{"field", "concentric"}}}}})}};
+                                     {{"shape", "disc"},
+                                      {"center", {0, -1, 0}},
+                                      {"normal", {0, 1, 0}},
+                                      {"radius", 3},
+                                      {"material", {{"model", "lambert"}, {"kd", 0.5}}},
+                                      {"tangent", {{"field", "concentric"}}}}})}};
   }
 
   // A bad scene: exit 2, the message names the file and the JSON path and says what was expected;
@@ -141,11 +143,14 @@ TEST_F(RenderCli, ConstantEnvironmentMapIsAWhiteFurnace) {
   std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
   for (int i = 0; i < 8; ++i) hdr += std::string("\x80\x80\x80\x81", 4);  // RGBE: 128/256 * 2^(129-128) = 1
   write("const.hdr", hdr);
-  const json s = {{"camera", {{"position", {0, 0, 4}}, {"look_at", {0, 0, 0}}, {"fov_deg", 35}}},
-                  {"film", {{"width", 16}, {"height", 16}, {"spp", 32}}},
-                  {"integrator", {{"max_depth", 16}}},
-                  {"environment", {{"type", "map"}, {"file", "const.hdr"}, {"scale", 0.5}, {"rotation_deg", 40}}},
-                  {"objects", json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", {{"model", "lambert"}, {"kd", 1.0}}}}})}};
+  const json s = {
+      {"camera", {{"position", {0, 0, 4}}, {"look_at", {0, 0, 0}}, {"fov_deg", 35}}},
+      {"film", {{"width", 16}, {"height", 16}, {"spp", 32}}},
+      {"integrator", {{"max_depth", 16}}},
+      {"environment", {{"type", "map"}, {"file", "const.hdr"}, {"scale", 0.5}, {"rotation_deg", 40}}},
+      {"objects",
+       json::array(
+           {{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", {{"model", "lambert"}, {"kd", 1.0}}}}})}};
   write("scene.json", s.dump());
   const CliRun r = run("render scene.json -o out.pfm");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -165,7 +170,8 @@ TEST_F(RenderCli, MaterialPreview) {
   const CliRun r = run("render --material brushed-copper --width 64 --height 36 --spp 2 -o p.png");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir_ / "p.png"));
-  const CliRun inline_json = run("render --material '{\"model\": \"ward\", \"alpha_x\": 0.1, \"alpha_y\": 0.3}' --width 32 --height 18 --spp 1 -o q.png");
+  const CliRun inline_json = run(
+      "render --material '{\"model\": \"ward\", \"alpha_x\": 0.1, \"alpha_y\": 0.3}' --width 32 --height 18 --spp 1 -o q.png");
   EXPECT_EQ(inline_json.code, 0) << inline_json.err;
   const CliRun bad = run("render --material no-such-preset --width 32 --height 18 --spp 1 -o r.png");
   EXPECT_EQ(bad.code, 2);

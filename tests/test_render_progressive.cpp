@@ -95,7 +95,8 @@ TEST(RenderEnvironment, ConstantEnvironmentIsNotLightSampledByDefault) {
 // errors compared). MIS may not be worse than 1.1x the better technique.
 TEST(RenderEnvironment, MisIsNeverWorseThanTheBetterTechnique) {
   const json lambert = {{"model", "lambert"}, {"kd", 0.6}};
-  const json glossy = {{"model", "ward"}, {"kd", 0.05}, {"ks", 0.6}, {"alpha_x", 0.08}, {"alpha_y", 0.3}, {"normalization", "balanced"}};
+  const json glossy = {{"model", "ward"}, {"kd", 0.05},     {"ks", 0.6},
+                       {"alpha_x", 0.08}, {"alpha_y", 0.3}, {"normalization", "balanced"}};
   const json uniform = {{"type", "uniform"}, {"radiance", 0.8}};
   const json studio = {{"type", "map"}, {"file", std::string(ANISO_SOURCE_DIR) + "/examples/assets/studio.hdr"}};
   for (const json& env : {uniform, studio})
@@ -122,7 +123,8 @@ TEST(RenderEnvironment, MisIsNeverWorseThanTheBetterTechnique) {
           }
           rmse[k] = std::sqrt(e2 / n);
         }
-        const std::string name = std::string(env.at("type").get<std::string>()) + " " + m.at("model").get<std::string>() + " " + sampler;
+        const std::string name =
+            std::string(env.at("type").get<std::string>()) + " " + m.at("model").get<std::string>() + " " + sampler;
         RecordProperty(name, fmt::format("mis {:.3e} bsdf {:.3e} light {:.3e}", rmse[0], rmse[1], rmse[2]));
         std::printf("%s: mis %.3e bsdf %.3e light %.3e\n", name.c_str(), rmse[0], rmse[1], rmse[2]);
         EXPECT_LE(rmse[0], 1.1 * std::min(rmse[1], rmse[2])) << name;
@@ -167,7 +169,8 @@ TEST(RenderCancel, SeenWithinAPassAndReportsNoWholePicture) {
     // the render's set-up (a cancel in the first 20 ms), the threads' wake-up and the image's
     // assembly. Measured 0.2 to 0.6 s on 2 cores at a load of 14, 0.4 and 1.1 s at a load of 23
     // (a thread then gets a twelfth of a core); the bound leaves room for the sanitizer build.
-    std::printf("cancel %s: returned %.3f s after the flag was set\n", delay == 0.0 ? "in the first pass" : "in a later pass", latency);
+    std::printf("cancel %s: returned %.3f s after the flag was set\n", delay == 0.0 ? "in the first pass" : "in a later pass",
+                latency);
     EXPECT_LT(latency, 3.0);
     if (delay == 0.0) {
       EXPECT_EQ(st.spp_done, 0) << "the first pass cannot have ended";
@@ -274,8 +277,12 @@ TEST(RenderTime, BudgetStopsBetweenPassesAndEqualsTheSppRender) {
 
 TEST(RenderTime, SceneKeysAreValidated) {
   json j = adaptive_scene();
-  for (const auto& [key, bad] : {std::pair<std::string, json>{"noise_threshold", -0.1}, {"noise_threshold", 2.0},
-                                  {"min_spp", -1}, {"min_spp", 0.5}, {"time_s", -1.0}, {"time_s", "10"}}) {
+  for (const auto& [key, bad] : {std::pair<std::string, json>{"noise_threshold", -0.1},
+                                 {"noise_threshold", 2.0},
+                                 {"min_spp", -1},
+                                 {"min_spp", 0.5},
+                                 {"time_s", -1.0},
+                                 {"time_s", "10"}}) {
     json k = j;
     k["film"][key] = bad;
     try {
@@ -296,8 +303,12 @@ TEST(RenderTime, SceneKeysAreValidated) {
 
 json torus_scene(int spp, int max_depth) {
   json j = sphere_scene("brushed-copper", 24, spp);
-  j["objects"] = json::array({{{"shape", "torus"}, {"center", {0, 0, 0}}, {"major_radius", 0.9}, {"minor_radius", 0.34},
-                               {"rotate_deg", {60, 0, 0}}, {"material", "brushed-copper"}}});
+  j["objects"] = json::array({{{"shape", "torus"},
+                               {"center", {0, 0, 0}},
+                               {"major_radius", 0.9},
+                               {"minor_radius", 0.34},
+                               {"rotate_deg", {60, 0, 0}},
+                               {"material", "brushed-copper"}}});
   j["lights"] = json::array({{{"type", "sphere"}, {"center", {-3.2, 4.0, 4.5}}, {"radius", 0.9}, {"radiance", {52, 48, 42}}}});
   j["environment"] = {{"type", "sky"}, {"zenith", 0.16}, {"horizon", 0.3}, {"ground", 0.05}, {"resolution", 64}};
   j["integrator"]["max_depth"] = max_depth;
@@ -402,7 +413,8 @@ TEST_F(RenderInterrupt, BeforeTheFirstPassKeepsTheOldPictureAfterItWritesAWholeO
   j["environment"] = {{"type", "sky"}, {"resolution", 64}};
   std::ofstream(dir_ / "scene.json") << j.dump();
   // An older picture to keep: a 16 x 16 render.
-  const std::string render_old = std::string("cd ") + dir_.string() + " && " + ANISO_CLI + " render scene.json -o out.png >/dev/null";
+  const std::string render_old =
+      std::string("cd ") + dir_.string() + " && " + ANISO_CLI + " render scene.json -o out.png >/dev/null";
   ASSERT_EQ(std::system(render_old.c_str()), 0);
   const std::string old = slurp(dir_ / "out.png");
   ASSERT_FALSE(old.empty());

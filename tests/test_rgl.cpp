@@ -100,15 +100,21 @@ TEST(RglTensor, BadFilesAreInputErrorsNamingFileFieldAndProblem) {
        },
        {"field \"description\"", "more bytes than the file has"}},
       {"unknown dtype", [](auto& b, auto&) { b[18 + 2 + 11 + 2] = 12; }, {"field \"description\"", "unknown dtype code 12"}},
-      {"wrong dtype", [&](auto&, auto& fs) { field(fs, "theta_i").dtype = rgl::Dtype::Float16; field(fs, "theta_i").bytes.resize(16); },
+      {"wrong dtype",
+       [&](auto&, auto& fs) {
+         field(fs, "theta_i").dtype = rgl::Dtype::Float16;
+         field(fs, "theta_i").bytes.resize(16);
+       },
        {"field \"theta_i\"", "dtype float16, expected float32"}},
-      {"wrong vndf shape", [&](auto&, auto& fs) {
+      {"wrong vndf shape",
+       [&](auto&, auto& fs) {
          TensorField& v = field(fs, "vndf");
          v.shape[1] -= 1;
          v.bytes.resize(v.count() * 4);
        },
        {"field \"vndf\"", "expected [phi_i, theta_i, *, *]"}},
-      {"non-square colour grid", [&](auto&, auto& fs) {
+      {"non-square colour grid",
+       [&](auto&, auto& fs) {
          TensorField& v = field(fs, "rgb");
          v.shape[4] -= 1;
          v.bytes.resize(v.count() * 4);
@@ -118,7 +124,9 @@ TEST(RglTensor, BadFilesAreInputErrorsNamingFileFieldAndProblem) {
       {"jacobian 0", [&](auto&, auto& fs) { field(fs, "jacobian").bytes[0] = 0; }, {"field \"jacobian\"", "value 0"}},
       {"missing rgb", [&](auto&, auto& fs) { field(fs, "rgb").name = "colour"; }, {"field \"rgb\" is missing"}},
       {"NaN vndf", [&](auto&, auto& fs) { set_float(field(fs, "vndf"), 100, nan); }, {"field \"vndf\"", "nan", "finite"}},
-      {"NaN colour", [&](auto&, auto& fs) { set_float(field(fs, "rgb"), 7, nan); }, {"field \"rgb\"", "finite, magnitude <= 1e+15 expected"}},
+      {"NaN colour",
+       [&](auto&, auto& fs) { set_float(field(fs, "rgb"), 7, nan); },
+       {"field \"rgb\"", "finite, magnitude <= 1e+15 expected"}},
       {"zero sigma", [&](auto&, auto& fs) { set_float(field(fs, "sigma"), 3, 0.f); }, {"field \"sigma\"", ">= 1e-06 expected"}},
       {"half-circle phi",
        [&](auto&, auto& fs) {
@@ -126,7 +134,9 @@ TEST(RglTensor, BadFilesAreInputErrorsNamingFileFieldAndProblem) {
          for (size_t i = 0; i < p.count(); ++i) set_float(p, i, float(-M_PI + M_PI * double(i) / double(p.count() - 1)));
        },
        {"field \"phi_i\"", "reduction 2", "full circle"}},
-      {"unsorted theta", [&](auto&, auto& fs) { set_float(field(fs, "theta_i"), 2, 0.f); }, {"field \"theta_i\"", "not strictly increasing"}},
+      {"unsorted theta",
+       [&](auto&, auto& fs) { set_float(field(fs, "theta_i"), 2, 0.f); },
+       {"field \"theta_i\"", "not strictly increasing"}},
       {"all-zero vndf slice",
        [&](auto&, auto& fs) {
          TensorField& v = field(fs, "vndf");
@@ -157,7 +167,8 @@ TEST(RglTensor, BadFilesAreInputErrorsNamingFileFieldAndProblem) {
     } catch (const InputError& e) {
       const std::string msg = e.what();
       EXPECT_NE(msg.find(path), std::string::npos) << c.name << ": " << msg;
-      for (const std::string& s : c.expect) EXPECT_NE(msg.find(s), std::string::npos) << c.name << ": \"" << s << "\" not in: " << msg;
+      for (const std::string& s : c.expect)
+        EXPECT_NE(msg.find(s), std::string::npos) << c.name << ": \"" << s << "\" not in: " << msg;
     }
     std::filesystem::remove(path);
   }
@@ -174,7 +185,8 @@ std::string readers_rules(const TensorFile& t, bool for_pbrt) {
   if (for_pbrt && !(has("spectra") && spectral)) return "pbrt-v4 needs spectra and wavelengths";
   if (!spectral && !has("rgb")) return "Mitsuba RGB needs rgb";
   const TensorField &theta_i = *t.find("theta_i"), &phi_i = *t.find("phi_i"), &ndf = *t.find("ndf"), &sigma = *t.find("sigma"),
-                    &vndf = *t.find("vndf"), &lum = *t.find("luminance"), &desc = *t.find("description"), &jac = *t.find("jacobian");
+                    &vndf = *t.find("vndf"), &lum = *t.find("luminance"), &desc = *t.find("description"),
+                    &jac = *t.find("jacobian");
   const TensorField& spectra = *t.find(spectral ? "spectra" : "rgb");
   const uint64_t n_lambda = spectral ? t.find("wavelengths")->shape.at(0) : 3;
   using D = rgl::Dtype;
@@ -194,8 +206,8 @@ std::string readers_rules(const TensorFile& t, bool for_pbrt) {
   if (phi.size() > 2 && int(std::rint(2 * M_PI / (phi.back() - phi.front()))) != 1) return "reduction != 1";
   // PiecewiseLinear2D needs >= 2 points per axis (sampling.h:1330) and Mitsuba's m_jacobian
   // must be 1 for the two renderers to agree (measured.cpp:364).
-  if (ndf.shape[0] < 2 || ndf.shape[1] < 2 || sigma.shape[0] < 2 || sigma.shape[1] < 2 || vndf.shape[2] < 2 || vndf.shape[3] < 2 ||
-      lum.shape[2] < 2)
+  if (ndf.shape[0] < 2 || ndf.shape[1] < 2 || sigma.shape[0] < 2 || sigma.shape[1] < 2 || vndf.shape[2] < 2 ||
+      vndf.shape[3] < 2 || lum.shape[2] < 2)
     return "grid smaller than 2 x 2";
   if (jac.bytes.at(0) != 1) return "jacobian != 1";
   return "";
@@ -206,8 +218,10 @@ TEST(RglExport, EveryWrittenFilePassesPbrtAndMitsubaRules) {
     for (const nlohmann::json& j : {kGGXIso, kGGXAniso}) {
       const TensorFile t = rgl::parse_tensor(rgl::serialize_tensor(export_json(j, small_options(spectral))), "x.bsdf");
       EXPECT_EQ(readers_rules(t, false), "") << j.dump();
-      if (spectral) EXPECT_EQ(readers_rules(t, true), "") << j.dump();
-      else EXPECT_EQ(readers_rules(t, true), "pbrt-v4 needs spectra and wavelengths");
+      if (spectral)
+        EXPECT_EQ(readers_rules(t, true), "") << j.dump();
+      else
+        EXPECT_EQ(readers_rules(t, true), "pbrt-v4 needs spectra and wavelengths");
       const bool iso = j == kGGXIso;
       EXPECT_EQ(t.find("phi_i")->shape[0] <= 2, iso) << j.dump();
       const std::string desc(t.find("description")->bytes.begin(), t.find("description")->bytes.end());
@@ -273,7 +287,8 @@ class RglRoundTrip : public ::testing::TestWithParam<RoundTripCase> {};
 TEST_P(RglRoundTrip, ReadBackMatchesTheSource) {
   const RoundTripCase& c = GetParam();
   std::shared_ptr<const MeasuredData> keep;
-  MaterialD m = c.material.is_string() ? build_material<double>(load_material(c.material.get<std::string>())) : build<double>(c.material);
+  MaterialD m =
+      c.material.is_string() ? build_material<double>(load_material(c.material.get<std::string>())) : build<double>(c.material);
   if (c.merl) {
     keep = make_measured(tabulate_merl(m), c.name);
     m = MaterialD(measured_kernel<double>(*keep));
@@ -292,8 +307,7 @@ TEST_P(RglRoundTrip, ReadBackMatchesTheSource) {
   const rgl::RoundTripStats s = rgl::compare_rgl(src, rgl::rgl_kernel<double>(*d), 6000);
   std::printf("%-28s %s %-60s L1 by theta %.4f %.4f %.4f %.4f %.4f mean %.4f albedo %.4f export %.2f s CPU\n", c.name.c_str(),
               rep.isotropic ? "iso  " : "aniso", rep.d_method.c_str(), s.l1_by_theta[0], s.l1_by_theta[1], s.l1_by_theta[2],
-              s.l1_by_theta[3], s.l1_by_theta[4], s.l1_mean,
-              s.albedo_max, rep.seconds);
+              s.l1_by_theta[3], s.l1_by_theta[4], s.l1_mean, s.albedo_max, rep.seconds);
   const double l1_60 = std::max({s.l1_by_theta[0], s.l1_by_theta[1], s.l1_by_theta[2], s.l1_by_theta[3]});
   EXPECT_LE(l1_60, c.l1_bound_60) << "up to 60 degrees";
   EXPECT_LE(s.l1_by_theta[4], c.l1_bound_80) << "at 80 degrees";
@@ -303,21 +317,65 @@ TEST_P(RglRoundTrip, ReadBackMatchesTheSource) {
 INSTANTIATE_TEST_SUITE_P(
     Models, RglRoundTrip,
     ::testing::Values(
-        RoundTripCase{"ward_vector_ward", {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.3}, {"alpha", 0.15}}, false, 0, 0.05, 0.05, 0.02},
-        RoundTripCase{"ward_angle_duer", {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.3}, {"alpha", 0.15}, {"form", "angle"}, {"normalization", "duer"}}, false, 0, 0.05, 0.08, 0.02},
-        RoundTripCase{"ward_approx_balanced_aniso", {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.3}, {"alpha_x", 0.05}, {"alpha_y", 0.3}, {"form", "approx"}, {"normalization", "balanced"}}, false, 0, 0.08, 0.16, 0.03},
-        RoundTripCase{"ashikhmin_shirley", {{"model", "ashikhmin-shirley"}, {"rd", {0.2, 0.3, 0.4}}, {"rs", 0.1}, {"n", 100.0}}, false, 0, 0.05, 0.2, 0.07},
+        RoundTripCase{
+            "ward_vector_ward", {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.3}, {"alpha", 0.15}}, false, 0, 0.05, 0.05, 0.02},
+        RoundTripCase{
+            "ward_angle_duer",
+            {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.3}, {"alpha", 0.15}, {"form", "angle"}, {"normalization", "duer"}},
+            false,
+            0,
+            0.05,
+            0.08,
+            0.02},
+        RoundTripCase{"ward_approx_balanced_aniso",
+                      {{"model", "ward"},
+                       {"kd", 0.1},
+                       {"ks", 0.3},
+                       {"alpha_x", 0.05},
+                       {"alpha_y", 0.3},
+                       {"form", "approx"},
+                       {"normalization", "balanced"}},
+                      false,
+                      0,
+                      0.08,
+                      0.16,
+                      0.03},
+        RoundTripCase{"ashikhmin_shirley",
+                      {{"model", "ashikhmin-shirley"}, {"rd", {0.2, 0.3, 0.4}}, {"rs", 0.1}, {"n", 100.0}},
+                      false,
+                      0,
+                      0.05,
+                      0.2,
+                      0.07},
         RoundTripCase{"ggx_iso", kGGXIso, false, 0, 0.05, 0.05, 0.02},
         RoundTripCase{"ggx_aniso_0.05x0.3", kGGXAniso, false, 0, 0.05, 0.05, 0.02},
         RoundTripCase{"ggx_aniso_rotated_30deg", kGGXAniso, false, M_PI / 6, 0.05, 0.10, 0.05},
-        RoundTripCase{"matte_steel_lafortune3", {{"model", "lafortune"}, {"rho_d", 0.0}, {"lobes", {{{"cxy", -1.1}, {"cz", 1.0}, {"n", 15.0}}, {{"cxy", -1.06}, {"cz", 0.66}, {"n", 88.0}}, {{"cxy", -1.0}, {"cz", 1.0}, {"n", 180.0}}}}}, false, 0, 0.18, 0.6, 0.08},
+        RoundTripCase{"matte_steel_lafortune3",
+                      {{"model", "lafortune"},
+                       {"rho_d", 0.0},
+                       {"lobes",
+                        {{{"cxy", -1.1}, {"cz", 1.0}, {"n", 15.0}},
+                         {{"cxy", -1.06}, {"cz", 0.66}, {"n", 88.0}},
+                         {{"cxy", -1.0}, {"cz", 1.0}, {"n", 180.0}}}}},
+                      false,
+                      0,
+                      0.18,
+                      0.6,
+                      0.08},
         RoundTripCase{"matte_steel_preset", "matte-steel", false, 0, 0.18, 0.65, 0.09},
         RoundTripCase{"gold_ggx_metal", "gold", false, 0, 0.05, 0.05, 0.02},
         RoundTripCase{"brushed_gold", "brushed-gold", false, 0, 0.05, 0.11, 0.02},
-        RoundTripCase{"merl_table_of_ward", {{"model", "ward"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", 0.2}, {"alpha", 0.25}}, true, 0, 0.05, 0.05, 0.02}),
+        RoundTripCase{"merl_table_of_ward",
+                      {{"model", "ward"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", 0.2}, {"alpha", 0.25}},
+                      true,
+                      0,
+                      0.05,
+                      0.05,
+                      0.02}),
     [](const testing::TestParamInfo<RoundTripCase>& i) {
       std::string n = i.param.name;
-      for (char& ch : n) if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      for (char& ch : n)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
       return n;
     });
 
@@ -364,8 +422,8 @@ class RglCli : public Cli {};
 
 TEST_F(RglCli, ExportShowAndBadFile) {
   const std::string out = (dir_ / "gold.bsdf").string();
-  const Result r = run({"export-rgl", "--material", "brushed-gold", "--rgb", "--resolution", "8", "--theta-i", "4", "--phi-i", "5", "--ndf",
-                        "16", "-o", out, "--check"});
+  const Result r = run({"export-rgl", "--material", "brushed-gold", "--rgb", "--resolution", "8", "--theta-i", "4", "--phi-i",
+                        "5", "--ndf", "16", "-o", out, "--check"});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.err, "anisotropic")) << r.err;
   EXPECT_TRUE(contains(r.out, "cosine-weighted relative L1")) << r.out;
@@ -401,7 +459,8 @@ TEST_F(RglMaterial, ABsdfFileIsAMaterial) {
   EXPECT_EQ(m.kind, ModelKind::Rgl);
   const auto tables = rgl::rgl_from_tensor(rgl::parse_tensor(bytes, "ggx.bsdf"));
   const RglT<double> kernel = rgl::rgl_kernel<double>(*tables);
-  const MaterialD relative = build_material<double>(parse_material({{"model", "rgl"}, {"file", "ggx.bsdf"}}, "scene.json", dir_.string()));
+  const MaterialD relative =
+      build_material<double>(parse_material({{"model", "rgl"}, {"file", "ggx.bsdf"}}, "scene.json", dir_.string()));
   Rng rng(8);
   int nonzero = 0;
   for (int i = 0; i < 500; ++i) {
@@ -419,7 +478,8 @@ TEST_F(RglMaterial, ABsdfFileIsAMaterial) {
   const Result e = run({"eval", "-m", path}, "0.3 0.1 0.9 -0.3 -0.1 0.9\n");
   ASSERT_EQ(e.code, 0) << e.err;
   EXPECT_NEAR(std::stod(e.out), m.f(glm::normalize(Vec3d(0.3, 0.1, 0.9)), glm::normalize(Vec3d(-0.3, -0.1, 0.9)))[0], 1e-6);
-  const Result r = run({"render", "--material", path, "--spp", "1", "--width", "16", "--height", "16", "-o", (dir_ / "r.png").string()});
+  const Result r =
+      run({"render", "--material", path, "--spp", "1", "--width", "16", "--height", "16", "-o", (dir_ / "r.png").string()});
   EXPECT_EQ(r.code, 0) << r.err;
   const Result g = run({"export-glsl", "-m", path});
   EXPECT_EQ(g.code, 2);

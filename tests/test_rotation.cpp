@@ -141,8 +141,8 @@ TEST(MaterialRotation, ZeroIsExactAndAHalfTurnChangesNothing) {
 }
 
 TEST(MaterialRotation, IsotropicModelsRefuseTheKey) {
-  for (const json& j : {json{{"model", "lambert"}, {"kd", 0.5}, {"rotation_deg", 30}},
-                        json{{"model", "phong"}, {"rotation_deg", 30}}}) {
+  for (const json& j :
+       {json{{"model", "lambert"}, {"kd", 0.5}, {"rotation_deg", 30}}, json{{"model", "phong"}, {"rotation_deg", 30}}}) {
     try {
       (void)parse_material(j, "m.json");
       ADD_FAILURE() << j.dump();

@@ -91,9 +91,10 @@ class MeasuredInput : public Cli {
 };
 
 TEST_F(MeasuredInput, CsvColumnsInAnyOrderDegreesAndWeights) {
-  const std::string p = write("a.csv", "# my gonioreflectometer\n"
-                                       "b,g,r,phi_o_deg,theta_o_deg,phi_i,theta_i,weight\n"
-                                       "0.3,0.2,0.1,180,30,0,0.5235987755982988,2\n");
+  const std::string p = write("a.csv",
+                              "# my gonioreflectometer\n"
+                              "b,g,r,phi_o_deg,theta_o_deg,phi_i,theta_i,weight\n"
+                              "0.3,0.2,0.1,180,30,0,0.5235987755982988,2\n");
   const SampleSet s = read_samples_csv(p);
   ASSERT_EQ(s.samples.size(), 1u);
   EXPECT_TRUE(s.warnings.empty());
@@ -163,15 +164,19 @@ TEST_F(MeasuredInput, EveryBadCornellFileIsAnErrorNamingFileLineAndProblem) {
       {"31\n" + wls, "no samples after the wavelengths"},
       {"3\n400 410 405\n", "wavelength 405 nm after 410 nm: wavelengths must increase"},
       {"2\n400 410 420\n", "3 more wavelengths, but only 2 of 2 were missing"},
-      {"# num wls\n31\n" + wls + row.substr(0, 40) + "\n", "values, expected 35 (theta_i phi_i theta_s phi_s and 31 spectral values): the file is truncated"},
+      {"# num wls\n31\n" + wls + row.substr(0, 40) + "\n",
+       "values, expected 35 (theta_i phi_i theta_s phi_s and 31 spectral values): the file is truncated"},
       {"# num wls\n31\n" + wls + row + " 0.1\n" + row + "\n", "36 values, expected 35"},
       {"# num wls\n31\n" + wls + "1.7" + row.substr(3) + "\n", "theta_i = 1.7: out of range"},
-      {"# num wls\n31\n" + wls + "0.5 0 0.5 3.14159 -0.1" + row.substr(21) + "\n", "spectral value 1 (400 nm) = -0.1: a BRDF value cannot be negative"},
-      {"# num wls\n31\n" + wls + "0.5 0 0.5 3.14159 inf" + row.substr(21) + "\n", "spectral value 1: expected a finite decimal number, got \"inf\""},
+      {"# num wls\n31\n" + wls + "0.5 0 0.5 3.14159 -0.1" + row.substr(21) + "\n",
+       "spectral value 1 (400 nm) = -0.1: a BRDF value cannot be negative"},
+      {"# num wls\n31\n" + wls + "0.5 0 0.5 3.14159 inf" + row.substr(21) + "\n",
+       "spectral value 1: expected a finite decimal number, got \"inf\""},
       // The CSV reader's bound (samples.cpp, kMaxSampleValue): a value the fit's squares would overflow.
       {"# num wls\n31\n" + wls + "0.5 0 0.5 3.14159 1e300" + row.substr(21) + "\n",
        "line 6: spectral value 1 (400 nm) = 1e+300: expected a BRDF value of at most 1e+30 (1/sr)"},
-      {"# num wls\n31\n" + wls + row.substr(0, 17) + " 0.1 1.01e30" + row.substr(25) + "\n", "spectral value 2 (410 nm) = 1.01e+30: expected a BRDF value of at most 1e+30"},
+      {"# num wls\n31\n" + wls + row.substr(0, 17) + " 0.1 1.01e30" + row.substr(25) + "\n",
+       "spectral value 2 (410 nm) = 1.01e+30: expected a BRDF value of at most 1e+30"},
   };
   // The bound itself is accepted.
   EXPECT_EQ(error_of("edge.brdf", "# num wls\n31\n" + wls + "0.5 0 0.5 3.14159 1e30" + row.substr(21) + "\n"), "");
@@ -196,7 +201,8 @@ TEST_F(MeasuredInput, FitOfBadDataExitsTwoAndWritesNothing) {
       {"n.csv", "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.1,0,0.2,0,1,NaN,1\n", "n.csv: line 2: column g"},
       {"a.csv", "theta_i_deg,phi_i,theta_o,phi_o,r,g,b\n95,0,0.2,0,1,1,1\n", "a.csv: line 2: theta_i_deg = 95"},
       {"c.brdf", "31\n400 410\n", "c.brdf: line 2: the file is truncated"},
-      {"big.brdf", "2\n400 700\n0.5 0 0.5 3.14159 0.1 1e300\n", "big.brdf: line 3: spectral value 2 (700 nm) = 1e+300: expected a BRDF value of at most 1e+30 (1/sr)"},
+      {"big.brdf", "2\n400 700\n0.5 0 0.5 3.14159 0.1 1e300\n",
+       "big.brdf: line 3: spectral value 2 (700 nm) = 1e+300: expected a BRDF value of at most 1e+30 (1/sr)"},
       {"m.binary", std::string("\x5a\0\0\0\x5a\0\0\0", 8), "m.binary"},
   };
   for (const auto& c : cases) {

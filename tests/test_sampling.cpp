@@ -53,8 +53,8 @@ TEST_P(SamplingTest, ChiSquareMatchesPdf) {
                                  [&](const Vec3d& wi) { return md.pdf(wi, wod); }, kChi2Samples, 7);
   ASSERT_TRUE(r.message.empty()) << r.message;
   EXPECT_GT(r.p_value, per_test_significance())
-      << c.material << " wo theta " << c.theta_deg << ": chi2 " << r.chi2 << " dof " << r.dof
-      << " pdf integral " << r.pdf_integral << " accepted " << r.accepted_fraction;
+      << c.material << " wo theta " << c.theta_deg << ": chi2 " << r.chi2 << " dof " << r.dof << " pdf integral "
+      << r.pdf_integral << " accepted " << r.accepted_fraction;
   // The pdf integrates to at most 1 (numerical quadrature: 1e-3 slack), and to the acceptance rate.
   EXPECT_LE(r.pdf_integral, 1.0 + 1e-3);
   EXPECT_NEAR(r.pdf_integral, r.accepted_fraction, 5e-3);

@@ -2,10 +2,10 @@
 // OBJ numbers that tinyobjloader would read as 0 are errors naming the file and line; bounds are
 // compared in double, so the documented limits themselves are accepted; lengths that are infinite
 // in float are refused; `name` and `description` are strings; huge triangles are shaded.
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -40,8 +40,8 @@ bool has(const std::string& hay, const std::string& needle) { return hay.find(ne
 class ObjDir {
  public:
   ObjDir() {
-    dir_ = fs::temp_directory_path() / ("aniso-obj-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("aniso-obj-" + std::to_string(::getpid()) + "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   ~ObjDir() {
@@ -66,14 +66,14 @@ const char* kFace = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 TEST(SceneObj, NumbersThatAreNotFiniteDecimalsNameTheFileAndLine) {
   const ObjDir d;
   EXPECT_EQ(d.error_for(kFace), "(no error)");
-  EXPECT_EQ(d.error_for(std::string("# comment\nv 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 # trailing\nvn 0 0 1\nvt 0.5\nvt 0 1 0\nf 1 2 3\n")),
+  EXPECT_EQ(d.error_for(std::string(
+                "# comment\nv 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 # trailing\nvn 0 0 1\nvt 0.5\nvt 0 1 0\nf 1 2 3\n")),
             "(no error)");
   struct Case {
     std::string line, expect;
   };
   for (const Case& c : {Case{"v hello -1 0", "field 1: expected a finite decimal number, got \"hello\""},
-                        Case{"v nan -1 0", "got \"nan\""}, Case{"v inf -1 0", "got \"inf\""},
-                        Case{"v 0x1 0 0", "got \"0x1\""},
+                        Case{"v nan -1 0", "got \"nan\""}, Case{"v inf -1 0", "got \"inf\""}, Case{"v 0x1 0 0", "got \"0x1\""},
                         Case{"v -1", "expected the numbers of a \"v\" line (x y z [w], or x y z r g b), got 1"},
                         Case{"v 1 2 3 4 5", "got 5"}, Case{"v 1 2 3 4 5 6 7", "got 7"}, Case{"vn nan 0 1", "got \"nan\""},
                         Case{"vn 0 1", "expected the numbers of a \"vn\" line (x y z), got 2"},
@@ -118,8 +118,12 @@ TEST(SceneBounds, EnvironmentMapScaleOf1e12IsAccepted) {
 
 TEST(SceneBounds, RectangleSizeInfiniteInFloatIsRefused) {
   json j = base_scene();
-  j["objects"] = json::array({{{"shape", "rectangle"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}}, {"u", {1, 0, 0}},
-                               {"size", {1e39, 1}}, {"material", "clay"}}});
+  j["objects"] = json::array({{{"shape", "rectangle"},
+                               {"center", {0, 0, 0}},
+                               {"normal", {0, 0, 1}},
+                               {"u", {1, 0, 0}},
+                               {"size", {1e39, 1}},
+                               {"material", "clay"}}});
   EXPECT_TRUE(has(scene_error(j), "objects[0].size: expected [width, height], two numbers in (0, 1e15]")) << scene_error(j);
   j["objects"][0]["size"] = {1e15, 2};
   EXPECT_EQ(scene_error(j), "(no error)");

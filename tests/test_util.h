@@ -51,48 +51,79 @@ inline std::vector<NamedMaterial> all_model_materials() {
   for (const char* form : {"vector", "angle", "approx"})
     for (const char* norm : {"ward", "duer", "balanced"}) {
       v.push_back({std::string("ward_") + form + "_" + norm,
-                   {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.08}, {"alpha_y", 0.3},
-                    {"form", form}, {"normalization", norm}}});
+                   {{"model", "ward"},
+                    {"kd", 0.1},
+                    {"ks", 0.4},
+                    {"alpha_x", 0.08},
+                    {"alpha_y", 0.3},
+                    {"form", form},
+                    {"normalization", norm}}});
     }
   v.push_back({"ward_iso", {{"model", "ward"}, {"kd", 0.2}, {"ks", 0.3}, {"alpha_x", 0.15}, {"alpha_y", 0.15}}});
-  v.push_back({"as_aniso", {{"model", "ashikhmin-shirley"}, {"rd", {0.5, 0.3, 0.2}}, {"rs", 0.05}, {"n_u", 10.0}, {"n_v", 500.0}}});
+  v.push_back(
+      {"as_aniso", {{"model", "ashikhmin-shirley"}, {"rd", {0.5, 0.3, 0.2}}, {"rs", 0.05}, {"n_u", 10.0}, {"n_v", 500.0}}});
   v.push_back({"as_iso", {{"model", "ashikhmin-shirley"}, {"rd", 0.4}, {"rs", 0.5}, {"n_u", 80.0}, {"n_v", 80.0}}});
   v.push_back({"lafortune_aniso",
-               {{"model", "lafortune"}, {"rho_d", 0.1},
+               {{"model", "lafortune"},
+                {"rho_d", 0.1},
                 {"lobes", json::array({{{"cx", -0.9}, {"cy", -1.1}, {"cz", 0.95}, {"n", {20.0, 25.0, 30.0}}},
                                        {{"cxy", 0.6}, {"cz", 0.3}, {"n", 3.0}, {"scale", 0.5}}})}}});
-  v.push_back({"matte_steel", {{"model", "lafortune"}, {"lobes", json::array({{{"cxy", -1.11954}, {"cz", 1.01272}, {"n", 15.8708}}})}}});
+  v.push_back(
+      {"matte_steel", {{"model", "lafortune"}, {"lobes", json::array({{{"cxy", -1.11954}, {"cz", 1.01272}, {"n", 15.8708}}})}}});
   v.push_back({"ggx_aniso", {{"model", "ggx"}, {"kd", 0.2}, {"f0", {0.9, 0.6, 0.3}}, {"alpha_x", 0.05}, {"alpha_y", 0.4}}});
   v.push_back({"ggx_iso", {{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.04}, {"alpha_x", 0.3}, {"alpha_y", 0.3}}});
-  v.push_back({"metal_ward", {{"model", "metal"}, {"metal", "gold"},
-                              {"lobe", {{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.35}, {"normalization", "balanced"}}},
-                              {"directional_diffuse", {{"albedo", 0.2}, {"n", 4.0}}}}});
-  v.push_back({"metal_as", {{"model", "metal"}, {"metal", "copper"}, {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 20.0}, {"n_v", 300.0}}}}});
-  v.push_back({"metal_ggx", {{"model", "metal"}, {"eta", {0.2, 0.9, 1.1}}, {"k", {3.9, 2.4, 2.2}},
-                             {"lobe", {{"model", "ggx"}, {"alpha_x", 0.3}, {"alpha_y", 0.1}}}}});
+  v.push_back({"metal_ward",
+               {{"model", "metal"},
+                {"metal", "gold"},
+                {"lobe", {{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.35}, {"normalization", "balanced"}}},
+                {"directional_diffuse", {{"albedo", 0.2}, {"n", 4.0}}}}});
+  v.push_back(
+      {"metal_as",
+       {{"model", "metal"}, {"metal", "copper"}, {"lobe", {{"model", "ashikhmin-shirley"}, {"n_u", 20.0}, {"n_v", 300.0}}}}});
+  v.push_back({"metal_ggx",
+               {{"model", "metal"},
+                {"eta", {0.2, 0.9, 1.1}},
+                {"k", {3.9, 2.4, 2.2}},
+                {"lobe", {{"model", "ggx"}, {"alpha_x", 0.3}, {"alpha_y", 0.1}}}}});
   v.push_back({"principled", {{"model", "principled"}, {"base_color", {0.8, 0.5, 0.2}}}});
   v.push_back({"principled_aniso_clearcoat",
-               {{"model", "principled"}, {"base_color", {0.2, 0.4, 0.7}}, {"metallic", 0.3}, {"subsurface", 0.5},
-                {"roughness", 0.4}, {"specular_tint", 0.5}, {"anisotropic", 0.8}, {"sheen", 0.5}, {"clearcoat", 1.0},
+               {{"model", "principled"},
+                {"base_color", {0.2, 0.4, 0.7}},
+                {"metallic", 0.3},
+                {"subsurface", 0.5},
+                {"roughness", 0.4},
+                {"specular_tint", 0.5},
+                {"anisotropic", 0.8},
+                {"sheen", 0.5},
+                {"clearcoat", 1.0},
                 {"clearcoat_gloss", 0.5}}});
   // Roughness 0.4, anisotropic 0.9: alpha 0.37 x 0.07. At roughness 0.3 (alpha_y 0.039) the lobe
   // seen from 85 degrees is narrower in cos(theta) near the horizon than the chi-square's quadrature
   // (tests/chi2.h: 40 x 80 bins, 6 x 6 sub-cells) resolves: its pdf integral came out 0.98035
   // against 0.97910 from a 4000 x 4000 midpoint sum and an acceptance of 0.97908 in both float and
   // double, the same for plain GGX with those alphas, so the sampler is right and the quadrature not.
-  v.push_back({"principled_metal_aniso",
-               {{"model", "principled"}, {"base_color", {0.9, 0.6, 0.3}}, {"metallic", 1.0}, {"roughness", 0.4}, {"anisotropic", 0.9}}});
+  v.push_back(
+      {"principled_metal_aniso",
+       {{"model", "principled"}, {"base_color", {0.9, 0.6, 0.3}}, {"metallic", 1.0}, {"roughness", 0.4}, {"anisotropic", 0.9}}});
   // The anisotropic models turned by their rotation_deg (material.h, FrameRotationT): the SIMD twins
   // (ward, ashikhmin-shirley, lafortune), the scalar batch path (principled) and every GLSL twin.
-  v.push_back({"ward_rotated", {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.08}, {"alpha_y", 0.3}, {"rotation_deg", 30.0}}});
-  v.push_back({"as_rotated", {{"model", "ashikhmin-shirley"}, {"rd", 0.3}, {"rs", 0.1}, {"n_u", 180.0}, {"n_v", 25.0},
-                              {"rotation_deg", 130.0}}});
+  v.push_back({"ward_rotated",
+               {{"model", "ward"}, {"kd", 0.1}, {"ks", 0.4}, {"alpha_x", 0.08}, {"alpha_y", 0.3}, {"rotation_deg", 30.0}}});
+  v.push_back(
+      {"as_rotated",
+       {{"model", "ashikhmin-shirley"}, {"rd", 0.3}, {"rs", 0.1}, {"n_u", 180.0}, {"n_v", 25.0}, {"rotation_deg", 130.0}}});
   v.push_back({"lafortune_rotated",
-               {{"model", "lafortune"}, {"rho_d", 0.1}, {"rotation_deg", -75.0},
+               {{"model", "lafortune"},
+                {"rho_d", 0.1},
+                {"rotation_deg", -75.0},
                 {"lobes", json::array({{{"cx", -0.8}, {"cy", -1.1}, {"cz", 0.95}, {"n", 20.0}}})}}});
   v.push_back({"principled_rotated",
-               {{"model", "principled"}, {"base_color", {0.9, 0.6, 0.3}}, {"metallic", 1.0}, {"roughness", 0.5},
-                {"anisotropic", 0.8}, {"rotation_deg", 200.0}}});
+               {{"model", "principled"},
+                {"base_color", {0.9, 0.6, 0.3}},
+                {"metallic", 1.0},
+                {"roughness", 0.5},
+                {"anisotropic", 0.8},
+                {"rotation_deg", 200.0}}});
   return v;
 }
 

@@ -176,8 +176,7 @@ TEST(ViewSliders, NestedKeysHaveDistinctLabelsInTheirGroup) {
   for (const ModelSpec* m : model_specs()) {
     try {
       slots.push_back(view::default_slot_for_model(std::string(m->name)));
-    } catch (const InputError&) {
-    }
+    } catch (const InputError&) {}
   }
   EXPECT_GE(slots.size(), 8u);
   for (const view::MaterialSlot& slot : slots) {
@@ -258,8 +257,8 @@ TEST(ViewSet, ChangesTheMaterialOrKeepsIt) {
 class ViewFiles : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("aniso-view-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("aniso-view-" + std::to_string(::getpid()) + "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -290,7 +289,8 @@ TEST_F(ViewFiles, BadLoadsKeepTheLastGoodState) {
   }
   EXPECT_EQ(ex.a.edit, a_before);
 
-  const std::string bad_png = write("bad.png", std::string("\x89PNG\r\n\x1a\n garbage"));  // 16 bytes (18 read past the literal: ASan)
+  const std::string bad_png =
+      write("bad.png", std::string("\x89PNG\r\n\x1a\n garbage"));  // 16 bytes (18 read past the literal: ASan)
   try {
     ex.load_tangent_map(bad_png);
     FAIL() << "no error";
@@ -342,9 +342,10 @@ TEST(ViewScene, LinkedToTheControls) {
 // in radians, and an invalid parameter is an InputError.
 TEST(ViewScene, TangentControlsAreTheScenesField) {
   view::Explorer ex;
-  const std::pair<const char*, TangentFieldKind> kinds[] = {{"natural", TangentFieldKind::Natural}, {"projected", TangentFieldKind::Projected},
-                                                            {"concentric", TangentFieldKind::Concentric}, {"radial", TangentFieldKind::Radial},
-                                                            {"swirl", TangentFieldKind::Swirl}, {"noise", TangentFieldKind::Noise}};
+  const std::pair<const char*, TangentFieldKind> kinds[] = {
+      {"natural", TangentFieldKind::Natural},       {"projected", TangentFieldKind::Projected},
+      {"concentric", TangentFieldKind::Concentric}, {"radial", TangentFieldKind::Radial},
+      {"swirl", TangentFieldKind::Swirl},           {"noise", TangentFieldKind::Noise}};
   for (const auto& [name, kind] : kinds) {
     ex.tangent.field = name;
     ex.tangent.angle_deg = 90.0;
@@ -404,7 +405,7 @@ TEST(ViewPreview, ConvergesToTheRenderersImage) {
   double sum = 0.0, sum_ref = 0.0;
   for (size_t i = 0; i < img.rgb.size(); ++i) sum += img.rgb[i], sum_ref += ref.rgb[i];
   ASSERT_GT(sum_ref, 0.0);
-  EXPECT_NEAR(sum / sum_ref, 1.0, 0.03);  // the image mean of 16 spp on 1536 pixels: well under 1 % noise
+  EXPECT_NEAR(sum / sum_ref, 1.0, 0.03);             // the image mean of 16 spp on 1536 pixels: well under 1 % noise
   EXPECT_FALSE(preview.snapshot(&img, &spp, &gen));  // nothing new since
 
   // A restart (the material changed) starts again from zero samples, at the new scene's size.

@@ -56,7 +56,11 @@ class ViewCli : public Cli {
     cmd.append(shell_quote(ANISO_CLI)).append(" view");
     for (const std::string& a : args) cmd.append(" ").append(shell_quote(a));
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    cmd.append(" > ").append(shell_quote(stdout_path.empty() ? out.string() : stdout_path)).append(" 2> ").append(shell_quote(err.string())).append(" < /dev/null");
+    cmd.append(" > ")
+        .append(shell_quote(stdout_path.empty() ? out.string() : stdout_path))
+        .append(" 2> ")
+        .append(shell_quote(err.string()))
+        .append(" < /dev/null");
     const int status = std::system(cmd.c_str());
     Result r;
     if (status != -1 && WIFEXITED(status)) r.code = WEXITSTATUS(status);
@@ -70,8 +74,8 @@ class ViewCli : public Cli {
   std::string skip_reason_;
 };
 
-#define VIEW_OR_SKIP(r)                                                         \
-  do {                                                                          \
+#define VIEW_OR_SKIP(r)                                                          \
+  do {                                                                           \
     if (!skip_reason_.empty()) GTEST_SKIP() << "no GL window: " << skip_reason_; \
   } while (0)
 
@@ -96,7 +100,8 @@ Box surface_box(const render::Image& img, int x_begin, int y_begin, int x_end, i
   Box b;
   for (int y = y_begin; y < y_end; ++y)
     for (int x = x_begin; x < x_end; ++x)
-      if (!is_background(img.at(x, y))) b.x0 = std::min(b.x0, x), b.y0 = std::min(b.y0, y), b.x1 = std::max(b.x1, x), b.y1 = std::max(b.y1, y);
+      if (!is_background(img.at(x, y)))
+        b.x0 = std::min(b.x0, x), b.y0 = std::min(b.y0, y), b.x1 = std::max(b.x1, x), b.y1 = std::max(b.y1, y);
   return b;
 }
 
@@ -174,7 +179,8 @@ Highlight highlight(const render::Image& img) {
 // brighter (Ward's peak is ks / (4 pi alpha_x alpha_y): 4 times the radiance here).
 TEST_F(ViewCli, SmallerAlphaXGivesANarrowerBrighterHighlight) {
   const std::string m = R"({"model": "ward", "kd": 0, "ks": 0.05, "alpha_x": 0.2, "alpha_y": 0.2})";
-  const std::vector<std::string> common = {"--material", m, "--views", "sphere", "--size", "640x480", "--frames", "2", "--light", "0"};
+  const std::vector<std::string> common = {"--material", m,          "--views", "sphere",  "--size",
+                                           "640x480",    "--frames", "2",       "--light", "0"};
   std::vector<std::string> wide = common, narrow = common;
   wide.insert(wide.end(), {"--screenshot", "wide.png"});
   narrow.insert(narrow.end(), {"--set", "alpha_x=0.05", "--screenshot", "narrow.png"});
@@ -200,10 +206,26 @@ TEST_F(ViewCli, BadFilesShowTheErrorAndKeepTheLastGoodState) {
   write("broken.json", R"({"model": "ward", "alpha_x": 0.1,)");
   write("corrupt.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR garbage", 25));
   write("corrupt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-  const Result r = view({"--material", R"({"model": "ward", "kd": 0.5, "ks": 0.05, "alpha": 0.2})", "--views", "sphere", "--size",
-                         "640x480", "--frames", "2", "--light", "0", "--load-material", (dir_ / "broken.json").string(),
-                         "--load-tangent-map", (dir_ / "corrupt.png").string(), "--load-obj", (dir_ / "corrupt.obj").string(),
-                         "--save-material", "saved.json", "--screenshot", "s.png"});
+  const Result r = view({"--material",
+                         R"({"model": "ward", "kd": 0.5, "ks": 0.05, "alpha": 0.2})",
+                         "--views",
+                         "sphere",
+                         "--size",
+                         "640x480",
+                         "--frames",
+                         "2",
+                         "--light",
+                         "0",
+                         "--load-material",
+                         (dir_ / "broken.json").string(),
+                         "--load-tangent-map",
+                         (dir_ / "corrupt.png").string(),
+                         "--load-obj",
+                         (dir_ / "corrupt.obj").string(),
+                         "--save-material",
+                         "saved.json",
+                         "--screenshot",
+                         "s.png"});
   VIEW_OR_SKIP(r);
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.err, "aniso view: error: load material")) << r.err;
@@ -244,13 +266,14 @@ TEST_F(ViewCli, CompareCaptionsStayInTheirHalves) {
   for (int y = kTitle + kPad; y < kTitle + kPad + 20; ++y)
     for (int x = vx0; x < vx0 + vw; ++x) {
       const RGB c = img.at(x, y);
-      const bool orange = c.x > 0.5f && c.y > 0.12f && c.z < 0.12f, blue = c.z > 0.5f && c.x < 0.3f;
+      const bool orange = c.x > 0.5f && c.y > 0.12f && c.z<0.12f, blue = c.z> 0.5f && c.x < 0.3f;
       if (orange) (x < split ? a_left : a_right) += 1, a_last = std::max(a_last, x);
       if (blue) (x < split ? b_left : b_right) += 1;
     }
   EXPECT_GT(a_left, 30) << "no A caption";
   EXPECT_GT(b_right, 10) << "no B caption";
-  EXPECT_EQ(a_right, 0) << "the A caption crosses the split line (its last pixel at " << a_last << ", the split at " << split << ")";
+  EXPECT_EQ(a_right, 0) << "the A caption crosses the split line (its last pixel at " << a_last << ", the split at " << split
+                        << ")";
   EXPECT_EQ(b_left, 0);
 }
 

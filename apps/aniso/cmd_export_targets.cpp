@@ -34,7 +34,8 @@ void run_export(const ExportArgs& a) {
   }
   if (!a.help_target.empty()) {
     const TargetInfo* t = find_target(a.help_target);
-    if (!t) throw InputError(fmt::format("--help-target: unknown target \"{}\"; the targets are {}", a.help_target, target_names()));
+    if (!t)
+      throw InputError(fmt::format("--help-target: unknown target \"{}\"; the targets are {}", a.help_target, target_names()));
     fmt::print("{} ({}): {}\n\n{}\n", t->name, t->extension, t->summary, t->help);
     return;
   }
@@ -95,8 +96,9 @@ void run_export(const ExportArgs& a) {
 
 void add_export_target_command(CLI::App& app) {
   auto a = std::make_shared<ExportArgs>();
-  auto* cmd = app.add_subcommand("export", "write the material for a renderer: blender, mitsuba3, pbrt-v4, materialx, "
-                                           "gltf (docs/export.md)");
+  auto* cmd = app.add_subcommand("export",
+                                 "write the material for a renderer: blender, mitsuba3, pbrt-v4, materialx, "
+                                 "gltf (docs/export.md)");
   cmd->add_option("--to", a->to, "target: blender | mitsuba3 | pbrt-v4 | materialx | gltf");
   cmd->add_option("--material,-m", a->material, "preset name, JSON file or inline JSON");
   cmd->add_option("-o,--output", a->output, "output file (default: stdout; glTF needs a file)");

@@ -34,10 +34,12 @@ class ProgressDisplay {
   void operator()(const FitProgress& p) {
     if (quiet_ || p.elapsed_s < after_ || (shown_ && p.elapsed_s - last_ < (tty_ ? 0.1 : 1.0))) return;
     last_ = p.elapsed_s;
-    const std::string line = fmt::format("fit: {} iteration {} cost {:.4g}  {:.1f} s, about {:.0f} s left", p.stage,
-                                         p.iteration, p.cost, p.elapsed_s, p.remaining_s);
-    if (tty_) fmt::print(stderr, "\r{:<100}", line);
-    else fmt::print(stderr, "{}\n", line);
+    const std::string line = fmt::format("fit: {} iteration {} cost {:.4g}  {:.1f} s, about {:.0f} s left", p.stage, p.iteration,
+                                         p.cost, p.elapsed_s, p.remaining_s);
+    if (tty_)
+      fmt::print(stderr, "\r{:<100}", line);
+    else
+      fmt::print(stderr, "{}\n", line);
     shown_ = true;
     std::fflush(stderr);
   }
@@ -53,7 +55,8 @@ class ProgressDisplay {
 
 std::string error_table(const FitErrors& e) {
   std::string s = fmt::format("{:<22} {:>11} {:>11} {:>11} {:>11}\n", "error", "red", "green", "blue", "all");
-  s += fmt::format("{:<22} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "l2cos (Ngan 2005)", e.l2cos.x, e.l2cos.y, e.l2cos.z, e.l2cos_all);
+  s += fmt::format("{:<22} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "l2cos (Ngan 2005)", e.l2cos.x, e.l2cos.y, e.l2cos.z,
+                   e.l2cos_all);
   s += fmt::format("{:<22} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "log (relative)", e.log.x, e.log.y, e.log.z, e.log_all);
   s += fmt::format("{:<22} {:>11.5g}\n", "l2cos / data norm", e.relative_l2cos);
   return s;
@@ -74,11 +77,14 @@ std::string lafortune_table(const nlohmann::json& m) {
     for (int c = 0; c < 3; ++c) {
       const std::string label = fmt::format("Lobe {}, {}", k, names[c]);
       if (anisotropic)
-        s += fmt::format("{:<18} {:>11.6g} {:>11.6g} {:>11.6g} {:>11.6g}\n", label, at(l["cx"], c), at(l["cy"], c), at(l["cz"], c), at(l["n"], c));
-      else s += fmt::format("{:<18} {:>11.6g} {:>11.6g} {:>11.6g}\n", label, at(l["cx"], c), at(l["cz"], c), at(l["n"], c));
+        s += fmt::format("{:<18} {:>11.6g} {:>11.6g} {:>11.6g} {:>11.6g}\n", label, at(l["cx"], c), at(l["cy"], c),
+                         at(l["cz"], c), at(l["n"], c));
+      else
+        s += fmt::format("{:<18} {:>11.6g} {:>11.6g} {:>11.6g}\n", label, at(l["cx"], c), at(l["cz"], c), at(l["n"], c));
     }
   }
-  s += fmt::format("{:<18} {:>11.6g} {:>11.6g} {:>11.6g}   (red, green, blue)\n", "rho_d", at(m["rho_d"], 0), at(m["rho_d"], 1), at(m["rho_d"], 2));
+  s += fmt::format("{:<18} {:>11.6g} {:>11.6g} {:>11.6g}   (red, green, blue)\n", "rho_d", at(m["rho_d"], 0), at(m["rho_d"], 1),
+                   at(m["rho_d"], 2));
   return s;
 }
 
@@ -107,10 +113,10 @@ std::string fit_report(const FitResult& r, const FitOptions& o) {
   }
   s += fmt::format("largest directional albedo: {:.4f} at theta_o {:g} deg, phi_o {:g} deg{}\n", r.largest_albedo,
                    r.largest_albedo_theta_deg, r.largest_albedo_phi_deg,
-                   o.allow_energy_gain ? " (energy gain allowed: --allow-energy-gain)"
-                   : r.energy_constrained
-                       ? fmt::format(" (constrained to <= 1; relative l2cos {:.4g} without the constraint)", r.unconstrained_l2cos)
-                       : "");
+                   o.allow_energy_gain    ? " (energy gain allowed: --allow-energy-gain)"
+                   : r.energy_constrained ? fmt::format(" (constrained to <= 1; relative l2cos {:.4g} without the constraint)",
+                                                        r.unconstrained_l2cos)
+                                          : "");
   return s;
 }
 
@@ -136,8 +142,11 @@ void check_options_apply(const FitArgs& a, const CLI::App& fit) {
   const struct {
     const char* option;
     const char* model;
-  } only[] = {{"--lobes", "lafortune"}, {"--shared-exponents", "lafortune"}, {"--normalization", "ward"},
-              {"--metal", "metal"},     {"--metal-lobe", "metal"}};
+  } only[] = {{"--lobes", "lafortune"},
+              {"--shared-exponents", "lafortune"},
+              {"--normalization", "ward"},
+              {"--metal", "metal"},
+              {"--metal-lobe", "metal"}};
   for (const auto& [option, model] : only)
     if (given(option) && m != model)
       throw InputError(fmt::format("{} applies to --model {} only, not to --model {}", option, model, m));
@@ -184,8 +193,8 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
       return by_log ? rows[x].result.errors.log_all < rows[y].result.errors.log_all
                     : rows[x].result.errors.l2cos_all < rows[y].result.errors.l2cos_all;
     });
-    out += fmt::format("ranked by the {} error (fitted with it); errors over all samples and channels\n",
-                       by_log ? "log" : "l2cos");
+    out +=
+        fmt::format("ranked by the {} error (fitted with it); errors over all samples and channels\n", by_log ? "log" : "l2cos");
     out += fmt::format("{:<4} {:<28} {:<6} {:>11} {:>11} {:>9} {:>8}  {}\n", "rank", "model", "aniso", "l2cos", "log", "relative",
                        "time_s", "parameters");
     for (size_t i = 0; i < order.size(); ++i) {
@@ -228,9 +237,13 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
 
 void add_fit_command(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
-  auto* fit = app.add_subcommand("fit", "fit a model to measured data (MERL .binary, Cornell .brdf, RGL .bsdf, CSV of samples): "
-                                        "write the material, print the parameters and errors");
-  fit->add_option("data", a->data, "measured data: .binary (MERL), .brdf (Cornell), .bsdf (RGL tensor file), .csv (theta_i,phi_i,theta_o,phi_o,r,g,b)")->required();
+  auto* fit = app.add_subcommand("fit",
+                                 "fit a model to measured data (MERL .binary, Cornell .brdf, RGL .bsdf, CSV of samples): "
+                                 "write the material, print the parameters and errors");
+  fit->add_option(
+         "data", a->data,
+         "measured data: .binary (MERL), .brdf (Cornell), .bsdf (RGL tensor file), .csv (theta_i,phi_i,theta_o,phi_o,r,g,b)")
+      ->required();
   std::string models;
   for (std::string_view m : fittable_models()) models += fmt::format("{}{}", models.empty() ? "" : " | ", m);
   fit->add_option("--model", a->options.model, models)->type_name("MODEL")->capture_default_str();
@@ -244,21 +257,40 @@ void add_fit_command(CLI::App& app) {
   fit->add_flag("--allow-energy-gain", a->options.allow_energy_gain,
                 "let the fitted material reflect more than it receives (directional albedo > 1), for data that do");
   fit->add_flag("--shared-exponents", a->options.shared_exponents, "Lafortune: one exponent per lobe for all channels");
-  fit->add_option("--normalization", a->options.normalization, "Ward: ward | duer | balanced")->type_name("NAME")->capture_default_str();
-  fit->add_option("--metal", a->options.metal, "metal: a measured metal's eta, k (fixed); default: fit eta and k")->type_name("METAL");
-  fit->add_option("--metal-lobe", a->options.metal_lobe, "metal: ggx | ward | ashikhmin-shirley")->type_name("MODEL")->capture_default_str();
-  fit->add_option("--metric", a->options.metric, "l2cos (Ngan 2005's cosine-weighted L2) | log (relative)")->type_name("NAME")->capture_default_str();
-  fit->add_option("--loss", a->options.loss, "robust loss per sample: none | huber | cauchy | soft_l1")->type_name("NAME")->capture_default_str();
-  fit->add_option("--loss-scale", a->options.loss_scale, "the robust loss's scale (residual units); 0: from the data")->type_name("FLOAT")->capture_default_str();
-  fit->add_option("--starts", a->options.starts, "number of starts (moments, Ngan 2005's nearest fit, random), 1 to 1000")->type_name("INT")->capture_default_str();
-  fit->add_option("--seed", a->options.seed, "seed of the random starts, 0 to 2^64-1")->type_name("UINT64")->capture_default_str();
+  fit->add_option("--normalization", a->options.normalization, "Ward: ward | duer | balanced")
+      ->type_name("NAME")
+      ->capture_default_str();
+  fit->add_option("--metal", a->options.metal, "metal: a measured metal's eta, k (fixed); default: fit eta and k")
+      ->type_name("METAL");
+  fit->add_option("--metal-lobe", a->options.metal_lobe, "metal: ggx | ward | ashikhmin-shirley")
+      ->type_name("MODEL")
+      ->capture_default_str();
+  fit->add_option("--metric", a->options.metric, "l2cos (Ngan 2005's cosine-weighted L2) | log (relative)")
+      ->type_name("NAME")
+      ->capture_default_str();
+  fit->add_option("--loss", a->options.loss, "robust loss per sample: none | huber | cauchy | soft_l1")
+      ->type_name("NAME")
+      ->capture_default_str();
+  fit->add_option("--loss-scale", a->options.loss_scale, "the robust loss's scale (residual units); 0: from the data")
+      ->type_name("FLOAT")
+      ->capture_default_str();
+  fit->add_option("--starts", a->options.starts, "number of starts (moments, Ngan 2005's nearest fit, random), 1 to 1000")
+      ->type_name("INT")
+      ->capture_default_str();
+  fit->add_option("--seed", a->options.seed, "seed of the random starts, 0 to 2^64-1")
+      ->type_name("UINT64")
+      ->capture_default_str();
   fit->add_option("--threads", a->options.threads, "solver threads; 0: all cores")->type_name("INT")->capture_default_str();
-  fit->add_option("--max-iterations", a->options.max_iterations, "Levenberg-Marquardt iterations of the final refinement")->type_name("INT")->capture_default_str();
+  fit->add_option("--max-iterations", a->options.max_iterations, "Levenberg-Marquardt iterations of the final refinement")
+      ->type_name("INT")
+      ->capture_default_str();
   fit->add_option("-o,--output", a->output, "fitted material (JSON with a \"fit\" object); required unless --compare");
   fit->add_flag("--compare", a->compare, "fit every model and print a ranking table (Ngan 2005's comparison)");
   fit->add_option("--plot", a->plot, "PNG of measured vs fitted in-plane slices at several incidence angles");
   fit->add_flag("--quiet,-q", a->quiet, "no progress display");
-  fit->add_option("--progress-after", a->progress_after, "show the progress display once a fit has run this many seconds")->type_name("SECONDS")->capture_default_str();
+  fit->add_option("--progress-after", a->progress_after, "show the progress display once a fit has run this many seconds")
+      ->type_name("SECONDS")
+      ->capture_default_str();
   fit->callback([a, fit] { run_command([&] { run_fit(*a, *fit); }); });
 }
 

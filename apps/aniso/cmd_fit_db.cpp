@@ -98,8 +98,9 @@ int run_fit_db(int argc, char** argv) {
 void add_fit_db_command(CLI::App& app) {
   // Listed with the other commands; main() hands `aniso fit-db ...` to run_fit_db before CLI11
   // parses anything (the options are Python's: `aniso fit-db --help`).
-  app.add_subcommand("fit-db", "fit every model to every material of a database, on this machine or a Dask cluster "
-                               "(results.csv, report.md; resumable): aniso fit-db --help, docs/fit-db.md")
+  app.add_subcommand("fit-db",
+                     "fit every model to every material of a database, on this machine or a Dask cluster "
+                     "(results.csv, report.md; resumable): aniso fit-db --help, docs/fit-db.md")
       ->allow_extras()
       ->prefix_command();
 }

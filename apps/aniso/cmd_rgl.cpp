@@ -19,8 +19,9 @@ void add_rgl_command(CLI::App& app) {
     bool rgb = false, spectral = false, check = false;
   };
   auto a = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("export-rgl", "write the material as an RGL tensor file (.bsdf) for pbrt-v4 "
-                                               "(Material \"measured\") and Mitsuba 3 (<bsdf type=\"measured\">)");
+  auto* cmd = app.add_subcommand("export-rgl",
+                                 "write the material as an RGL tensor file (.bsdf) for pbrt-v4 "
+                                 "(Material \"measured\") and Mitsuba 3 (<bsdf type=\"measured\">)");
   cmd->add_option("--material,-m", a->material, "preset name, JSON file or measured file")->required();
   cmd->add_option("-o,--output", a->output, "output .bsdf file")->required();
   auto* spec = cmd->add_flag("--spectral", a->spectral, "spectra + wavelengths (default; pbrt-v4, spectral Mitsuba variants)");
@@ -46,13 +47,13 @@ void add_rgl_command(CLI::App& app) {
       const std::vector<rgl::TensorField> fields = rgl::export_rgl(src, opt, &rep);
       const std::vector<uint8_t> bytes = rgl::serialize_tensor(fields);
       write_atomically(a->output, std::string(bytes.begin(), bytes.end()));
-      fmt::print(stderr, "{}: {} bytes, {}, {}, D: {}, {:.2f} s CPU\n", a->output, bytes.size(), rep.isotropic ? "isotropic" : "anisotropic",
-                 opt.spectral ? "spectral" : "rgb", rep.d_method, rep.seconds);
+      fmt::print(stderr, "{}: {} bytes, {}, {}, D: {}, {:.2f} s CPU\n", a->output, bytes.size(),
+                 rep.isotropic ? "isotropic" : "anisotropic", opt.spectral ? "spectral" : "rgb", rep.d_method, rep.seconds);
       if (a->check) {
         const auto d = rgl::rgl_from_tensor(rgl::parse_tensor(bytes, a->output));
         const rgl::RoundTripStats s = rgl::compare_rgl(rgl::source_model(m), rgl::rgl_kernel<double>(*d));
-        fmt::print("cosine-weighted relative L1: max {:.4f} (theta {} deg, phi {} deg), mean {:.4f}; albedo error max {:.4f}\n", s.l1_max,
-                   s.worst_theta_deg, s.worst_phi_deg, s.l1_mean, s.albedo_max);
+        fmt::print("cosine-weighted relative L1: max {:.4f} (theta {} deg, phi {} deg), mean {:.4f}; albedo error max {:.4f}\n",
+                   s.l1_max, s.worst_theta_deg, s.worst_phi_deg, s.l1_mean, s.albedo_max);
       }
     });
   });

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <atomic>
 #include <chrono>
@@ -116,7 +116,8 @@ class EvalSpool {
       std::vector<char> buf(size_t(1) << 20);
       size_t n;
       while ((n = std::fread(buf.data(), 1, buf.size(), file_)) > 0) write_stdout(std::string_view(buf.data(), n));
-      if (std::ferror(file_)) throw std::runtime_error(fmt::format("eval: temporary file in {}: read error: {}", dir_, std::strerror(errno)));
+      if (std::ferror(file_))
+        throw std::runtime_error(fmt::format("eval: temporary file in {}: read error: {}", dir_, std::strerror(errno)));
     }
     write_stdout(rest);
   }
@@ -128,7 +129,8 @@ class EvalSpool {
     if (ec) dir_ = "/tmp";
     std::string name = (std::filesystem::path(dir_) / "aniso-eval-XXXXXX").string();
     const int fd = mkstemp(name.data());
-    if (fd < 0) throw std::runtime_error(fmt::format("eval: cannot create a temporary file in {}: {}", dir_, std::strerror(errno)));
+    if (fd < 0)
+      throw std::runtime_error(fmt::format("eval: cannot create a temporary file in {}: {}", dir_, std::strerror(errno)));
     unlink(name.c_str());
     file_ = fdopen(fd, "w+b");
     if (!file_) {
@@ -204,8 +206,8 @@ int cmd_sample(const std::string& material, const std::vector<double>& wo_in, ui
     if (!s.valid) {
       out += "0 0 0 0 0 0 0\n";
     } else {
-      out += fmt::format("{} {} {} {} {} {} {}\n", num(s.wi.x), num(s.wi.y), num(s.wi.z), num(s.weight.x),
-                         num(s.weight.y), num(s.weight.z), num(s.pdf));
+      out += fmt::format("{} {} {} {} {} {} {}\n", num(s.wi.x), num(s.wi.y), num(s.wi.z), num(s.weight.x), num(s.weight.y),
+                         num(s.weight.z), num(s.pdf));
     }
     if (out.size() > (size_t(1) << 20)) {
       write_stdout(out);
@@ -244,8 +246,10 @@ int cmd_fresnel(const FresnelArgs& a) {
     if (a.eta.empty() || a.k.empty())
       throw InputError(fmt::format("give --metal NAME (one of {}) or both --eta R G B and --k R G B", metal_names()));
     for (int c = 0; c < 3; ++c) {
-      if (!(a.eta[c] > 0.0 && a.eta[c] <= 100.0)) throw InputError(fmt::format("--eta: channel {}: expected a number in (0, 100], got {}", c, a.eta[c]));
-      if (!(a.k[c] >= 0.0 && a.k[c] <= 100.0)) throw InputError(fmt::format("--k: channel {}: expected a number in [0, 100], got {}", c, a.k[c]));
+      if (!(a.eta[c] > 0.0 && a.eta[c] <= 100.0))
+        throw InputError(fmt::format("--eta: channel {}: expected a number in (0, 100], got {}", c, a.eta[c]));
+      if (!(a.k[c] >= 0.0 && a.k[c] <= 100.0))
+        throw InputError(fmt::format("--k: channel {}: expected a number in [0, 100], got {}", c, a.k[c]));
       eta[c] = a.eta[c];
       k[c] = a.k[c];
     }
@@ -258,7 +262,8 @@ int cmd_fresnel(const FresnelArgs& a) {
 }
 
 int cmd_metals() {
-  std::string out = fmt::format("{:<10} {:<4} {:<32} {:<32} {:<32} {}\n", "# name", "sym", "eta (r g b)", "k (r g b)", "F0 (r g b)", "source");
+  std::string out =
+      fmt::format("{:<10} {:<4} {:<32} {:<32} {:<32} {}\n", "# name", "sym", "eta (r g b)", "k (r g b)", "F0 (r g b)", "source");
   for (const MetalData& md : metal_table()) {
     const RGBT<double> f0 = F_Conductor(1.0, RGBT<double>(md.eta), RGBT<double>(md.k));
     const auto rgb = [](const glm::dvec3& v) { return fmt::format("{:.4f} {:.4f} {:.4f}", v.x, v.y, v.z); };
@@ -321,7 +326,8 @@ int cmd_models(bool markdown, const std::string& only, bool only_given) {
   // Nested tables (Lafortune lobes, metal lobes, the directional-diffuse lobe) follow their key,
   // indented, as in the markdown tables.
   const auto key = [&out](const ParamSpec& p, int depth) {
-    out += fmt::format("{:{}}  {:<20} {:<45} default {:<12} {}\n", "", 4 * depth, p.name, describe_range(p), default_text(p), p.doc);
+    out +=
+        fmt::format("{:{}}  {:<20} {:<45} default {:<12} {}\n", "", 4 * depth, p.name, describe_range(p), default_text(p), p.doc);
   };
   const auto nested = [&out](const ParamSpec& p, const ModelSpec& sub, int depth) {
     out += fmt::format("{:{}}    keys of {} ({}):\n", "", 4 * depth,
@@ -403,8 +409,10 @@ void resolve_scene_paths(nlohmann::json& doc, const std::string& base_dir) {
     if (!ec) v = full.lexically_normal().string();
   };
   const auto material = [&](nlohmann::json& m) {
-    if (m.is_string() && !find_preset(m.get<std::string>())) resolve(m);
-    else if (m.is_object() && m.contains("file")) resolve(m["file"]);  // {"model": "measured", "file": ...}
+    if (m.is_string() && !find_preset(m.get<std::string>()))
+      resolve(m);
+    else if (m.is_object() && m.contains("file"))
+      resolve(m["file"]);  // {"model": "measured", "file": ...}
   };
   if (!doc.is_object()) return;
   if (doc.contains("environment") && doc["environment"].is_object() && doc["environment"].contains("file"))
@@ -425,9 +433,10 @@ int render_gl(const aniso::render::Scene& scene, const RenderArgs& a, const anis
   using namespace aniso::render;
   gl::check_gl_materials(scene);
   if (!gl::gl_has_lights(scene))
-    throw InputError(fmt::format("{}: --backend gl: the scene has no point or directional light with power, the only lights the "
-                                 "GL backend draws (it renders no sphere lights and no environment): the image would be black",
-                                 scene.source));
+    throw InputError(
+        fmt::format("{}: --backend gl: the scene has no point or directional light with power, the only lights the "
+                    "GL backend draws (it renders no sphere lights and no environment): the image would be black",
+                    scene.source));
   for (const std::string& w : gl::gl_unsupported(scene)) fmt::print(stderr, "aniso render: warning: --backend gl: {}\n", w);
   try {
     gl::GlContext::get();
@@ -450,7 +459,8 @@ int render_gl(const aniso::render::Scene& scene, const RenderArgs& a, const anis
 // Ctrl-C before every pixel had one sample: the picture would have holes, so the output (an older
 // picture, perhaps) is left as it was.
 int interrupted_before_first_pass(const std::string& output) {
-  fmt::print(stderr, "aniso render: interrupted before the first pass was complete: nothing written ({} left as it was)\n", output);
+  fmt::print(stderr, "aniso render: interrupted before the first pass was complete: nothing written ({} left as it was)\n",
+             output);
   return 130;
 }
 
@@ -462,8 +472,10 @@ int cmd_render(RenderArgs a) {
   if (ext_out != ".png" && ext_out != ".exr" && ext_out != ".pfm")
     throw InputError(fmt::format("-o {}: expected a .png, .exr or .pfm file name", a.output));
   if (a.tone_given && ext_out != ".png")
-    throw InputError(fmt::format("--exposure and --tonemap apply to PNG output only; -o {} holds linear radiance, "
-                                 "written as rendered", a.output));
+    throw InputError(
+        fmt::format("--exposure and --tonemap apply to PNG output only; -o {} holds linear radiance, "
+                    "written as rendered",
+                    a.output));
   ToneMapOptions tm;
   tm.exposure_stops = float(a.exposure);
   tm.curve = a.tonemap == "clamp" ? ToneMap::Clamp : ToneMap::Aces;
@@ -478,12 +490,14 @@ int cmd_render(RenderArgs a) {
       return 0;
     }
     if (a.backend == "gl")
-      throw InputError("--backend gl: the gallery is lit by sphere lights and a sky, which the GL backend does not render; "
-                       "give a scene file with point or directional lights");
+      throw InputError(
+          "--backend gl: the gallery is lit by sphere lights and a sky, which the GL backend does not render; "
+          "give a scene file with point or directional lights");
     if (a.output.empty()) a.output = "aniso-gallery.png";
     if (ext_out != ".png") throw InputError(fmt::format("-o {}: the gallery is a labelled figure: PNG only", a.output));
     if (!a.strategy.empty() || a.max_depth > 0 || a.noise_threshold >= 0.0 || a.min_spp > 0 || a.time_s > 0.0)
-      throw InputError("--strategy, --max-depth, --noise-threshold, --min-spp and --time apply to scene files, not to the gallery");
+      throw InputError(
+          "--strategy, --max-depth, --noise-threshold, --min-spp and --time apply to scene files, not to the gallery");
     GalleryOptions go;
     go.width = a.width > 0 ? a.width : 1024;
     go.height = a.height;
@@ -499,9 +513,8 @@ int cmd_render(RenderArgs a) {
     if (r.stats.spp_done == 0) return interrupted_before_first_pass(a.output);
     write_png(a.output, r.image);
     fmt::print("{}wrote {} ({}x{}, {} cells, {} spp) in {:.1f} s: {:.2f} M paths/s, {:.2f} M rays/s\n",
-               r.stats.cancelled ? "interrupted: " : "", a.output, r.image.width, r.image.height, r.cells,
-               r.stats.spp_done, r.stats.seconds, double(r.stats.paths) / r.stats.seconds * 1e-6,
-               double(r.stats.rays) / r.stats.seconds * 1e-6);
+               r.stats.cancelled ? "interrupted: " : "", a.output, r.image.width, r.image.height, r.cells, r.stats.spp_done,
+               r.stats.seconds, double(r.stats.paths) / r.stats.seconds * 1e-6, double(r.stats.rays) / r.stats.seconds * 1e-6);
     return r.stats.cancelled ? 130 : 0;
   }
 
@@ -553,9 +566,9 @@ int cmd_render(RenderArgs a) {
   bar.finish();
   if (st.spp_done == 0) return interrupted_before_first_pass(a.output);
   write_image(a.output, img, tm);
-  const std::string spp_text =
-      scene.film.noise_threshold > 0.0f ? fmt::format("{} spp, {:.1f} on average{}", st.spp_done, st.mean_spp, st.converged ? ", converged" : "")
-                                        : fmt::format("{} spp", st.spp_done);
+  const std::string spp_text = scene.film.noise_threshold > 0.0f ? fmt::format("{} spp, {:.1f} on average{}", st.spp_done,
+                                                                               st.mean_spp, st.converged ? ", converged" : "")
+                                                                 : fmt::format("{} spp", st.spp_done);
   fmt::print("{}wrote {} ({}x{}, {}{}) in {:.1f} s: {:.2f} M paths/s, {:.2f} M rays/s\n", st.cancelled ? "interrupted: " : "",
              a.output, img.width, img.height, spp_text, st.out_of_time ? ", time budget reached" : "", st.seconds,
              double(st.paths) / st.seconds * 1e-6, double(st.rays) / st.seconds * 1e-6);
@@ -659,8 +672,9 @@ std::string unknown_option_message(const CLI::App& cmd, const std::string& comma
     if (cmd.get_option_no_throw(name)) continue;
     std::string near = nearest_names(name, option_names(cmd));
     near.erase(std::remove(near.begin(), near.end(), '"'), near.end());
-    return fmt::format("unknown option {}{}{} (`{} --help` lists the options)", text_escape(name), command.empty() ? "" : " for " + command,
-                       near.empty() ? "" : fmt::format("; did you mean {}?", near), command.empty() ? "aniso" : command);
+    return fmt::format("unknown option {}{}{} (`{} --help` lists the options)", text_escape(name),
+                       command.empty() ? "" : " for " + command, near.empty() ? "" : fmt::format("; did you mean {}?", near),
+                       command.empty() ? "aniso" : command);
   }
   return {};
 }
@@ -668,7 +682,8 @@ std::string unknown_option_message(const CLI::App& cmd, const std::string& comma
 // The commands and what they do, for `aniso` alone and an unknown command.
 std::string command_list(const CLI::App& app) {
   std::string out = "usage: aniso COMMAND [OPTIONS] (aniso COMMAND --help for its options)\ncommands:\n";
-  for (const CLI::App* sub : app.get_subcommands({})) out += fmt::format("  {:<13} {}\n", sub->get_name(), sub->get_description());
+  for (const CLI::App* sub : app.get_subcommands({}))
+    out += fmt::format("  {:<13} {}\n", sub->get_name(), sub->get_description());
   return out;
 }
 
@@ -693,30 +708,43 @@ int main(int argc, char** argv) {
   bool angles = false;
   auto* eval = app.add_subcommand("eval", "read 'wi.x wi.y wi.z wo.x wo.y wo.z' lines on stdin, write 'f_r f_g f_b pdf'");
   eval->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
-  eval->add_flag("--angles", angles, "input lines are 'theta_i phi_i theta_o phi_o' in degrees (theta from the normal, phi from the tangent)");
+  eval->add_flag("--angles", angles,
+                 "input lines are 'theta_i phi_i theta_o phi_o' in degrees (theta from the normal, phi from the tangent)");
 
   std::vector<double> wo;
   std::string count_text = "1", seed_text = "1", samples_text = "1048576";
   auto* sample = app.add_subcommand("sample", "write N lines 'wi.x wi.y wi.z weight_r weight_g weight_b pdf'");
   sample->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
-  sample->add_option("--wo", wo, "viewing direction x y z (local frame; normalised)")->required()->expected(3)->check(decimal_value());
+  sample->add_option("--wo", wo, "viewing direction x y z (local frame; normalised)")
+      ->required()
+      ->expected(3)
+      ->check(decimal_value());
   // --samples counts the same thing as albedo's --samples (draws of sample()); --count is kept.
-  sample->add_option("--count,-n,--samples", count_text, fmt::format("number of samples (draws of sample(): output lines), 0 to {}", kMaxCount))
-      ->type_name("INT")->capture_default_str();
+  sample
+      ->add_option("--count,-n,--samples", count_text,
+                   fmt::format("number of samples (draws of sample(): output lines), 0 to {}", kMaxCount))
+      ->type_name("INT")
+      ->capture_default_str();
   sample->add_option("--seed", seed_text, "random seed, 0 to 2^64-1")->type_name("UINT64")->capture_default_str();
 
   double theta = 0.0, phi = 0.0;
   auto* albedo = app.add_subcommand("albedo", "directional albedo 'r g b' for the viewing direction (theta, phi)");
   albedo->add_option("--material,-m", material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
-  albedo->add_option("--theta-deg", theta, "viewing angle from the normal; 90 is the horizon (albedo 0)")->required()->check(finite_range(0.0, 90.0));
+  albedo->add_option("--theta-deg", theta, "viewing angle from the normal; 90 is the horizon (albedo 0)")
+      ->required()
+      ->check(finite_range(0.0, 90.0));
   albedo->add_option("--phi-deg", phi, "azimuth from the tangent")->check(finite_range(-360.0, 360.0))->capture_default_str();
-  albedo->add_option("--samples", samples_text, fmt::format("importance samples, 1 to {}", kMaxSamples))->type_name("INT")->capture_default_str();
+  albedo->add_option("--samples", samples_text, fmt::format("importance samples, 1 to {}", kMaxSamples))
+      ->type_name("INT")
+      ->capture_default_str();
   albedo->add_option("--seed", seed_text, "random seed, 0 to 2^64-1")->type_name("UINT64")->capture_default_str();
 
   FresnelArgs fa;
   auto* fresnel = app.add_subcommand("fresnel", "conductor Fresnel reflectance 'r g b' of a measured metal or of a given eta, k");
   fresnel->add_option("--metal", fa.metal, "metal name (`aniso metals` lists them)");
-  fresnel->add_option("--eta", fa.eta, "real part of the complex index, R G B, each in (0, 100]")->expected(3)->check(decimal_value());
+  fresnel->add_option("--eta", fa.eta, "real part of the complex index, R G B, each in (0, 100]")
+      ->expected(3)
+      ->check(decimal_value());
   fresnel->add_option("--k", fa.k, "extinction coefficient, R G B, each in [0, 100]")->expected(3)->check(decimal_value());
   fresnel->add_option("--theta-deg", fa.theta, "angle of incidence")->check(finite_range(0.0, 90.0))->capture_default_str();
   fresnel->add_flag("--schlick", fa.schlick, "Schlick's approximation from the metal's F0 instead of the exact equations");
@@ -726,7 +754,8 @@ int main(int argc, char** argv) {
   std::string show;
   auto* presets_cmd = app.add_subcommand("presets", "list the named materials");
   auto* show_opt = presets_cmd->add_option(
-      "--show", show, "print one preset as resolved (every key, defaults filled in); for a .binary file, also name the MERL material it is");
+      "--show", show,
+      "print one preset as resolved (every key, defaults filled in); for a .binary file, also name the MERL material it is");
 
   auto* models = app.add_subcommand("models", "list the models and their parameter tables");
   bool markdown = false;
@@ -741,30 +770,44 @@ int main(int argc, char** argv) {
   render_cmd->add_option("-o,--output", ra.output,
                          "output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance); default aniso-gallery.png, "
                          "aniso-preview.png or <scene>.png");
-  render_cmd->add_option("--material,-m", ra.material, "render the preview scene with this material (preset, JSON file or inline JSON)");
-  render_cmd->add_option("--spp", ra.spp, "samples per pixel (default: the scene's; the gallery's 64)")->transform(whole_range(1, 1 << 20));
-  render_cmd->add_option("--width", ra.width, "image width in pixels (default: the scene's; alone, the height follows the scene's aspect ratio)")->transform(whole_range(16, 16384));
-  render_cmd->add_option("--height", ra.height, "image height in pixels (default: the scene's; alone, the width follows)")->transform(whole_range(16, 16384));
+  render_cmd->add_option("--material,-m", ra.material,
+                         "render the preview scene with this material (preset, JSON file or inline JSON)");
+  render_cmd->add_option("--spp", ra.spp, "samples per pixel (default: the scene's; the gallery's 64)")
+      ->transform(whole_range(1, 1 << 20));
+  render_cmd
+      ->add_option("--width", ra.width,
+                   "image width in pixels (default: the scene's; alone, the height follows the scene's aspect ratio)")
+      ->transform(whole_range(16, 16384));
+  render_cmd->add_option("--height", ra.height, "image height in pixels (default: the scene's; alone, the width follows)")
+      ->transform(whole_range(16, 16384));
   render_cmd->add_option("--threads", ra.threads, "worker threads (default: all cores)")->transform(whole_range(1, 1024));
-  render_cmd->add_option("--seed", ra.seed, "random seed (same seed, same image, whatever the thread count)")->transform(seed_value())->capture_default_str();
-  render_cmd->add_option("--strategy", ra.strategy, "mis (default), bsdf or light")->check(CLI::IsMember({"mis", "bsdf", "light"}));
+  render_cmd->add_option("--seed", ra.seed, "random seed (same seed, same image, whatever the thread count)")
+      ->transform(seed_value())
+      ->capture_default_str();
+  render_cmd->add_option("--strategy", ra.strategy, "mis (default), bsdf or light")
+      ->check(CLI::IsMember({"mis", "bsdf", "light"}));
   render_cmd->add_option("--sampler", ra.sampler, "sobol (default: Owen-scrambled Sobol') or independent (PCG32)")
       ->check(CLI::IsMember({"sobol", "independent"}));
-  render_cmd->add_option("--noise-threshold", ra.noise_threshold,
-                         "adaptive sampling: stop pixels whose estimated error is below this (docs/scenes.md; default: the scene's film.noise_threshold, 0 = off)")
+  render_cmd
+      ->add_option("--noise-threshold", ra.noise_threshold,
+                   "adaptive sampling: stop pixels whose estimated error is below this (docs/scenes.md; default: the scene's "
+                   "film.noise_threshold, 0 = off)")
       ->check(finite_range(0.0, 1.0));
   render_cmd->add_option("--min-spp", ra.min_spp, "adaptive sampling: samples before a pixel may stop (default: automatic)")
       ->transform(whole_range(1, 1 << 20));
   render_cmd->add_option("--time", ra.time_s, "time budget in seconds: passes until it ends (with --spp as a cap)")
       ->check(finite_range(0.001, 1e6));
-  render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")->transform(whole_range(1, 1024));
+  render_cmd->add_option("--max-depth", ra.max_depth, "path length limit (default: the scene's)")
+      ->transform(whole_range(1, 1024));
   auto* exposure_opt = render_cmd->add_option("--exposure", ra.exposure, "exposure in stops (PNG output only)")
-      ->check(finite_range(-30.0, 30.0))->capture_default_str();
+                           ->check(finite_range(-30.0, 30.0))
+                           ->capture_default_str();
   auto* tonemap_opt = render_cmd->add_option("--tonemap", ra.tonemap, "PNG tone curve: aces (default) or clamp (PNG output only)")
-      ->check(CLI::IsMember({"aces", "clamp"}));
-  render_cmd->add_option("--backend", ra.backend,
-                         "cpu (default: the path tracer) or gl (direct light of point and directional lights through OpenGL, "
-                         "headless; docs/scenes.md, \"GL backend\")")
+                          ->check(CLI::IsMember({"aces", "clamp"}));
+  render_cmd
+      ->add_option("--backend", ra.backend,
+                   "cpu (default: the path tracer) or gl (direct light of point and directional lights through OpenGL, "
+                   "headless; docs/scenes.md, \"GL backend\")")
       ->check(CLI::IsMember({"cpu", "gl"}));
   render_cmd->add_flag("--print-scene", ra.print_scene, "print the scene document that would be rendered, and exit");
 
@@ -797,7 +840,8 @@ int main(int argc, char** argv) {
                  near.empty() ? "" : fmt::format("; did you mean {}?", near), command_list(app));
       return 2;
     }
-    if (const std::string msg = unknown_option_message(*cmd, fmt::format("aniso {}", cmd->get_name()), argc, argv, 2); !msg.empty()) {
+    if (const std::string msg = unknown_option_message(*cmd, fmt::format("aniso {}", cmd->get_name()), argc, argv, 2);
+        !msg.empty()) {
       fmt::print(stderr, "aniso: error: {}\n", msg);
       return 2;
     }
@@ -829,18 +873,25 @@ int main(int argc, char** argv) {
   ra.tone_given = exposure_opt->count() > 0 || tonemap_opt->count() > 0;
   try {
     int rc = 1;
-    if (eval->parsed()) rc = cmd_eval(material, angles);
+    if (eval->parsed())
+      rc = cmd_eval(material, angles);
     else if (sample->parsed())
-      rc = cmd_sample(material, wo, parse_unsigned(count_text, kMaxCount, "--count"), parse_unsigned(seed_text, UINT64_MAX, "--seed"));
+      rc = cmd_sample(material, wo, parse_unsigned(count_text, kMaxCount, "--count"),
+                      parse_unsigned(seed_text, UINT64_MAX, "--seed"));
     else if (albedo->parsed()) {
       const uint64_t n = parse_unsigned(samples_text, kMaxSamples, "--samples");
       if (n == 0) throw InputError(fmt::format("--samples: expected a whole number in [1, {}], got 0", kMaxSamples));
       rc = cmd_albedo(material, theta, phi, n, parse_unsigned(seed_text, UINT64_MAX, "--seed"));
-    } else if (fresnel->parsed()) rc = cmd_fresnel(fa);
-    else if (metals_cmd->parsed()) rc = cmd_metals();
-    else if (presets_cmd->parsed()) rc = cmd_presets(show, show_opt->count() > 0);
-    else if (models->parsed()) rc = cmd_models(markdown, only_model, model_opt->count() > 0);
-    else if (render_cmd->parsed()) rc = cmd_render(ra);
+    } else if (fresnel->parsed())
+      rc = cmd_fresnel(fa);
+    else if (metals_cmd->parsed())
+      rc = cmd_metals();
+    else if (presets_cmd->parsed())
+      rc = cmd_presets(show, show_opt->count() > 0);
+    else if (models->parsed())
+      rc = cmd_models(markdown, only_model, model_opt->count() > 0);
+    else if (render_cmd->parsed())
+      rc = cmd_render(ra);
     flush_stdout();
     return finish(rc);
   } catch (const InputError& e) {

@@ -6,9 +6,9 @@
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 
 #include <algorithm>
 #include <chrono>
@@ -59,8 +59,8 @@ struct LitView {
   const render::Scene* base = nullptr;  // the parsed scene the rasteriser was built from
   std::string key;                      // what was last drawn (material, light, camera, size)
   viewgl::RenderTarget display;
-  std::string error;                    // shown in the view instead of the picture
-  bool scaled = false;                  // drawn at the interactive scale (below the view's size)
+  std::string error;    // shown in the view instead of the picture
+  bool scaled = false;  // drawn at the interactive scale (below the view's size)
 };
 
 class App {
@@ -120,7 +120,6 @@ void App::report(const std::string& action, const std::exception& e) {
   fmt::print(stderr, "aniso view: error: {}\n", ex.last_error);
 }
 
-
 // A save or export of the window's buttons and of the script actions: the file written atomically
 // (cmd_export.cpp) and one line saying what went where, on stdout as `aniso render` and `aniso
 // export` say it (docs/cli.md, "Output streams"); on stderr when the file itself went to stdout ("-").
@@ -163,8 +162,10 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
     for (const std::string& c : choices)
       if (ImGui::Selectable(c.c_str(), c == slot.source)) {
         try {
-          if (is_a) ex.load_material_a(c);
-          else ex.load_material_b(c);
+          if (is_a)
+            ex.load_material_a(c);
+          else
+            ex.load_material_b(c);
           ex.last_error.clear();
           after_change();
         } catch (const std::exception& e) {
@@ -204,8 +205,11 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
         float c[3];
         for (int i = 0; i < 3; ++i) c[i] = s.value.is_array() ? s.value[size_t(i)].get<float>() : s.value.get<float>();
         bool changed = false;
-        if (s.lo >= 0.0 && s.hi <= 1.0) changed = ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float);
-        else changed = ImGui::SliderFloat3(label, c, float(s.lo), float(s.hi), "%.3g", s.log_scale ? ImGuiSliderFlags_Logarithmic : 0);
+        if (s.lo >= 0.0 && s.hi <= 1.0)
+          changed = ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float);
+        else
+          changed =
+              ImGui::SliderFloat3(label, c, float(s.lo), float(s.hi), "%.3g", s.log_scale ? ImGuiSliderFlags_Logarithmic : 0);
         if (changed) next = json::array({double(c[0]), double(c[1]), double(c[2])});
         break;
       }
@@ -254,7 +258,8 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
   if (slot.edit.contains("lobes") && slot.edit["lobes"].is_array()) {
     json lobes = slot.edit["lobes"];
     bool changed = false;
-    if (ImGui::SmallButton("+ lobe") && lobes.size() < 8) lobes.push_back({{"cx", -1.0}, {"cy", -1.0}, {"cz", 1.0}, {"n", 10.0}}), changed = true;
+    if (ImGui::SmallButton("+ lobe") && lobes.size() < 8)
+      lobes.push_back({{"cx", -1.0}, {"cy", -1.0}, {"cz", 1.0}, {"n", 10.0}}), changed = true;
     ImGui::SameLine();
     if (ImGui::SmallButton("- lobe") && lobes.size() > 1) lobes.erase(lobes.size() - 1), changed = true;
     if (changed) {
@@ -272,8 +277,10 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
   input_path("file", path);
   if (ImGui::Button("Load")) {
     try {
-      if (is_a) ex.load_material_a(path);
-      else ex.load_material_b(path);
+      if (is_a)
+        ex.load_material_a(path);
+      else
+        ex.load_material_b(path);
       ex.last_error.clear();
       after_change();
     } catch (const std::exception& e) {
@@ -347,7 +354,8 @@ void App::light_widget() {
   if (ImGui::SliderFloat("theta", &theta, 0.0f, 89.0f, "%.1f deg")) ex.light.theta_deg = theta, after_change();
   if (ImGui::SliderFloat("phi", &phi, -180.0f, 180.0f, "%.1f deg")) ex.light.phi_deg = phi, after_change();
   float e = float(ex.light_irradiance);
-  if (ImGui::SliderFloat("irradiance", &e, 0.1f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) ex.light_irradiance = e, after_change();
+  if (ImGui::SliderFloat("irradiance", &e, 0.1f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic))
+    ex.light_irradiance = e, after_change();
   ImGui::SliderFloat("exposure", &exposure_, -6.0f, 6.0f, "%.1f stops");
 }
 
@@ -403,8 +411,10 @@ void App::tangent_controls() {
   const bool structural = !saved.map_path.empty() || !t.map_path.empty() || saved.field == "uv" || t.field == "uv";
   ex.tangent = t;
   try {
-    if (structural) ex.refresh();
-    else (void)ex.tangent_field();  // validates
+    if (structural)
+      ex.refresh();
+    else
+      (void)ex.tangent_field();  // validates
     ex.last_error.clear();
     after_change();
   } catch (const std::exception& e) {
@@ -493,9 +503,9 @@ void App::view_lit(LitView& v, view::ObjectKind kind, const view::MaterialSlot& 
   const int w = std::max(8, int(std::lround(display_w * scale))), h = std::max(8, int(std::lround(display_h * scale)));
 #if ANISO_VIEW_HAVE_RASTER
   const std::shared_ptr<const render::Scene>& base = kind == view::ObjectKind::Sphere ? ex.sphere_base : ex.object_base;
-  const std::string key = fmt::format("{} {} {} {} {} {} {} {} {} {} {}", slot.edit.dump(), ex.light.theta_deg, ex.light.phi_deg,
-                                      ex.light_irradiance, ex.tangent.to_json().dump(), ex.camera.yaw_deg, ex.camera.pitch_deg,
-                                      ex.camera.distance, w, h, exposure_);
+  const std::string key =
+      fmt::format("{} {} {} {} {} {} {} {} {} {} {}", slot.edit.dump(), ex.light.theta_deg, ex.light.phi_deg, ex.light_irradiance,
+                  ex.tangent.to_json().dump(), ex.camera.yaw_deg, ex.camera.pitch_deg, ex.camera.distance, w, h, exposure_);
   if (key == v.key && base.get() == v.base) return;
   v.key = key;
   try {
@@ -537,7 +547,8 @@ void App::draw_sphere(float w, float h, LitView& v, view::ObjectKind kind) {
   drag_camera(ImGui::IsItemActive());
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->AddImage(tex_id(v.display.texture()), p, ImVec2(p.x + w, p.y + h), ImVec2(0, 1), ImVec2(1, 0));
-  if (!v.error.empty()) dl->AddText(nullptr, 0.0f, ImVec2(p.x + 6, p.y + 6), IM_COL32(255, 110, 110, 255), v.error.c_str(), nullptr, w - 12);
+  if (!v.error.empty())
+    dl->AddText(nullptr, 0.0f, ImVec2(p.x + 6, p.y + 6), IM_COL32(255, 110, 110, 255), v.error.c_str(), nullptr, w - 12);
 }
 
 // Two polar plots of material A (orange) and B (blue): the plane of incidence (phi = phi_light)
@@ -589,7 +600,8 @@ void App::draw_lobe(float w, float h) {
   const Vec3T<double> wi = ex.light.local();
   const std::string key = fmt::format("{} {} {} {}", ex.a.edit.dump(), ex.light.theta_deg, ex.light.phi_deg, times_cos_);
   if (key != lobe_key_) {
-    lobe_->upload(view::lobe_mesh(ex.a.kernel, wi, 90, 360, times_cos_), glm::vec3(wi));  // 1-degree steps: sharp lobes stay smooth
+    lobe_->upload(view::lobe_mesh(ex.a.kernel, wi, 90, 360, times_cos_),
+                  glm::vec3(wi));  // 1-degree steps: sharp lobes stay smooth
     lobe_key_ = key;
   }
   lobe_target_.resize(int(w), int(h));
@@ -668,7 +680,8 @@ void App::draw_compare(float w, float h) {
 #endif
   // Split: A's left half beside B's right half of the same sphere.
   dl->AddImage(tex_id(cmp_a_.display.texture()), p, ImVec2(p.x + w / 2, p.y + h), ImVec2(0, 1), ImVec2(0.5f, 0));
-  dl->AddImage(tex_id(cmp_b_.display.texture()), ImVec2(p.x + w / 2, p.y), ImVec2(p.x + w, p.y + h), ImVec2(0.5f, 1), ImVec2(1, 0));
+  dl->AddImage(tex_id(cmp_b_.display.texture()), ImVec2(p.x + w / 2, p.y), ImVec2(p.x + w, p.y + h), ImVec2(0.5f, 1),
+               ImVec2(1, 0));
   dl->AddLine(ImVec2(p.x + w / 2, p.y), ImVec2(p.x + w / 2, p.y + h), IM_COL32(255, 255, 255, 160));
   // Each caption within its own half (4 pixels from each side), shortened with "..." when the
   // material's name is wider than that: they never run into each other.
@@ -677,15 +690,17 @@ void App::draw_compare(float w, float h) {
   dl->AddText(ImVec2(p.x + 4, p.y + 4), kColA, view::ellipsize("A " + ex.a.label(), half, text_width).c_str());
   dl->AddText(ImVec2(p.x + w / 2 + 4, p.y + 4), kColB, view::ellipsize("B " + ex.b.label(), half, text_width).c_str());
   for (const LitView* v : {&cmp_a_, &cmp_b_})
-    if (!v->error.empty()) dl->AddText(nullptr, 0.0f, ImVec2(p.x + 6, p.y + 24), IM_COL32(255, 110, 110, 255), v->error.c_str(), nullptr, w - 12);
+    if (!v->error.empty())
+      dl->AddText(nullptr, 0.0f, ImVec2(p.x + 6, p.y + 24), IM_COL32(255, 110, 110, 255), v->error.c_str(), nullptr, w - 12);
 }
 
 // The path-traced preview of the lit object's scene (or the --scene file).
 void App::draw_preview(float w, float h) {
   const int pw = std::max(16, int(w)), ph = std::max(16, int(h));
-  const std::string key = fmt::format("{} {} {} {} {} {} {} {} {} {} {} {}", ex.a.edit.dump(), ex.light.theta_deg, ex.light.phi_deg,
-                                      ex.light_irradiance, ex.tangent.to_json().dump(), ex.camera.yaw_deg, ex.camera.pitch_deg,
-                                      ex.camera.distance, static_cast<const void*>(ex.object_base.get()), pw, ph, ex.scene_path);
+  const std::string key =
+      fmt::format("{} {} {} {} {} {} {} {} {} {} {} {}", ex.a.edit.dump(), ex.light.theta_deg, ex.light.phi_deg,
+                  ex.light_irradiance, ex.tangent.to_json().dump(), ex.camera.yaw_deg, ex.camera.pitch_deg, ex.camera.distance,
+                  static_cast<const void*>(ex.object_base.get()), pw, ph, ex.scene_path);
   // Restarted once the camera (and everything else) has been still for 0.3 s: while a slider or
   // the light is dragged the path tracer does not compete with the window for the cores.
   const bool moving = Clock::now() - camera_moved_ < std::chrono::milliseconds(300);
@@ -728,25 +743,32 @@ void App::views_grid(float x0, float width, float height) {
   const int rows = (n + cols - 1) / cols;
   const float cw = width / float(cols), rh = height / float(rows);
   static const std::map<std::string, std::string> titles = {
-      {"sphere", "Lit sphere (GL)"}, {"object", "Lit object (GL)"}, {"polar", "Polar plot"}, {"lobe", "3D lobe"},
-      {"albedo", "Directional albedo"}, {"compare", "A/B compare"}, {"preview", "Path traced (CPU)"}};
+      {"sphere", "Lit sphere (GL)"},    {"object", "Lit object (GL)"}, {"polar", "Polar plot"},         {"lobe", "3D lobe"},
+      {"albedo", "Directional albedo"}, {"compare", "A/B compare"},    {"preview", "Path traced (CPU)"}};
   for (int i = 0; i < n; ++i) {
     const std::string& v = shown[size_t(i)];
     ImGui::SetNextWindowPos(ImVec2(x0 + cw * float(i % cols), rh * float(i / cols)));
     ImGui::SetNextWindowSize(ImVec2(cw, rh));
     ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(2, 2));
     ImGui::Begin(titles.at(v).c_str(), nullptr,
-                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoScrollbar |
-                     ImGuiWindowFlags_NoScrollWithMouse);
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                     ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
     const ImVec2 avail = ImGui::GetContentRegionAvail();
     const float w = std::max(avail.x, 16.0f), h = std::max(avail.y, 16.0f);
-    if (v == "sphere") draw_sphere(w, h, sphere_, view::ObjectKind::Sphere);
-    else if (v == "object") draw_sphere(w, h, object_, view::ObjectKind::Object);
-    else if (v == "polar") draw_polar(w, h);
-    else if (v == "lobe") draw_lobe(w, h);
-    else if (v == "albedo") draw_albedo(w, h);
-    else if (v == "compare") draw_compare(w, h);
-    else if (v == "preview") draw_preview(w, h);
+    if (v == "sphere")
+      draw_sphere(w, h, sphere_, view::ObjectKind::Sphere);
+    else if (v == "object")
+      draw_sphere(w, h, object_, view::ObjectKind::Object);
+    else if (v == "polar")
+      draw_polar(w, h);
+    else if (v == "lobe")
+      draw_lobe(w, h);
+    else if (v == "albedo")
+      draw_albedo(w, h);
+    else if (v == "compare")
+      draw_compare(w, h);
+    else if (v == "preview")
+      draw_preview(w, h);
     ImGui::End();
     ImGui::PopStyleVar();
   }
@@ -756,7 +778,7 @@ void App::save_screenshot(const std::string& path) {
   int w = 0, h = 0;
   glfwGetFramebufferSize(window_, &w, &h);
   try {
-    render::write_png(path, viewgl::read_window(w, h));  // temp file + rename (render/image.h)
+    render::write_png(path, viewgl::read_window(w, h));       // temp file + rename (render/image.h)
     fmt::print("wrote {} ({}x{} screenshot)\n", path, w, h);  // as write_reported()
   } catch (const std::exception& e) {
     report("screenshot " + path, e);
@@ -786,7 +808,8 @@ void App::frame(bool last) {
 }
 
 int App::run() {
-  for (const std::string& v : kViewNames) open[v] = opt_.views.empty() || std::find(opt_.views.begin(), opt_.views.end(), v) != opt_.views.end();
+  for (const std::string& v : kViewNames)
+    open[v] = opt_.views.empty() || std::find(opt_.views.begin(), opt_.views.end(), v) != opt_.views.end();
   display_ = std::make_unique<viewgl::DisplayPass>();
   lobe_ = std::make_unique<viewgl::LobeRenderer>();
   difference_ = opt_.compare == "difference";
@@ -861,7 +884,8 @@ int run_view(const ViewOptions& o) {
 
   glfwSetErrorCallback(on_glfw_error);
   GlfwSession session;
-  if (!glfwInit()) throw WindowUnavailable(fmt::format("cannot open a window: {} (no display? run under xvfb-run)", g_glfw_error));
+  if (!glfwInit())
+    throw WindowUnavailable(fmt::format("cannot open a window: {} (no display? run under xvfb-run)", g_glfw_error));
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);

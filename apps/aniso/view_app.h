@@ -17,18 +17,18 @@ struct ViewOptions {
   std::string scene;                      // --scene: the path-traced preview renders this file
   std::vector<std::string> set, set_b;    // key=value on A, on B
   int width = 1280, height = 720;
-  int frames = 0;           // > 0: render this many frames, then exit (screenshot after the last)
-  std::string screenshot;   // PNG written after the last frame
+  int frames = 0;                  // > 0: render this many frames, then exit (screenshot after the last)
+  std::string screenshot;          // PNG written after the last frame
   std::vector<std::string> views;  // empty: all
   double light_theta_deg = 35.0, light_phi_deg = 20.0;
   double tangent_angle_deg = 0.0;
   double camera_yaw_deg = 0.0, camera_pitch_deg = 0.0;  // the orbit camera
-  std::string tangent_field;  // "" = natural
-  std::string compare = "split";  // split | difference
+  std::string tangent_field;                            // "" = natural
+  std::string compare = "split";                        // split | difference
   bool log_scale = false, times_cos = false;
-  bool animate = false;     // turn the light 3 degrees a frame (speed measurements: every view redraws)
-  int preview_spp = 4;      // scripted runs: the preview's samples per pixel before the last frame
-  int subsamples = 1;       // the rasteriser's sub-pixel positions per axis
+  bool animate = false;  // turn the light 3 degrees a frame (speed measurements: every view redraws)
+  int preview_spp = 4;   // scripted runs: the preview's samples per pixel before the last frame
+  int subsamples = 1;    // the rasteriser's sub-pixel positions per axis
   // The lit views' resolution while something changes (a slider or the light dragged, --animate),
   // relative to the view's size; full resolution 0.3 s after the last change. 1: always full.
   double interactive_scale = 0.5;

@@ -193,8 +193,30 @@ void LobeRenderer::upload(const view::LobeMesh& mesh, const glm::vec3& wi_local)
   glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, 4 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
   index_count_ = int(mesh.indices.size());
   // Axes: the normal (value -1), the tangent (-2), the light direction (-3), from the origin.
-  const float lines[] = {0, 0, 0, -1, 0, 0, 1.2f, -1, 0, 0, 0, -2, 1.2f, 0, 0, -2,
-                         0, 0, 0, -3, 1.3f * wi_local.x, 1.3f * wi_local.y, 1.3f * wi_local.z, -3};
+  const float lines[] = {0,
+                         0,
+                         0,
+                         -1,
+                         0,
+                         0,
+                         1.2f,
+                         -1,
+                         0,
+                         0,
+                         0,
+                         -2,
+                         1.2f,
+                         0,
+                         0,
+                         -2,
+                         0,
+                         0,
+                         0,
+                         -3,
+                         1.3f * wi_local.x,
+                         1.3f * wi_local.y,
+                         1.3f * wi_local.z,
+                         -3};
   glBindVertexArray(line_vao_);
   glBindBuffer(GL_ARRAY_BUFFER, line_vbo_);
   glBufferData(GL_ARRAY_BUFFER, sizeof lines, lines, GL_DYNAMIC_DRAW);

@@ -59,7 +59,8 @@ template <typename T> std::vector<double> time_evaluate(const MaterialDesc& desc
 }
 
 // The same for evaluate_interleaved: rows in, RGB rows out (the layout of a C-ordered NumPy array).
-template <typename T> std::vector<double> time_evaluate_interleaved(const MaterialDesc& desc, const std::vector<double>& rows, int reps) {
+template <typename T>
+std::vector<double> time_evaluate_interleaved(const MaterialDesc& desc, const std::vector<double>& rows, int reps) {
   const MaterialT<T> m = build_material<T>(desc);
   const size_t n = rows.size() / 6;
   std::vector<T> wi(3 * n), wo(3 * n), f(3 * n);
@@ -93,8 +94,9 @@ template <typename T> void dump(const MaterialDesc& desc, const std::vector<doub
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
   if (argc != 5 || (mode != "time" && mode != "dump")) {
-    std::fprintf(stderr, "usage: aniso_batch_eval_cpp time PAIRS.bin MATERIAL REPS\n"
-                         "       aniso_batch_eval_cpp dump PAIRS.bin MATERIAL OUT.bin\n");
+    std::fprintf(stderr,
+                 "usage: aniso_batch_eval_cpp time PAIRS.bin MATERIAL REPS\n"
+                 "       aniso_batch_eval_cpp dump PAIRS.bin MATERIAL OUT.bin\n");
     return 2;
   }
   std::ifstream in(argv[2], std::ios::binary | std::ios::ate);

@@ -31,12 +31,13 @@ RowsView rows_view(const py::handle& obj, const char* name, int columns) {
     a = a.attr("astype")(np.attr("float64"));  // integers and float16 (exactly representable): computed in double
   } else if (kind == 'f') {
     // long double (float96, float128): rounding it to double would lose its extra digits unasked.
-    throw py::value_error(fmt::format("{}: expected {} of float32 or float64 (or float16, integers), got dtype {}: "
-                                      "convert it with .astype(numpy.float64) if double precision is enough",
-                                      name, expected, std::string(py::str(a.dtype()))));
+    throw py::value_error(
+        fmt::format("{}: expected {} of float32 or float64 (or float16, integers), got dtype {}: "
+                    "convert it with .astype(numpy.float64) if double precision is enough",
+                    name, expected, std::string(py::str(a.dtype()))));
   } else {
-    throw py::value_error(fmt::format("{}: expected {} of float32 or float64 (or integers), got dtype {}", name,
-                                      expected, std::string(py::str(a.dtype()))));
+    throw py::value_error(fmt::format("{}: expected {} of float32 or float64 (or integers), got dtype {}", name, expected,
+                                      std::string(py::str(a.dtype()))));
   }
   if (a.ndim() == 1 && a.shape(0) == columns) {
     v.single = true;
@@ -64,9 +65,10 @@ size_t common_rows(std::initializer_list<std::pair<const char*, const RowsView*>
       first = name;
       n = v->rows;
     } else if (v->rows != n) {
-      throw py::value_error(fmt::format("{} and {}: expected the same number of rows N (or one of them of shape (3,)), "
-                                        "got {} and {}",
-                                        first, name, n, v->rows));
+      throw py::value_error(
+          fmt::format("{} and {}: expected the same number of rows N (or one of them of shape (3,)), "
+                      "got {} and {}",
+                      first, name, n, v->rows));
     }
   }
   return n;

@@ -4,8 +4,8 @@
 // parse_material, build_material), so that Python accepts and rejects exactly what the CLI does,
 // with the same messages; evaluation goes through the batch API (aniso/batch/batch.h) on the
 // caller's arrays (python/src/arrays.h), the GIL released; scenes are read and rendered by
-// src/render, fits run by src/fit (as `aniso fit`), GLSL written by src/gl. The Python package (python/aniso/__init__.py) adds the
-// per-model constructors and direction helpers on top.
+// src/render, fits run by src/fit (as `aniso fit`), GLSL written by src/gl. The Python package (python/aniso/__init__.py) adds
+// the per-model constructors and direction helpers on top.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -96,7 +96,7 @@ class FromPy {
       const long long v = PyLong_AsLongLongAndOverflow(h.ptr(), &overflow);
       if (overflow == 0) return int64_t(v);
       const double d = PyLong_AsDouble(h.ptr());  // beyond int64: a (huge) number, which the range check rejects
-      if (d == -1.0 && PyErr_Occurred()) {  // beyond double (10**400): OverflowError, cleared
+      if (d == -1.0 && PyErr_Occurred()) {        // beyond double (10**400): OverflowError, cleared
         PyErr_Clear();
         fail(path, fmt::format("expected a number, got an integer of {} decimal digits, beyond the range of a double (1.8e308)",
                                py::len(py::str(py::reinterpret_steal<py::object>(PyNumber_Absolute(h.ptr()))))));
@@ -119,7 +119,8 @@ class FromPy {
       json out = is_dict ? json::object() : json::array();
       if (is_dict) {
         for (const auto& [k, v] : h.cast<py::dict>()) {
-          if (!py::isinstance<py::str>(k)) fail(path, fmt::format("expected string keys, got the key {}", std::string(py::repr(k))));
+          if (!py::isinstance<py::str>(k))
+            fail(path, fmt::format("expected string keys, got the key {}", std::string(py::repr(k))));
           const std::string key = text(k, path, "a key");
           out[key] = convert(v, path.empty() ? key : path + "." + key);
         }
@@ -133,7 +134,8 @@ class FromPy {
     const py::module_ np = py::module_::import("numpy");
     if (py::isinstance(h, np.attr("ndarray"))) return convert(h.attr("tolist")(), path);
     if (py::isinstance(h, np.attr("generic"))) return convert(h.attr("item")(), path);
-    fail(path, fmt::format("expected a number, string, bool, list or dict, got {}", std::string(py::str(py::type::of(h).attr("__name__")))));
+    fail(path, fmt::format("expected a number, string, bool, list or dict, got {}",
+                           std::string(py::str(py::type::of(h).attr("__name__")))));
     return nullptr;
   }
 
@@ -181,15 +183,18 @@ json apply_overrides(json base, const py::kwargs& overrides, const std::string& 
     const std::string key = k.cast<std::string>();
     if (key == "model") {
       if (v.cast<py::object>().equal(py::str(base.value("model", "")))) continue;
-      throw py::value_error(fmt::format("{}: model: cannot be changed by a keyword argument (got \"{}\"); start from "
-                                        "Material(model=..., ...) or a dict",
-                                        where, std::string(py::str(v))));
+      throw py::value_error(
+          fmt::format("{}: model: cannot be changed by a keyword argument (got \"{}\"); start from "
+                      "Material(model=..., ...) or a dict",
+                      where, std::string(py::str(v))));
     }
     if (spec)
       if (const ParamSpec* p = spec->find(key); p && !p->sets[0].empty())
         for (std::string_view half : p->sets) base.erase(std::string(half));
-    if (v.is_none()) base.erase(key);
-    else base[key] = from_py(v, where, key);
+    if (v.is_none())
+      base.erase(key);
+    else
+      base[key] = from_py(v, where, key);
   }
   return base;
 }
@@ -199,8 +204,9 @@ PyMaterial make_material(const py::object& x, const py::kwargs& kw) {
   const std::string inline_where = "inline material";
   if (x.is_none()) {
     if (kw.empty())
-      throw py::value_error("Material(): expected a preset name, a dict, a file path, inline JSON, or keyword "
-                            "arguments with \"model\" (aniso.presets() lists the presets)");
+      throw py::value_error(
+          "Material(): expected a preset name, a dict, a file path, inline JSON, or keyword "
+          "arguments with \"model\" (aniso.presets() lists the presets)");
     py::dict d;
     for (const auto& [k, v] : kw) d[k] = v;
     return PyMaterial(parse_material(from_py(d, inline_where, ""), inline_where), inline_where);
@@ -219,7 +225,8 @@ PyMaterial make_material(const py::object& x, const py::kwargs& kw) {
                                       std::string(py::str(py::type::of(x).attr("__name__")))));
   }
   if (kw.empty()) return std::move(*base);
-  const std::string where = fmt::format("{} with keyword arguments", base->desc.params.where.empty() ? base->what : base->desc.params.where);
+  const std::string where =
+      fmt::format("{} with keyword arguments", base->desc.params.where.empty() ? base->what : base->desc.params.where);
   return PyMaterial(parse_material(apply_overrides(base->resolved(), kw, where), where), base->what);
 }
 
@@ -251,8 +258,7 @@ template <typename T> T* scratch(size_t arrays) {
   return buf.data();
 }
 
-template <typename T, typename S>
-void gather_as(const RowsView& v, size_t begin, size_t len, T* x, T* y, T* z, uint8_t* bad) {
+template <typename T, typename S> void gather_as(const RowsView& v, size_t begin, size_t len, T* x, T* y, T* z, uint8_t* bad) {
   const py::ssize_t rs = v.single ? 0 : v.row_stride, cs = v.col_stride;
   const char* base = v.data + py::ssize_t(v.single ? 0 : begin) * rs;
   for (size_t i = 0; i < len; ++i) {
@@ -275,8 +281,10 @@ template <typename T> void gather(const RowsView& v, size_t begin, size_t len, T
   if (contiguous && v.f32) return deinterleave(reinterpret_cast<const float*>(v.data) + 3 * begin, len, x, y, z, bad);
   if constexpr (std::is_same_v<T, double>)
     if (contiguous) return deinterleave(reinterpret_cast<const double*>(v.data) + 3 * begin, len, x, y, z, bad);
-  if (v.f32) gather_as<T, float>(v, begin, len, x, y, z, bad);
-  else gather_as<T, double>(v, begin, len, x, y, z, bad);
+  if (v.f32)
+    gather_as<T, float>(v, begin, len, x, y, z, bad);
+  else
+    gather_as<T, double>(v, begin, len, x, y, z, bad);
 }
 
 // The three columns of v as arrays the batch API can read in place: v holds T and each column is
@@ -317,7 +325,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The caller's `out` array, checked: the dtype the computation runs in, the result's shape,
 // C-contiguous and writeable. None: a new array.
-template <typename T> py::array_t<T> out_array(const py::object& out, size_t n, bool single, int columns, const char* name = "out") {
+template <typename T>
+py::array_t<T> out_array(const py::object& out, size_t n, bool single, int columns, const char* name = "out") {
   if (out.is_none()) {
     if (columns == 0) return py::array_t<T>(std::vector<py::ssize_t>{single ? 1 : py::ssize_t(n)});
     return rows_out<T>(n, single, columns);
@@ -325,8 +334,10 @@ template <typename T> py::array_t<T> out_array(const py::object& out, size_t n, 
   const char* dtype = std::is_same_v<T, float> ? "float32" : "float64";
   const std::string shape = columns == 0 ? (single ? "()" : fmt::format("({},)", n))
                                          : (single ? fmt::format("({},)", columns) : fmt::format("({}, {})", n, columns));
-  const std::string want = fmt::format("{}: expected a writeable C- or Fortran-contiguous {} array of shape {} (the inputs' dtype and rows)", name, dtype, shape);
-  if (!py::isinstance<py::array>(out)) throw py::value_error(fmt::format("{}, got {}", want, std::string(py::str(py::type::of(out).attr("__name__")))));
+  const std::string want = fmt::format(
+      "{}: expected a writeable C- or Fortran-contiguous {} array of shape {} (the inputs' dtype and rows)", name, dtype, shape);
+  if (!py::isinstance<py::array>(out))
+    throw py::value_error(fmt::format("{}, got {}", want, std::string(py::str(py::type::of(out).attr("__name__")))));
   const py::array a = out.cast<py::array>();
   std::vector<py::ssize_t> expected;
   if (columns == 0) {
@@ -360,8 +371,8 @@ template <typename T> bool interleaved_rows(const RowsView& v, T (&row)[3], batc
   return true;
 }
 
-template <typename T>
-py::array_t<T> eval_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n, bool single, const py::object& out_in) {
+template <typename T> py::array_t<T> eval_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n,
+                                                bool single, const py::object& out_in) {
   py::array_t<T> out = out_array<T>(out_in, n, single, 3);
   T* f = out.mutable_data();
   // A Fortran-ordered `out` (columns contiguous) is written in place, without the interleave.
@@ -405,8 +416,8 @@ py::array_t<T> eval_typed(const MaterialT<T>& m, const RowsView& wi, const RowsV
   return out;
 }
 
-template <typename T>
-py::array_t<T> pdf_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n, bool single, const py::object& out_in) {
+template <typename T> py::array_t<T> pdf_typed(const MaterialT<T>& m, const RowsView& wi, const RowsView& wo, size_t n,
+                                               bool single, const py::object& out_in) {
   py::array_t<T> out = out_array<T>(out_in, n, single, 0);
   T* p = out.mutable_data();
   T row_i[3], row_o[3];
@@ -456,7 +467,8 @@ void normalize_rows(RowsView& v, const char* name) {
   }
   if (unit) return;
   const py::ssize_t rows = py::ssize_t(v.rows);
-  py::array copy = v.f32 ? py::array(py::array_t<float>({rows, py::ssize_t(3)})) : py::array(py::array_t<double>({rows, py::ssize_t(3)}));
+  py::array copy =
+      v.f32 ? py::array(py::array_t<float>({rows, py::ssize_t(3)})) : py::array(py::array_t<double>({rows, py::ssize_t(3)}));
   char* base = static_cast<char*>(copy.mutable_data());
   size_t zero_row = SIZE_MAX;
   {
@@ -473,8 +485,10 @@ void normalize_rows(RowsView& v, const char* name) {
         u = *nw;
       }
       for (int c = 0; c < 3; ++c) {
-        if (v.f32) reinterpret_cast<float*>(base)[3 * r + size_t(c)] = float(u[c]);
-        else reinterpret_cast<double*>(base)[3 * r + size_t(c)] = u[c];
+        if (v.f32)
+          reinterpret_cast<float*>(base)[3 * r + size_t(c)] = float(u[c]);
+        else
+          reinterpret_cast<double*>(base)[3 * r + size_t(c)] = u[c];
       }
     }
   }
@@ -502,8 +516,10 @@ py::object material_pdf(const PyMaterial& m, const py::object& wi_in, const py::
   normalize_rows(wo, "wo");
   const bool single = wi.single && wo.single;
   if (!out.is_none()) {  // the caller's array, as given (0-d for one pair)
-    if (all_f32({&wi, &wo})) pdf_typed<float>(m.mf, wi, wo, n, single, out);
-    else pdf_typed<double>(m.md, wi, wo, n, single, out);
+    if (all_f32({&wi, &wo}))
+      pdf_typed<float>(m.mf, wi, wo, n, single, out);
+    else
+      pdf_typed<double>(m.md, wi, wo, n, single, out);
     return out;
   }
   if (all_f32({&wi, &wo})) return scalar_or_rows(pdf_typed<float>(m.mf, wi, wo, n, single, out), single);
@@ -514,12 +530,13 @@ py::object material_pdf(const PyMaterial& m, const py::object& wi_in, const py::
 // is taken as the largest number below 1. True when u needs no change.
 template <typename T> bool uniforms_ok(const T* uc, const T* u0, const T* u1, size_t len) {
   bool ok = true;
-  for (size_t i = 0; i < len; ++i) ok &= (uc[i] >= T(0)) & (uc[i] < T(1)) & (u0[i] >= T(0)) & (u0[i] < T(1)) & (u1[i] >= T(0)) & (u1[i] < T(1));
+  for (size_t i = 0; i < len; ++i)
+    ok &= (uc[i] >= T(0)) & (uc[i] < T(1)) & (u0[i] >= T(0)) & (u0[i] < T(1)) & (u1[i] >= T(0)) & (u1[i] < T(1));
   return ok;
 }
 
-template <typename T>
-py::tuple sample_typed(const MaterialT<T>& m, const RowsView& wo, const RowsView& u, size_t n, bool single, const py::object& out) {
+template <typename T> py::tuple sample_typed(const MaterialT<T>& m, const RowsView& wo, const RowsView& u, size_t n, bool single,
+                                             const py::object& out) {
   py::array_t<T> wi_out, weight_out, pdf_out;
   if (out.is_none()) {
     wi_out = rows_out<T>(n, single, 3), weight_out = rows_out<T>(n, single, 3);
@@ -559,11 +576,11 @@ py::tuple sample_typed(const MaterialT<T>& m, const RowsView& wo, const RowsView
         for (size_t i = 0; i < len; ++i) {
           for (T* c : {uc + i, u0 + i, u1 + i}) {
             if (*c >= T(0) && *c < T(1)) continue;
-            if (*c == T(1)) *c = below_one;
+            if (*c == T(1))
+              *c = below_one;
             else if (!std::isnan(*c)) {
               size_t cur = first_out_of_range.load();
-              while (begin + i < cur && !first_out_of_range.compare_exchange_weak(cur, begin + i)) {
-              }
+              while (begin + i < cur && !first_out_of_range.compare_exchange_weak(cur, begin + i)) {}
               *c = T(0);
             }
           }
@@ -624,10 +641,12 @@ py::object material_albedo(const PyMaterial& m, const py::object& theta_in, doub
   const py::array given = np.attr("asarray")(theta_in);
   const char kind = given.dtype().kind();
   if (!(kind == 'f' || kind == 'i' || kind == 'u') || (kind == 'f' && given.dtype().itemsize() > 8))
-    throw py::value_error(fmt::format("theta: expected a number or an array of float16, float32, float64 or integers (radians), got {} of dtype {}",
-                                      std::string(py::str(py::type::of(theta_in).attr("__name__"))), std::string(py::str(given.dtype()))));
+    throw py::value_error(
+        fmt::format("theta: expected a number or an array of float16, float32, float64 or integers (radians), got {} of dtype {}",
+                    std::string(py::str(py::type::of(theta_in).attr("__name__"))), std::string(py::str(given.dtype()))));
   const py::array_t<double, py::array::c_style | py::array::forcecast> theta = np.attr("asarray")(given, "float64");
-  if (theta.ndim() > 1) throw py::value_error(fmt::format("theta: expected a number or an array of shape (N,), got shape {}", shape_text(theta)));
+  if (theta.ndim() > 1)
+    throw py::value_error(fmt::format("theta: expected a number or an array of shape (N,), got shape {}", shape_text(theta)));
   const size_t n = size_t(theta.size());
   const double* t = theta.data();
   for (size_t i = 0; i < n; ++i)
@@ -681,9 +700,12 @@ py::dict param_py(const ParamSpec& p) {
   d["required"] = p.required;
   py::object value = py::none();  // the default as a value
   if (!p.required && p.sets[0].empty()) {
-    if ((p.kind == ParamKind::Scalar || p.kind == ParamKind::Color) && !std::isnan(p.default_value)) value = py::float_(p.default_value);
-    else if (p.kind == ParamKind::Bool) value = py::bool_(p.default_value != 0.0);
-    else if (p.kind == ParamKind::Choice) value = py::str(std::string(p.choices[0]));
+    if ((p.kind == ParamKind::Scalar || p.kind == ParamKind::Color) && !std::isnan(p.default_value))
+      value = py::float_(p.default_value);
+    else if (p.kind == ParamKind::Bool)
+      value = py::bool_(p.default_value != 0.0);
+    else if (p.kind == ParamKind::Choice)
+      value = py::str(std::string(p.choices[0]));
   }
   d["default_value"] = value;
   if (p.kind == ParamKind::Scalar || p.kind == ParamKind::Color) {
@@ -736,10 +758,10 @@ std::string tables_text() {
                        default_text(p), "", 8 * depth, p.doc);
   };
   const auto nested = [&out](const ParamSpec& p, const ModelSpec& sub, int depth) {
-    out += fmt::format("{:{}}        keys of {} ({}):\n", "", 8 * depth,
-                       p.kind == ParamKind::TaggedObject ? fmt::format("{}={{\"model\": \"{}\", ...}}", p.name, sub.name)
-                                                         : std::string(p.name),
-                       sub.title);
+    out += fmt::format(
+        "{:{}}        keys of {} ({}):\n", "", 8 * depth,
+        p.kind == ParamKind::TaggedObject ? fmt::format("{}={{\"model\": \"{}\", ...}}", p.name, sub.name) : std::string(p.name),
+        sub.title);
   };
   for (const ModelSpec* m : model_specs()) {
     out += fmt::format("\nmodel=\"{}\": {} ({})\n", m->name, m->title, m->citation);
@@ -802,8 +824,8 @@ glm::dvec3 rgb_arg(const py::object& obj, const char* name, double lo, bool lo_e
   for (int i = 0; i < 3; ++i) {
     c[i] = a.data()[a.size() == 1 ? 0 : i];
     if (!((lo_exclusive ? c[i] > lo : c[i] >= lo) && c[i] <= hi))
-      throw py::value_error(fmt::format("{}: channel {}: expected a number in {}{}, {}], got {}", name, i,
-                                        lo_exclusive ? "(" : "[", lo, hi, c[i]));
+      throw py::value_error(
+          fmt::format("{}: channel {}: expected a number in {}{}, {}], got {}", name, i, lo_exclusive ? "(" : "[", lo, hi, c[i]));
   }
   return c;
 }
@@ -871,27 +893,31 @@ py::array_t<float> render_py(const py::object& scene_in, const py::object& mater
   resize_film(scene.film, int_arg(width, "width", 16, 16384, 0), int_arg(height, "height", 16, 16384, 0));
   scene.integrator.max_depth = int_arg(max_depth, "max_depth", 1, 1024, scene.integrator.max_depth);
   if (strategy) {
-    if (*strategy == "mis") scene.integrator.strategy = Strategy::Mis;
-    else if (*strategy == "bsdf") scene.integrator.strategy = Strategy::Bsdf;
-    else if (*strategy == "light") scene.integrator.strategy = Strategy::Light;
-    else throw py::value_error(fmt::format("strategy: expected one of \"mis\", \"bsdf\", \"light\", got \"{}\"", *strategy));
+    if (*strategy == "mis")
+      scene.integrator.strategy = Strategy::Mis;
+    else if (*strategy == "bsdf")
+      scene.integrator.strategy = Strategy::Bsdf;
+    else if (*strategy == "light")
+      scene.integrator.strategy = Strategy::Light;
+    else
+      throw py::value_error(fmt::format("strategy: expected one of \"mis\", \"bsdf\", \"light\", got \"{}\"", *strategy));
   }
-  if (threads < 0 || threads > 1024) throw py::value_error(fmt::format("threads: expected 0 (all cores) to 1024, got {}", threads));
+  if (threads < 0 || threads > 1024)
+    throw py::value_error(fmt::format("threads: expected 0 (all cores) to 1024, got {}", threads));
   RenderOptions ro;
   ro.threads = threads;
   ro.seed = seed;
   // Ctrl-C stops the render at the end of a pass and raises KeyboardInterrupt (Python's own
   // handler cannot run while this thread is in C++); only the main thread may take SIGINT over.
-  const bool main_thread = py::module_::import("threading").attr("current_thread")().is(
-      py::module_::import("threading").attr("main_thread")());
+  const bool main_thread =
+      py::module_::import("threading").attr("current_thread")().is(py::module_::import("threading").attr("main_thread")());
   // Renders in other threads get a flag of their own that nothing sets (Ctrl-C goes to the main thread).
   std::atomic<bool> never_cancelled{false};
   if (main_thread) g_render_interrupted.store(false);
   ro.cancel = main_thread ? &g_render_interrupted : &never_cancelled;
   const bool show = progress ? *progress : isatty(STDERR_FILENO) != 0;
   const std::string what = scene.source;
-  if (show)
-    ro.progress = [&what](double f) { std::fprintf(stderr, "\raniso.render: %s %3.0f%%", what.c_str(), 100.0 * f); };
+  if (show) ro.progress = [&what](double f) { std::fprintf(stderr, "\raniso.render: %s %3.0f%%", what.c_str(), 100.0 * f); };
   struct sigaction old_action {};
   if (main_thread) {
     struct sigaction action {};
@@ -936,7 +962,8 @@ void save_image_py(const py::object& img_in, const py::object& path_in, std::opt
   if (ext != ".png" && ext != ".exr" && ext != ".pfm")
     throw py::value_error(fmt::format("path {}: expected a .png, .exr or .pfm file name", path));
   if ((exposure || tonemap) && ext != ".png")
-    throw py::value_error(fmt::format("exposure and tonemap apply to PNG output only; {} holds linear radiance, written as given", path));
+    throw py::value_error(
+        fmt::format("exposure and tonemap apply to PNG output only; {} holds linear radiance, written as given", path));
   render::ToneMapOptions tm;
   if (exposure) {
     if (!(std::isfinite(*exposure) && *exposure >= -30.0 && *exposure <= 30.0))
@@ -944,7 +971,8 @@ void save_image_py(const py::object& img_in, const py::object& path_in, std::opt
     tm.exposure_stops = float(*exposure);
   }
   if (tonemap) {
-    if (*tonemap != "aces" && *tonemap != "clamp") throw py::value_error(fmt::format("tonemap: expected \"aces\" or \"clamp\", got \"{}\"", *tonemap));
+    if (*tonemap != "aces" && *tonemap != "clamp")
+      throw py::value_error(fmt::format("tonemap: expected \"aces\" or \"clamp\", got \"{}\"", *tonemap));
     tm.curve = *tonemap == "clamp" ? render::ToneMap::Clamp : render::ToneMap::Aces;
   }
   const py::array_t<float, py::array::c_style | py::array::forcecast> a = np.attr("ascontiguousarray")(given, "float32");
@@ -972,8 +1000,9 @@ void save_image_py(const py::object& img_in, const py::object& path_in, std::opt
 SampleSet samples_from_arrays(const py::object& wi_in, const py::object& wo_in, const py::object& value_in,
                               const py::object& weight_in) {
   if (wi_in.is_none() || wo_in.is_none() || value_in.is_none())
-    throw py::value_error("fit(): expected data (a path to a .binary, .brdf, .bsdf or .csv file) or all of the arrays wi=, wo= "
-                          "and value= (and optionally weight=)");
+    throw py::value_error(
+        "fit(): expected data (a path to a .binary, .brdf, .bsdf or .csv file) or all of the arrays wi=, wo= "
+        "and value= (and optionally weight=)");
   const RowsView wi = rows_view(wi_in, "wi"), wo = rows_view(wo_in, "wo"), value = rows_view(value_in, "value");
   const size_t n = common_rows({{"wi", &wi}, {"wo", &wo}, {"value", &value}});
   std::vector<double> weight;
@@ -986,8 +1015,8 @@ SampleSet samples_from_arrays(const py::object& wi_in, const py::object& wo_in, 
       throw py::value_error(fmt::format("weight: expected an array of shape (N,) of numbers > 0 ({})", e.what()));
     }
     if (w.ndim() != 1 || size_t(w.shape(0)) != n)
-      throw py::value_error(fmt::format("weight: expected an array of shape ({},) (the rows of wi, wo and value), got shape {}", n,
-                                        shape_text(w)));
+      throw py::value_error(
+          fmt::format("weight: expected an array of shape ({},) (the rows of wi, wo and value), got shape {}", n, shape_text(w)));
     weight.assign(w.data(), w.data() + n);
   }
   SampleSet set;
@@ -999,8 +1028,10 @@ SampleSet samples_from_arrays(const py::object& wi_in, const py::object& wo_in, 
   const auto direction = [](const RowsView& v, const char* name, size_t i) {
     const Vec3d w(v.at<double>(i, 0), v.at<double>(i, 1), v.at<double>(i, 2));
     if (!(std::abs(glm::length(w) - 1.0) <= 1e-5 && w.z > 0.0))
-      throw py::value_error(fmt::format("{}: row {}: expected a unit direction above the horizon (length 1 within 1e-5, z > 0), "
-                                        "got ({}, {}, {})", name, v.single ? 0 : i, w.x, w.y, w.z));
+      throw py::value_error(
+          fmt::format("{}: row {}: expected a unit direction above the horizon (length 1 within 1e-5, z > 0), "
+                      "got ({}, {}, {})",
+                      name, v.single ? 0 : i, w.x, w.y, w.z));
     return w;
   };
   for (size_t i = 0; i < n; ++i) {
@@ -1025,8 +1056,9 @@ SampleSet samples_from_arrays(const py::object& wi_in, const py::object& wo_in, 
 // A measured data file as arrays (aniso.read_measured): what `aniso fit DATA` fits.
 py::dict read_measured_py(const py::object& path_in) {
   if (!(py::isinstance<py::str>(path_in) || py::hasattr(path_in, "__fspath__")))
-    throw py::value_error(fmt::format("path: expected a path to a .binary (MERL), .brdf (Cornell), .bsdf (RGL) or .csv file, got {}",
-                                      std::string(py::str(py::type::of(path_in).attr("__name__")))));
+    throw py::value_error(
+        fmt::format("path: expected a path to a .binary (MERL), .brdf (Cornell), .bsdf (RGL) or .csv file, got {}",
+                    std::string(py::str(py::type::of(path_in).attr("__name__")))));
   const std::string path = py::str(py::module_::import("os").attr("fspath")(path_in));
   SampleSet set;
   {
@@ -1034,7 +1066,8 @@ py::dict read_measured_py(const py::object& path_in) {
     set = read_measured(path);
   }
   const size_t n = set.samples.size();
-  py::array_t<double> wi = rows_out<double>(n, false, 3), wo = rows_out<double>(n, false, 3), value = rows_out<double>(n, false, 3);
+  py::array_t<double> wi = rows_out<double>(n, false, 3), wo = rows_out<double>(n, false, 3),
+                      value = rows_out<double>(n, false, 3);
   py::array_t<double> weight(std::vector<py::ssize_t>{py::ssize_t(n)});
   double *pi = wi.mutable_data(), *po = wo.mutable_data(), *pv = value.mutable_data(), *pw = weight.mutable_data();
   for (size_t i = 0; i < n; ++i) {
@@ -1062,22 +1095,27 @@ extern "C" void on_fit_sigint(int) { g_fit_interrupted.store(true); }
 
 // Python's numbers as the CLI's option text: the same parser, so the same checks and messages.
 std::string option_text(const py::object& v, const char* name) {
-  if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v) || py::isinstance<py::str>(v)))
-    throw py::value_error(fmt::format("{}: expected a number, got {}", name, std::string(py::str(py::type::of(v).attr("__name__")))));
+  if (py::isinstance<py::bool_>(v) ||
+      !(py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v) || py::isinstance<py::str>(v)))
+    throw py::value_error(
+        fmt::format("{}: expected a number, got {}", name, std::string(py::str(py::type::of(v).attr("__name__")))));
   return py::str(v);
 }
 
 PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::object& wo, const py::object& value,
                    const py::object& weight, const std::string& model, const py::object& lobes, const py::object& anisotropic,
-                   bool allow_energy_gain, bool shared_exponents, const std::string& normalization, const py::object& metal, const std::string& metal_lobe,
-                   const std::string& metric, const std::string& loss, const py::object& loss_scale, const py::object& starts,
-                   const py::object& seed, const py::object& threads, const py::object& max_iterations, const py::object& progress) {
+                   bool allow_energy_gain, bool shared_exponents, const std::string& normalization, const py::object& metal,
+                   const std::string& metal_lobe, const std::string& metric, const std::string& loss,
+                   const py::object& loss_scale, const py::object& starts, const py::object& seed, const py::object& threads,
+                   const py::object& max_iterations, const py::object& progress) {
   FitOptionText t;
   t.model = model;
   t.lobes = option_text(lobes, "lobes");
   // anisotropic: "auto" | "yes" | "no" as the CLI's --anisotropic, or True / False for yes / no.
-  if (py::isinstance<py::bool_>(anisotropic)) t.anisotropic = anisotropic.cast<bool>() ? "yes" : "no";
-  else if (py::isinstance<py::str>(anisotropic)) t.anisotropic = anisotropic.cast<std::string>();
+  if (py::isinstance<py::bool_>(anisotropic))
+    t.anisotropic = anisotropic.cast<bool>() ? "yes" : "no";
+  else if (py::isinstance<py::str>(anisotropic))
+    t.anisotropic = anisotropic.cast<std::string>();
   else
     throw py::value_error(fmt::format("anisotropic: expected \"auto\", \"yes\", \"no\", True or False, got {}",
                                       std::string(py::str(py::type::of(anisotropic).attr("__name__")))));
@@ -1100,8 +1138,9 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
     if (!wi.is_none() || !wo.is_none() || !value.is_none() || !weight.is_none())
       throw py::value_error("fit(): give either data (a file) or the arrays wi=, wo=, value=, not both");
     if (!(py::isinstance<py::str>(data_in) || py::hasattr(data_in, "__fspath__")))
-      throw py::value_error(fmt::format("data: expected a path to a .binary (MERL), .brdf (Cornell), .bsdf (RGL) or .csv file, got {}",
-                                        std::string(py::str(py::type::of(data_in).attr("__name__")))));
+      throw py::value_error(
+          fmt::format("data: expected a path to a .binary (MERL), .brdf (Cornell), .bsdf (RGL) or .csv file, got {}",
+                      std::string(py::str(py::type::of(data_in).attr("__name__")))));
     const std::string path = py::str(py::module_::import("os").attr("fspath")(data_in));
     py::gil_scoped_release release;
     data = read_measured(path);
@@ -1161,8 +1200,10 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
       }
     } else if (print && p.elapsed_s >= print_after && p.elapsed_s - last_print >= 0.1) {
       last_print = p.elapsed_s;
-      std::fprintf(stderr, "\raniso.fit: %-90s", fmt::format("{} iteration {} cost {:.4g}  {:.1f} s, about {:.0f} s left", p.stage,
-                                                             p.iteration, p.cost, p.elapsed_s, p.remaining_s).c_str());
+      std::fprintf(stderr, "\raniso.fit: %-90s",
+                   fmt::format("{} iteration {} cost {:.4g}  {:.1f} s, about {:.0f} s left", p.stage, p.iteration, p.cost,
+                               p.elapsed_s, p.remaining_s)
+                       .c_str());
       printed = true;
     }
   };
@@ -1218,12 +1259,14 @@ PYBIND11_MODULE(_aniso, m) {
 
   py::class_<PyMaterial>(m, "Material", material_doc.c_str())
       .def(py::init(&make_material), py::arg("x") = py::none(), py::pos_only())
-      .def_property_readonly("model", [](const PyMaterial& self) { return self.desc.model; },
-                             "the model's name (\"ward\", \"metal\", ...)")
-      .def("to_dict", [](const PyMaterial& self) { return to_py(self.resolved()); },
-           "The material as resolved: every key of its table, defaults filled in; Material(m.to_dict()) == m.")
-      .def("to_json", [](const PyMaterial& self, int indent) { return self.resolved().dump(indent); },
-           py::arg("indent") = 2, "to_dict() as JSON text: a material file the CLI reads.")
+      .def_property_readonly(
+          "model", [](const PyMaterial& self) { return self.desc.model; }, "the model's name (\"ward\", \"metal\", ...)")
+      .def(
+          "to_dict", [](const PyMaterial& self) { return to_py(self.resolved()); },
+          "The material as resolved: every key of its table, defaults filled in; Material(m.to_dict()) == m.")
+      .def(
+          "to_json", [](const PyMaterial& self, int indent) { return self.resolved().dump(indent); }, py::arg("indent") = 2,
+          "to_dict() as JSON text: a material file the CLI reads.")
       .def("__eq__", [](const PyMaterial& a, const PyMaterial& b) { return a.resolved() == b.resolved(); })
       .def("__repr__", [](const PyMaterial& self) { return fmt::format("aniso.Material({})", self.resolved().dump()); })
       .def("eval", &material_eval, py::arg("wi"), py::arg("wo"), py::kw_only(), py::arg("out") = py::none(),
@@ -1252,13 +1295,17 @@ PYBIND11_MODULE(_aniso, m) {
       .def(py::pickle([](const PyMaterial& self) { return py::make_tuple(to_py(self.resolved())); },
                       [](const py::tuple& t) { return make_material(t[0], py::kwargs()); }));
 
-  m.def("presets", [] {
+  m.def(
+      "presets",
+      [] {
         std::vector<std::string> names;
         for (const PresetInfo& p : presets()) names.push_back(p.name);
         return names;
       },
       "The names of the named materials (`aniso presets`), each valid for Material(name).");
-  m.def("preset_source", [](const std::string& name) {
+  m.def(
+      "preset_source",
+      [](const std::string& name) {
         for (const PresetInfo& p : presets())
           if (p.name == name) return p.source;
         throw py::value_error(fmt::format("unknown preset \"{}\"", name));
@@ -1267,7 +1314,9 @@ PYBIND11_MODULE(_aniso, m) {
   m.def("models", &models_py,
         "The parameter tables (src/io/params.cpp): {model: {name, title, citation, params: [{name, kind,\n"
         "range, default, default_value, doc, required, min, max, choices, partner, sets, params...}]}}.");
-  m.def("metals", [] {
+  m.def(
+      "metals",
+      [] {
         py::dict out;
         for (const MetalData& md : metal_table()) {
           py::dict d;
@@ -1281,8 +1330,8 @@ PYBIND11_MODULE(_aniso, m) {
         return out;
       },
       "The measured metals (`aniso metals`): {name: {symbol, eta, k, f0, source}}, RGB eta and k.");
-  m.def("fresnel", &fresnel_py, py::arg("cos_theta"), py::arg("metal") = py::none(), py::kw_only(),
-        py::arg("eta") = py::none(), py::arg("k") = py::none(), py::arg("schlick") = false,
+  m.def("fresnel", &fresnel_py, py::arg("cos_theta"), py::arg("metal") = py::none(), py::kw_only(), py::arg("eta") = py::none(),
+        py::arg("k") = py::none(), py::arg("schlick") = false,
         "Unpolarised conductor Fresnel reflectance from air, RGB, as `aniso fresnel`: of a named metal\n"
         "(aniso.metals()) or of given eta and k (a number or [r, g, b] each). cos_theta: any shape;\n"
         "returns that shape + (3,). schlick=True: Schlick's approximation from the exact F0.");
@@ -1298,25 +1347,40 @@ PYBIND11_MODULE(_aniso, m) {
              // here that is an error, as the caller asked for a tangent direction.
              const Vec3d tu = unit_arg(t, "t"), t_perp = tu - glm::dot(tu, nn) * nn;
              if (!(glm::dot(t_perp, t_perp) > 1e-12))
-               throw py::value_error(fmt::format("t: ({:.6g}, {:.6g}, {:.6g}) is parallel to n, so it gives no tangent direction "
-                                                 "(its part perpendicular to n is below 1e-6 of its length); give a t "
-                                                 "across n, or no t for any frame about n", tu.x, tu.y, tu.z));
+               throw py::value_error(
+                   fmt::format("t: ({:.6g}, {:.6g}, {:.6g}) is parallel to n, so it gives no tangent direction "
+                               "(its part perpendicular to n is below 1e-6 of its length); give a t "
+                               "across n, or no t for any frame about n",
+                               tu.x, tu.y, tu.z));
              return FrameT<double>::from_normal_tangent(nn, tu);
            }),
            py::arg("n") = py::make_tuple(0.0, 0.0, 1.0), py::arg("t") = py::none())
-      .def_property_readonly("t", [](const FrameT<double>& f) { return vec3_py(f.t); }, "tangent (x of the local frame)")
-      .def_property_readonly("b", [](const FrameT<double>& f) { return vec3_py(f.b); }, "bitangent n x t (y)")
-      .def_property_readonly("n", [](const FrameT<double>& f) { return vec3_py(f.n); }, "normal (z)")
-      .def_property_readonly("matrix", [](const FrameT<double>& f) {
-             py::array_t<double> a({3, 3});
-             for (int c = 0; c < 3; ++c) a.mutable_at(0, c) = f.t[c], a.mutable_at(1, c) = f.b[c], a.mutable_at(2, c) = f.n[c];
-             return a;
-           },
-           "rows t, b, n: matrix @ w is to_local(w)")
-      .def("to_local", [](const FrameT<double>& f, const py::object& w) { return map_rows(w, "w", [&](const Vec3d& v) { return f.to_local(v); }); },
-           py::arg("w"), "World directions (N, 3) or (3,) into this frame: (w.t, w.b, w.n).")
-      .def("to_world", [](const FrameT<double>& f, const py::object& w) { return map_rows(w, "w", [&](const Vec3d& v) { return f.to_world(v); }); },
-           py::arg("w"), "Local directions (N, 3) or (3,) into world space: x t + y b + z n.")
+      .def_property_readonly(
+          "t", [](const FrameT<double>& f) { return vec3_py(f.t); }, "tangent (x of the local frame)")
+      .def_property_readonly(
+          "b", [](const FrameT<double>& f) { return vec3_py(f.b); }, "bitangent n x t (y)")
+      .def_property_readonly(
+          "n", [](const FrameT<double>& f) { return vec3_py(f.n); }, "normal (z)")
+      .def_property_readonly(
+          "matrix",
+          [](const FrameT<double>& f) {
+            py::array_t<double> a({3, 3});
+            for (int c = 0; c < 3; ++c) a.mutable_at(0, c) = f.t[c], a.mutable_at(1, c) = f.b[c], a.mutable_at(2, c) = f.n[c];
+            return a;
+          },
+          "rows t, b, n: matrix @ w is to_local(w)")
+      .def(
+          "to_local",
+          [](const FrameT<double>& f, const py::object& w) {
+            return map_rows(w, "w", [&](const Vec3d& v) { return f.to_local(v); });
+          },
+          py::arg("w"), "World directions (N, 3) or (3,) into this frame: (w.t, w.b, w.n).")
+      .def(
+          "to_world",
+          [](const FrameT<double>& f, const py::object& w) {
+            return map_rows(w, "w", [&](const Vec3d& v) { return f.to_world(v); });
+          },
+          py::arg("w"), "Local directions (N, 3) or (3,) into world space: x t + y b + z n.")
       .def("rotated", &FrameT<double>::rotated, py::arg("psi"),
            "The frame with t and b rotated about n by psi radians (the scenes' angle_deg): t' = cos psi t + sin psi b.")
       .def("__repr__", [](const FrameT<double>& f) {
@@ -1325,9 +1389,9 @@ PYBIND11_MODULE(_aniso, m) {
       });
 
   m.def("render", &render_py, py::arg("scene") = py::none(), py::kw_only(), py::arg("material") = py::none(),
-        py::arg("spp") = py::none(), py::arg("width") = py::none(), py::arg("height") = py::none(),
-        py::arg("seed") = uint64_t(1), py::arg("threads") = 0, py::arg("max_depth") = py::none(),
-        py::arg("strategy") = py::none(), py::arg("progress") = py::none(),
+        py::arg("spp") = py::none(), py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("seed") = uint64_t(1),
+        py::arg("threads") = 0, py::arg("max_depth") = py::none(), py::arg("strategy") = py::none(),
+        py::arg("progress") = py::none(),
         "Renders a scene (a dict with the keys of a scene file, or a path: docs/scenes.md) or, with\n"
         "material=, the preview scene of `aniso render --material`. Returns linear RGB radiance,\n"
         "(height, width, 3) float32, row 0 at the top. spp, width, height, max_depth, strategy override\n"
@@ -1339,127 +1403,148 @@ PYBIND11_MODULE(_aniso, m) {
         ".png tone-mapped (exposure in stops, tonemap \"aces\" (default) or \"clamp\", sRGB 8-bit), .exr (32-bit\n"
         "float) or .pfm linear as given. Written to a temporary file renamed into place. exposure and\n"
         "tonemap apply to PNG only (ValueError otherwise); a write failure is an OSError.");
-  m.def("export_glsl", [](const py::object& x, bool full) {
+  m.def(
+      "export_glsl",
+      [](const py::object& x, bool full) {
         const PyMaterial mat = as_material(x);
         return gl::export_glsl(mat.desc, mat.what, full);
       },
       py::arg("material"), py::kw_only(), py::arg("full") = false,
       "The material as one self-contained GLSL source, as `aniso export-glsl` (docs/glsl.md): the library\n"
       "functions it uses, or with full=True the whole library (and aniso_material()), as `--full`.");
-  m.def("export_brdf", [](const py::object& x) {
+  m.def(
+      "export_brdf",
+      [](const py::object& x) {
         const PyMaterial mat = as_material(x);
         return gl::export_brdf(mat.desc, mat.what);
       },
       py::arg("material"), "The material as a Disney BRDF Explorer .brdf file, as `aniso export-brdf`.");
-  m.def("export",
-        [](const py::object& x, const std::string& to, const py::object& path_in,
-           const std::optional<std::string>& name, const std::string& metric, int starts, uint64_t seed) {
-          const PyMaterial mat = as_material(x);
-          std::optional<std::string> path;
-          if (!path_in.is_none()) path = std::string(py::str(py::module_::import("os").attr("fspath")(path_in)));
-          exporter::ExportOptions o;
-          o.target = to;
-          if (name) o.name = *name;
-          FitOptionText metric_only;
-          metric_only.metric = metric;
-          o.metric = parse_fit_options(metric_only).metric;
-          if (starts < 1 || starts > 100) throw InputError(fmt::format("starts: expected 1 to 100, got {}", starts));
-          o.starts = starts;
-          o.seed = seed;
-          std::string bin_name;
-          if (path && to == "gltf") {
-            std::string stem = *path;
-            if (const size_t slash = stem.find_last_of('/'); slash != std::string::npos) stem = stem.substr(slash + 1);
-            if (const size_t dot = stem.find_last_of('.'); dot != std::string::npos && dot > 0) stem.resize(dot);
-            bin_name = stem + ".bin";
-          }
-          exporter::ExportResult r;
-          {
-            py::gil_scoped_release release;
-            r = exporter::export_material(mat.desc, mat.what, o, bin_name);
-          }
-          py::dict files;
-          for (const exporter::ExportFile& f : r.files) {
-            if (f.path.empty()) files[py::str("")] = py::str(f.content);
-            else files[py::str(f.path)] = py::bytes(f.content);
-          }
-          if (path) {
-            // As the CLI: the .bin first, then the main file; a failed main file takes the .bin with it.
-            std::string dir = *path;
-            const size_t slash = dir.find_last_of('/');
-            dir = slash == std::string::npos ? std::string() : dir.substr(0, slash + 1);
-            std::vector<std::string> written;
-            try {
-              for (size_t i = r.files.size(); i-- > 0;) {
-                const std::string target = r.files[i].path.empty() ? *path : dir + r.files[i].path;
-                io::write_file_atomically(target, r.files[i].content);
-                written.push_back(target);
-              }
-            } catch (const io::FileWriteError& e) {
-              for (const std::string& w : written) std::remove(w.c_str());
-              PyErr_SetString(PyExc_OSError, e.what());
-              throw py::error_already_set();
+  m.def(
+      "export",
+      [](const py::object& x, const std::string& to, const py::object& path_in, const std::optional<std::string>& name,
+         const std::string& metric, int starts, uint64_t seed) {
+        const PyMaterial mat = as_material(x);
+        std::optional<std::string> path;
+        if (!path_in.is_none()) path = std::string(py::str(py::module_::import("os").attr("fspath")(path_in)));
+        exporter::ExportOptions o;
+        o.target = to;
+        if (name) o.name = *name;
+        FitOptionText metric_only;
+        metric_only.metric = metric;
+        o.metric = parse_fit_options(metric_only).metric;
+        if (starts < 1 || starts > 100) throw InputError(fmt::format("starts: expected 1 to 100, got {}", starts));
+        o.starts = starts;
+        o.seed = seed;
+        std::string bin_name;
+        if (path && to == "gltf") {
+          std::string stem = *path;
+          if (const size_t slash = stem.find_last_of('/'); slash != std::string::npos) stem = stem.substr(slash + 1);
+          if (const size_t dot = stem.find_last_of('.'); dot != std::string::npos && dot > 0) stem.resize(dot);
+          bin_name = stem + ".bin";
+        }
+        exporter::ExportResult r;
+        {
+          py::gil_scoped_release release;
+          r = exporter::export_material(mat.desc, mat.what, o, bin_name);
+        }
+        py::dict files;
+        for (const exporter::ExportFile& f : r.files) {
+          if (f.path.empty())
+            files[py::str("")] = py::str(f.content);
+          else
+            files[py::str(f.path)] = py::bytes(f.content);
+        }
+        if (path) {
+          // As the CLI: the .bin first, then the main file; a failed main file takes the .bin with it.
+          std::string dir = *path;
+          const size_t slash = dir.find_last_of('/');
+          dir = slash == std::string::npos ? std::string() : dir.substr(0, slash + 1);
+          std::vector<std::string> written;
+          try {
+            for (size_t i = r.files.size(); i-- > 0;) {
+              const std::string target = r.files[i].path.empty() ? *path : dir + r.files[i].path;
+              io::write_file_atomically(target, r.files[i].content);
+              written.push_back(target);
             }
+          } catch (const io::FileWriteError& e) {
+            for (const std::string& w : written) std::remove(w.c_str());
+            PyErr_SetString(PyExc_OSError, e.what());
+            throw py::error_already_set();
           }
-          py::dict out;
-          out["report"] = to_py(r.report.to_json());
-          out["text"] = r.report.text();
-          out["files"] = files;
-          return out;
-        },
-        py::arg("material"), py::kw_only(), py::arg("to"), py::arg("path") = py::none(), py::arg("name") = py::none(),
-        py::arg("metric") = "l2cos", py::arg("starts") = 4, py::arg("seed") = 1,
-        "The material in a renderer's own format, as `aniso export --to` (docs/export.md): to = \"blender\",\n"
-        "\"mitsuba3\", \"pbrt-v4\", \"materialx\" or \"gltf\". Returns {report, text, files}: the report (target\n"
-        "model, parameters, exact or fitted, errors, notes) as a dict and as text, and the files (\"\" the main\n"
-        "file's text, a glTF's .bin as bytes under its name). With path, writes them too (atomically; an\n"
-        "OSError leaves nothing). A bad material or target raises ValueError.");
+        }
+        py::dict out;
+        out["report"] = to_py(r.report.to_json());
+        out["text"] = r.report.text();
+        out["files"] = files;
+        return out;
+      },
+      py::arg("material"), py::kw_only(), py::arg("to"), py::arg("path") = py::none(), py::arg("name") = py::none(),
+      py::arg("metric") = "l2cos", py::arg("starts") = 4, py::arg("seed") = 1,
+      "The material in a renderer's own format, as `aniso export --to` (docs/export.md): to = \"blender\",\n"
+      "\"mitsuba3\", \"pbrt-v4\", \"materialx\" or \"gltf\". Returns {report, text, files}: the report (target\n"
+      "model, parameters, exact or fitted, errors, notes) as a dict and as text, and the files (\"\" the main\n"
+      "file's text, a glTF's .bin as bytes under its name). With path, writes them too (atomically; an\n"
+      "OSError leaves nothing). A bad material or target raises ValueError.");
   py::class_<PyFitResult>(m, "FitResult",
                           "What aniso.fit returns: the fitted Material and its error figures (iterable as\n"
                           "material, errors), the fitted parameters and the record `aniso fit` stores in fitted.json.")
-      .def_property_readonly("material", [](const PyFitResult& r) { return r.material; }, "the fitted Material")
-      .def_property_readonly("errors", [](const PyFitResult& r) { return to_py(r.provenance["error"]); },
-                             "{l2cos, l2cos_rgb, log, log_rgb, relative_l2cos} over every sample (docs/fitting.md, \"Metrics\"),\n"
-                             "as `aniso fit` prints them: \"all\" is the RMS of the three channels")
-      .def_property_readonly("parameters", [](const PyFitResult& r) {
-             py::dict d;
-             for (size_t i = 0; i < r.result.parameters.size(); ++i) d[py::str(r.result.parameter_names[i])] = r.result.parameters[i];
-             return d;
-           },
-           "the solver's parameter vector by name (\"kd.r\", \"alpha\", ...)")
-      .def_property_readonly("best_start", [](const PyFitResult& r) { return r.result.best_start; },
-                             "the start the result came from: \"moments\", \"ngan2005 NAME\", \"random K\"")
+      .def_property_readonly(
+          "material", [](const PyFitResult& r) { return r.material; }, "the fitted Material")
+      .def_property_readonly(
+          "errors", [](const PyFitResult& r) { return to_py(r.provenance["error"]); },
+          "{l2cos, l2cos_rgb, log, log_rgb, relative_l2cos} over every sample (docs/fitting.md, \"Metrics\"),\n"
+          "as `aniso fit` prints them: \"all\" is the RMS of the three channels")
+      .def_property_readonly(
+          "parameters",
+          [](const PyFitResult& r) {
+            py::dict d;
+            for (size_t i = 0; i < r.result.parameters.size(); ++i)
+              d[py::str(r.result.parameter_names[i])] = r.result.parameters[i];
+            return d;
+          },
+          "the solver's parameter vector by name (\"kd.r\", \"alpha\", ...)")
+      .def_property_readonly(
+          "best_start", [](const PyFitResult& r) { return r.result.best_start; },
+          "the start the result came from: \"moments\", \"ngan2005 NAME\", \"random K\"")
       .def_property_readonly("iterations", [](const PyFitResult& r) { return r.result.iterations; })
       .def_property_readonly("seconds", [](const PyFitResult& r) { return r.result.seconds; })
       .def_property_readonly("samples", [](const PyFitResult& r) { return r.result.samples_total; })
       .def_property_readonly("samples_in_solver", [](const PyFitResult& r) { return r.result.samples_used; })
       .def_property_readonly("termination", [](const PyFitResult& r) { return r.result.termination; })
-      .def_property_readonly("anisotropic", [](const PyFitResult& r) { return r.result.anisotropic; },
-                             "whether the fitted model is anisotropic (with its rotation_deg)")
-      .def_property_readonly("anisotropy_reason", [](const PyFitResult& r) { return r.result.anisotropy_reason; },
-                             "why: the auto rule's decision and figures, or the option")
-      .def_property_readonly("tied", [](const PyFitResult& r) { return r.result.tied; },
-                             "parameters the data did not constrain, tied to their isotropic partner (docs/fitting.md)")
+      .def_property_readonly(
+          "anisotropic", [](const PyFitResult& r) { return r.result.anisotropic; },
+          "whether the fitted model is anisotropic (with its rotation_deg)")
+      .def_property_readonly(
+          "anisotropy_reason", [](const PyFitResult& r) { return r.result.anisotropy_reason; },
+          "why: the auto rule's decision and figures, or the option")
+      .def_property_readonly(
+          "tied", [](const PyFitResult& r) { return r.result.tied; },
+          "parameters the data did not constrain, tied to their isotropic partner (docs/fitting.md)")
       .def_property_readonly("weakly_constrained", [](const PyFitResult& r) { return r.result.weakly_constrained; })
-      .def_property_readonly("largest_albedo", [](const PyFitResult& r) { return r.result.largest_albedo; },
-                             "the fitted material's largest directional albedo over the grid of docs/fitting.md")
-      .def_property_readonly("fit", [](const PyFitResult& r) { return to_py(r.provenance); },
-                             "the \"fit\" object of `aniso fit`'s fitted.json (data, options, errors, solver)")
-      .def("to_dict", [](const PyFitResult& r) {
-             json j = r.material_json;
-             j["fit"] = r.provenance;
-             return to_py(j);
-           },
-           "fitted.json as `aniso fit -o` writes it: the material's keys plus the \"fit\" object.")
-      .def("to_json", [](const PyFitResult& r, int indent) {
-             json j = r.material_json;
-             j["fit"] = r.provenance;
-             return j.dump(indent) + "\n";
-           },
-           py::arg("indent") = 2, "to_dict() as JSON text, the file `aniso fit -o` writes (every tool reads it).")
-      .def("__iter__", [](const PyFitResult& r) {
-        return py::iter(py::make_tuple(py::cast(r.material), to_py(r.provenance["error"])));
-      })
+      .def_property_readonly(
+          "largest_albedo", [](const PyFitResult& r) { return r.result.largest_albedo; },
+          "the fitted material's largest directional albedo over the grid of docs/fitting.md")
+      .def_property_readonly(
+          "fit", [](const PyFitResult& r) { return to_py(r.provenance); },
+          "the \"fit\" object of `aniso fit`'s fitted.json (data, options, errors, solver)")
+      .def(
+          "to_dict",
+          [](const PyFitResult& r) {
+            json j = r.material_json;
+            j["fit"] = r.provenance;
+            return to_py(j);
+          },
+          "fitted.json as `aniso fit -o` writes it: the material's keys plus the \"fit\" object.")
+      .def(
+          "to_json",
+          [](const PyFitResult& r, int indent) {
+            json j = r.material_json;
+            j["fit"] = r.provenance;
+            return j.dump(indent) + "\n";
+          },
+          py::arg("indent") = 2, "to_dict() as JSON text, the file `aniso fit -o` writes (every tool reads it).")
+      .def("__iter__",
+           [](const PyFitResult& r) { return py::iter(py::make_tuple(py::cast(r.material), to_py(r.provenance["error"]))); })
       .def("__repr__", [](const PyFitResult& r) {
         return fmt::format("aniso.FitResult(model={}, l2cos={:.5g}, log={:.5g}, relative_l2cos={:.4g}, best_start={})",
                            r.material_json.value("model", ""), r.result.errors.l2cos_all, r.result.errors.log_all,
@@ -1469,10 +1554,9 @@ PYBIND11_MODULE(_aniso, m) {
   m.def("fit", &fit_py, py::arg("data") = py::none(), py::kw_only(), py::arg("wi") = py::none(), py::arg("wo") = py::none(),
         py::arg("value") = py::none(), py::arg("weight") = py::none(), py::arg("model") = "lafortune", py::arg("lobes") = 1,
         py::arg("anisotropic") = "auto", py::arg("allow_energy_gain") = false, py::arg("shared_exponents") = false,
-        py::arg("normalization") = "ward",
-        py::arg("metal") = py::none(), py::arg("metal_lobe") = "ggx", py::arg("metric") = "l2cos", py::arg("loss") = "none",
-        py::arg("loss_scale") = 0.0, py::arg("starts") = 6, py::arg("seed") = 1, py::arg("threads") = 0,
-        py::arg("max_iterations") = 200, py::arg("progress") = py::none(),
+        py::arg("normalization") = "ward", py::arg("metal") = py::none(), py::arg("metal_lobe") = "ggx",
+        py::arg("metric") = "l2cos", py::arg("loss") = "none", py::arg("loss_scale") = 0.0, py::arg("starts") = 6,
+        py::arg("seed") = 1, py::arg("threads") = 0, py::arg("max_iterations") = 200, py::arg("progress") = py::none(),
         "Fits a model to measured data, as `aniso fit` (docs/fitting.md): the same solver, options, starts\n"
         "and error figures; the same data, options and seed give the same material.\n\n"
         "data: a path to a MERL .binary, Cornell .brdf, RGL tensor .bsdf or CSV file of samples (what `aniso fit\n"
@@ -1481,19 +1565,22 @@ PYBIND11_MODULE(_aniso, m) {
         "f(wi, wo) in 1/sr (no cosine), weight: (N,) or None. The keywords are `aniso fit`'s options:\n"
         "model (lafortune | ward | ashikhmin-shirley | ggx | metal | principled), lobes (Lafortune, 1 to 8),\n"
         "anisotropic (\"auto\": when the data show it, \"yes\" / True, \"no\" / False; an anisotropic fit fits\n"
-        "rotation_deg too), allow_energy_gain (else every directional albedo stays <= 1), shared_exponents, normalization (Ward: ward | duer | balanced), metal (a named metal; None fits eta\n"
+        "rotation_deg too), allow_energy_gain (else every directional albedo stays <= 1), shared_exponents, normalization (Ward: "
+        "ward | duer | balanced), metal (a named metal; None fits eta\n"
         "and k), metal_lobe (ggx | ward | ashikhmin-shirley), metric (l2cos | log), loss (none | huber |\n"
         "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations.\n"
         "progress: None (a line on stderr when it is a terminal, as the CLI), True, False, or a callable\n"
         "given {stage, iteration, cost, elapsed_s, remaining_s} each iteration. The GIL is released while\n"
         "fitting; Ctrl-C stops the fit (KeyboardInterrupt). Returns a FitResult: `m, errors = aniso.fit(...)`.\n"
         "Bad data or options raise ValueError with the CLI's message.");
-  m.def("read_measured", &read_measured_py, py::arg("path"),
-        "Reads measured reflectance as `aniso fit DATA` does (a MERL .binary, Cornell .brdf, RGL tensor .bsdf\n"
-        "or CSV file of samples; Cornell spectra reduced to linear sRGB; an RGL file sampled on a grid of\n"
-        "directions): {wi, wo: (N, 3) unit directions, value: (N, 3) f in 1/sr, weight: (N,), source, format,\n"
-        "description (what was sampled, for an RGL file; else empty), warnings}. aniso.fit(wi=..., wo=..., value=..., weight=...)\n"
-        "on them fits what aniso.fit(path) fits.");
-  m.def("simd_target", [] { return std::string(batch::simd_target()); },
-        "The SIMD target the batch path runs on this machine (\"AVX3\", \"AVX2\", ...).");
+  m.def(
+      "read_measured", &read_measured_py, py::arg("path"),
+      "Reads measured reflectance as `aniso fit DATA` does (a MERL .binary, Cornell .brdf, RGL tensor .bsdf\n"
+      "or CSV file of samples; Cornell spectra reduced to linear sRGB; an RGL file sampled on a grid of\n"
+      "directions): {wi, wo: (N, 3) unit directions, value: (N, 3) f in 1/sr, weight: (N,), source, format,\n"
+      "description (what was sampled, for an RGL file; else empty), warnings}. aniso.fit(wi=..., wo=..., value=..., weight=...)\n"
+      "on them fits what aniso.fit(path) fits.");
+  m.def(
+      "simd_target", [] { return std::string(batch::simd_target()); },
+      "The SIMD target the batch path runs on this machine (\"AVX3\", \"AVX2\", ...).");
 }

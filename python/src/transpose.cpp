@@ -17,9 +17,9 @@
 namespace aniso::python {
 namespace {
 
-template <typename S, typename T>
-[[gnu::always_inline]] inline void deinterleave_impl(const S* __restrict p, size_t len, T* __restrict x, T* __restrict y,
-                                                     T* __restrict z, uint8_t* __restrict bad) {
+template <typename S, typename T> [[gnu::always_inline]] inline void deinterleave_impl(const S* __restrict p, size_t len,
+                                                                                       T* __restrict x, T* __restrict y,
+                                                                                       T* __restrict z, uint8_t* __restrict bad) {
   constexpr S kMax = std::numeric_limits<S>::max();
   for (size_t i = 0; i < len; ++i) {
     const S a = p[3 * i], b = p[3 * i + 1], c = p[3 * i + 2];
@@ -30,24 +30,25 @@ template <typename S, typename T>
   }
 }
 
-template <typename T>
-[[gnu::always_inline]] inline void interleave_impl(T* __restrict o, size_t len, const T* __restrict x, const T* __restrict y,
-                                                   const T* __restrict z, const uint8_t* __restrict bad) {
+template <typename T> [[gnu::always_inline]] inline void interleave_impl(T* __restrict o, size_t len, const T* __restrict x,
+                                                                         const T* __restrict y, const T* __restrict z,
+                                                                         const uint8_t* __restrict bad) {
   for (size_t i = 0; i < len; ++i) {
     const T k = bad[i] ? std::numeric_limits<T>::quiet_NaN() : T(1);
     o[3 * i] = x[i] * k, o[3 * i + 1] = y[i] * k, o[3 * i + 2] = z[i] * k;
   }
 }
 
-template <typename T>
-[[gnu::always_inline]] inline void mark_nonfinite_impl(const T* __restrict x, const T* __restrict y, const T* __restrict z,
-                                                       size_t len, uint8_t* __restrict bad) {
+template <typename T> [[gnu::always_inline]] inline void mark_nonfinite_impl(const T* __restrict x, const T* __restrict y,
+                                                                             const T* __restrict z, size_t len,
+                                                                             uint8_t* __restrict bad) {
   constexpr T kMax = std::numeric_limits<T>::max();
   for (size_t i = 0; i < len; ++i)
     bad[i] |= uint8_t(!(int(std::fabs(x[i]) <= kMax) & int(std::fabs(y[i]) <= kMax) & int(std::fabs(z[i]) <= kMax)));
 }
 
-template <typename T> [[gnu::always_inline]] inline void mark_bad_impl(T* __restrict p, size_t len, const uint8_t* __restrict bad) {
+template <typename T>
+[[gnu::always_inline]] inline void mark_bad_impl(T* __restrict p, size_t len, const uint8_t* __restrict bad) {
   for (size_t i = 0; i < len; ++i) p[i] = bad[i] ? std::numeric_limits<T>::quiet_NaN() : p[i];
 }
 

@@ -117,9 +117,12 @@ void apply_simd_limit_from_environment() {
 #ifdef HWY_AVX3_SPR
     avx512 |= HWY_AVX3_SPR;
 #endif
-    if (std::strcmp(limit, "avx2") == 0) hwy::DisableTargets(avx512);
-    else if (std::strcmp(limit, "sse4") == 0) hwy::DisableTargets(avx512 | HWY_AVX2);
-    else if (std::strcmp(limit, "baseline") == 0) hwy::DisableTargets(~int64_t(0));  // the baseline stays
+    if (std::strcmp(limit, "avx2") == 0)
+      hwy::DisableTargets(avx512);
+    else if (std::strcmp(limit, "sse4") == 0)
+      hwy::DisableTargets(avx512 | HWY_AVX2);
+    else if (std::strcmp(limit, "baseline") == 0)
+      hwy::DisableTargets(~int64_t(0));  // the baseline stays
     return true;
   }();
   (void)applied;
@@ -167,9 +170,8 @@ template <typename T> bool finite(const Vec3T<T>& v) { return std::isfinite(v.x)
 
 }  // namespace
 
-template <typename T>
-void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f, Threads threads,
-              Kernels kernels, NonFinite non_finite) {
+template <typename T> void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f,
+                                    Threads threads, Kernels kernels, NonFinite non_finite) {
   const EvalArgs<T> a{wi, wo, f, nullptr, non_finite};
   // A model whose registry row says Scalar (the measured BRDF: table lookups, gathers from 35 MB)
   // has no SIMD twin: the scalar kernel per element, on the same blocks and threads.
@@ -193,9 +195,8 @@ void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t 
   });
 }
 
-template <typename T>
-void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads, Kernels kernels,
-         NonFinite non_finite) {
+template <typename T> void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads,
+                               Kernels kernels, NonFinite non_finite) {
   const EvalArgs<T> a{wi, wo, {}, out, non_finite};
   if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
   const bool nan_rows = non_finite == NonFinite::NaN;
@@ -216,9 +217,8 @@ void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T*
   });
 }
 
-template <typename T>
-void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* f_rgb, Threads threads,
-                          Kernels kernels, NonFinite non_finite) {
+template <typename T> void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* f_rgb,
+                                                Threads threads, Kernels kernels, NonFinite non_finite) {
   const InterleavedArgs<T> a{wi, wo, f_rgb, nullptr, non_finite};
   if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
   const bool nan_rows = non_finite == NonFinite::NaN;
@@ -239,9 +239,8 @@ void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<
   });
 }
 
-template <typename T>
-void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* out, Threads threads,
-                     Kernels kernels, NonFinite non_finite) {
+template <typename T> void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* out,
+                                           Threads threads, Kernels kernels, NonFinite non_finite) {
   const InterleavedArgs<T> a{wi, wo, nullptr, out, non_finite};
   if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
   const bool nan_rows = non_finite == NonFinite::NaN;
@@ -263,9 +262,8 @@ void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo
 
 // The SIMD samplers (src/batch/twins/) for every model whose registry row says Simd; the scalar
 // loop below for the others (the measured BRDF: table lookups).
-template <typename T>
-void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
-            Threads threads) {
+template <typename T> void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n,
+                                  Samples<T> out, Threads threads) {
   const SampleArgs<T> a{wo, uc, u0, u1, out};
   for_blocks(n, threads, [&](size_t b, size_t e) {
     {
@@ -307,24 +305,24 @@ size_t simd_lanes_double() {
 
 template void evaluate<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, Colors<float>, Threads,
                               Kernels, NonFinite);
-template void evaluate<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, Colors<double>,
-                               Threads, Kernels, NonFinite);
+template void evaluate<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, Colors<double>, Threads,
+                               Kernels, NonFinite);
 template void pdf<float>(const MaterialT<float>&, Directions<float>, Directions<float>, size_t, float*, Threads, Kernels,
                          NonFinite);
-template void pdf<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, double*, Threads,
-                          Kernels, NonFinite);
+template void pdf<double>(const MaterialT<double>&, Directions<double>, Directions<double>, size_t, double*, Threads, Kernels,
+                          NonFinite);
 template void evaluate_interleaved<float>(const MaterialT<float>&, Interleaved<float>, Interleaved<float>, size_t, float*,
                                           Threads, Kernels, NonFinite);
-template void evaluate_interleaved<double>(const MaterialT<double>&, Interleaved<double>, Interleaved<double>, size_t,
-                                           double*, Threads, Kernels, NonFinite);
+template void evaluate_interleaved<double>(const MaterialT<double>&, Interleaved<double>, Interleaved<double>, size_t, double*,
+                                           Threads, Kernels, NonFinite);
 template void pdf_interleaved<float>(const MaterialT<float>&, Interleaved<float>, Interleaved<float>, size_t, float*, Threads,
                                      Kernels, NonFinite);
 template void pdf_interleaved<double>(const MaterialT<double>&, Interleaved<double>, Interleaved<double>, size_t, double*,
                                       Threads, Kernels, NonFinite);
 template void sample<float>(const MaterialT<float>&, Directions<float>, const float*, const float*, const float*, size_t,
                             Samples<float>, Threads);
-template void sample<double>(const MaterialT<double>&, Directions<double>, const double*, const double*, const double*,
-                             size_t, Samples<double>, Threads);
+template void sample<double>(const MaterialT<double>&, Directions<double>, const double*, const double*, const double*, size_t,
+                             Samples<double>, Threads);
 
 }  // namespace aniso::batch
 

@@ -13,13 +13,13 @@
 
 #include "batch/loops-inl.h"
 #include "batch/simd_math-inl.h"
+#include "batch/twins/ashikhmin_shirley-inl.h"
+#include "batch/twins/ggx-inl.h"
+#include "batch/twins/lafortune-inl.h"
 #include "batch/twins/lambert-inl.h"
+#include "batch/twins/metal-inl.h"
 #include "batch/twins/phong-inl.h"
 #include "batch/twins/ward-inl.h"
-#include "batch/twins/ashikhmin_shirley-inl.h"
-#include "batch/twins/lafortune-inl.h"
-#include "batch/twins/ggx-inl.h"
-#include "batch/twins/metal-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace aniso::batch::HWY_NAMESPACE {
@@ -28,7 +28,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 // Every row that says Simd has its twin, for float and double (a missing specialisation is an
 // incomplete type: a compile error here, not a fall to another model at run time).
 template <typename M> constexpr bool kHasTwin = requires { sizeof(typename SimdTwin<M>::type); };
-#define ANISO_X(Tag, Type, member, name, path, glsl)                                                   \
+#define ANISO_X(Tag, Type, member, name, path, glsl)                                                           \
   static_assert(registry_detail::path != BatchPath::Simd || (kHasTwin<Type<float>> && kHasTwin<Type<double>>), \
                 #Tag ": the registry says Simd but SimdTwin<" #Type "<T>> is not specialised (src/batch/twins/)");
 ANISO_MODELS(ANISO_X)
@@ -48,12 +48,13 @@ template <typename T, typename Run> bool WithTwin(const MaterialT<T>& m, const R
 }
 
 // Returns false for the models without a SIMD twin (the caller runs the scalar kernel).
-template <typename T>
-bool RunMaterial(const MaterialT<T>& m, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
+template <typename T> bool RunMaterial(const MaterialT<T>& m, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const hn::ScalableTag<T> d;
   return WithTwin(m, [&](const auto& kernel) {
-    if (a.non_finite == NonFinite::NaN) RunRange<true>(d, kernel, a, begin, end, want_pdf, m.rotation);
-    else RunRange<false>(d, kernel, a, begin, end, want_pdf, m.rotation);
+    if (a.non_finite == NonFinite::NaN)
+      RunRange<true>(d, kernel, a, begin, end, want_pdf, m.rotation);
+    else
+      RunRange<false>(d, kernel, a, begin, end, want_pdf, m.rotation);
   });
 }
 
@@ -61,8 +62,10 @@ template <typename T>
 bool RunMaterialInterleaved(const MaterialT<T>& m, const InterleavedArgs<T>& a, size_t begin, size_t end, bool want_pdf) {
   const hn::ScalableTag<T> d;
   return WithTwin(m, [&](const auto& kernel) {
-    if (a.non_finite == NonFinite::NaN) RunRangeInterleaved<true>(d, kernel, a, begin, end, want_pdf, m.rotation);
-    else RunRangeInterleaved<false>(d, kernel, a, begin, end, want_pdf, m.rotation);
+    if (a.non_finite == NonFinite::NaN)
+      RunRangeInterleaved<true>(d, kernel, a, begin, end, want_pdf, m.rotation);
+    else
+      RunRangeInterleaved<false>(d, kernel, a, begin, end, want_pdf, m.rotation);
   });
 }
 

@@ -39,14 +39,14 @@ template <class D> HWY_INLINE M<D> NonFiniteLanes(const V3<D>& wi, const V3<D>& 
 // (padding: wi = wo = n, a valid input, so no lane of the padding computes anything odd).
 // kNanRows (NonFinite::NaN) is a template parameter: without it the loop is exactly the plain one,
 // and a kernel that reads only some coordinates (Lambert: the two z) loads only those.
-template <bool kNanRows, class D, class Kernel, typename T>
-HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begin, size_t end, bool want_pdf,
-                         const FrameRotationT<T>& rot) {
+template <bool kNanRows, class D, class Kernel, typename T> HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a,
+                                                                                     size_t begin, size_t end, bool want_pdf,
+                                                                                     const FrameRotationT<T>& rot) {
   const size_t N = hn::Lanes(d);
   constexpr bool nan_rows = kNanRows;
   const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
-  const auto one = [&](const T* wix, const T* wiy, const T* wiz, const T* wox, const T* woy, const T* woz, T* r, T* g,
-                       T* b, T* p) {
+  const auto one = [&](const T* wix, const T* wiy, const T* wiz, const T* wox, const T* woy, const T* woz, T* r, T* g, T* b,
+                       T* p) {
     V3<D> wi{hn::LoadU(d, wix), hn::LoadU(d, wiy), hn::LoadU(d, wiz)};
     V3<D> wo{hn::LoadU(d, wox), hn::LoadU(d, woy), hn::LoadU(d, woz)};
     if (!rot.identity()) wi = ToModel(d, rot, wi), wo = ToModel(d, rot, wo);
@@ -107,8 +107,8 @@ HWY_INLINE void RunRange(D d, const Kernel& k, const EvalArgs<T>& a, size_t begi
 // range. With NonFinite::NaN (kNanRows, as in RunRange) a lane whose six input values are not all
 // finite gets NaN in every output.
 template <bool kNanRows, class D, class Kernel, typename T>
-HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<T>& a, size_t begin, size_t end,
-                                    bool want_pdf, const FrameRotationT<T>& rot) {
+HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<T>& a, size_t begin, size_t end, bool want_pdf,
+                                    const FrameRotationT<T>& rot) {
   const size_t N = hn::Lanes(d);
   const V<D> nan = hn::Set(d, std::numeric_limits<T>::quiet_NaN());
   (void)nan;  // used with kNanRows only
@@ -139,7 +139,8 @@ HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<
   };
   const auto at = [](const Interleaved<T>& w, size_t i) { return w.xyz + w.stride * i; };
   size_t i = begin;
-  for (; i + N <= end; i += N) one(at(a.wi, i), at(a.wo, i), want_pdf ? nullptr : a.f_rgb + 3 * i, want_pdf ? a.pdf + i : nullptr);
+  for (; i + N <= end; i += N)
+    one(at(a.wi, i), at(a.wo, i), want_pdf ? nullptr : a.f_rgb + 3 * i, want_pdf ? a.pdf + i : nullptr);
   if (i < end) {
     // The last, partial vector through padded copies (padding rows wi = wo = n, as RunRange).
     constexpr size_t kMax = hn::MaxLanes(D());
@@ -150,8 +151,10 @@ HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<
     if (wi_rows) std::copy_n(at(a.wi, i), 3 * rest, bi);
     if (wo_rows) std::copy_n(at(a.wo, i), 3 * rest, bo);
     one(bi, bo, bf, bp);
-    if (want_pdf) std::copy_n(bp, rest, a.pdf + i);
-    else std::copy_n(bf, 3 * rest, a.f_rgb + 3 * i);
+    if (want_pdf)
+      std::copy_n(bp, rest, a.pdf + i);
+    else
+      std::copy_n(bf, 3 * rest, a.f_rgb + 3 * i);
   }
 }
 
@@ -160,7 +163,7 @@ HWY_INLINE void RunRangeInterleaved(D d, const Kernel& k, const InterleavedArgs<
 // sample_diffuse_specular (Phong, Ward, Ashikhmin-Shirley, GGX), Lambert's cosine sampling, and the
 // models with their own lobe choice (Lafortune, metal: SampleDirection), then make_sample.
 template <class D, class Kernel> HWY_INLINE void SampleVec(D d, const Kernel& k, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1,
-                                                          V3<D>& wi, RGBV<D>& weight, V<D>& pdf, M<D>& valid) {
+                                                           V3<D>& wi, RGBV<D>& weight, V<D>& pdf, M<D>& valid) {
   M<D> direction_ok = AboveHorizon(d, wo.z);
   if constexpr (requires { k.SampleDirection(d, wo, uc, u0, u1, direction_ok); }) {
     wi = k.SampleDirection(d, wo, uc, u0, u1, direction_ok);
@@ -182,9 +185,8 @@ template <class D, class Kernel> HWY_INLINE void SampleVec(D d, const Kernel& k,
   pdf = hn::IfThenElseZero(valid, p);
 }
 
-template <class D, class Kernel, typename T>
-HWY_INLINE void SampleRange(D d, const Kernel& k, const SampleArgs<T>& a, size_t begin, size_t end,
-                            const FrameRotationT<T>& rot) {
+template <class D, class Kernel, typename T> HWY_INLINE void SampleRange(D d, const Kernel& k, const SampleArgs<T>& a,
+                                                                         size_t begin, size_t end, const FrameRotationT<T>& rot) {
   const size_t N = hn::Lanes(d);
   constexpr size_t kMax = hn::MaxLanes(D());
   HWY_ALIGN T buf[14][kMax];
@@ -205,8 +207,8 @@ HWY_INLINE void SampleRange(D d, const Kernel& k, const SampleArgs<T>& a, size_t
     M<D> valid;
     SampleVec(d, k, wo, hn::LoadU(d, src[3]), hn::LoadU(d, src[4]), hn::LoadU(d, src[5]), wi, w, p, valid);
     if (!rot.identity()) wi = FromModel(d, rot, wi);  // an invalid lane's wi is 0 and stays 0
-    T* dst[7] = {a.out.wi_x + i, a.out.wi_y + i, a.out.wi_z + i, a.out.weight_r + i, a.out.weight_g + i, a.out.weight_b + i,
-                 a.out.pdf + i};
+    T* dst[7] = {a.out.wi_x + i,     a.out.wi_y + i,     a.out.wi_z + i, a.out.weight_r + i,
+                 a.out.weight_g + i, a.out.weight_b + i, a.out.pdf + i};
     const V<D> vals[7] = {wi.x, wi.y, wi.z, w.c[0], w.c[1], w.c[2], p};
     const V<D> valid_v = hn::IfThenElseZero(valid, K(d, 1));
     if (count == N) {

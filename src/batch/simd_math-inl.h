@@ -23,8 +23,8 @@
 #define ANISO_BATCH_SIMD_MATH_INL_H_
 #endif
 
-#include <hwy/highway.h>
 #include <hwy/contrib/math/math-inl.h>
+#include <hwy/highway.h>
 
 #include "aniso/brdf/material.h"
 #include "batch/args.h"
@@ -36,9 +36,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 template <class D> using V = hn::Vec<D>;
 template <class D> using M = hn::Mask<D>;
 
-template <class D> struct V3 {
-  V<D> x, y, z;
-};
+template <class D> struct V3 { V<D> x, y, z; };
 
 template <class D> HWY_INLINE V<D> K(D d, hn::TFromD<D> c) { return hn::Set(d, c); }
 
@@ -87,9 +85,7 @@ template <class D> HWY_INLINE M<D> UpperBoth(D d, const V3<D>& wi, const V3<D>& 
   return hn::And(AboveHorizon(d, wi.z), AboveHorizon(d, wo.z));
 }
 // average(c) = (c.x + c.y + c.z) / 3.
-template <class D> HWY_INLINE V<D> Average(D d, V<D> r, V<D> g, V<D> b) {
-  return hn::Div(hn::Add(hn::Add(r, g), b), K(d, 3));
-}
+template <class D> HWY_INLINE V<D> Average(D d, V<D> r, V<D> g, V<D> b) { return hn::Div(hn::Add(hn::Add(r, g), b), K(d, 3)); }
 // pow(x, y) for x > 0 as exp(y log x). Own SIMD version: Highway has exp and log, not pow.
 // The error of log x is multiplied by |y log x|; Highway's log (musl's algorithm) is accurate
 // relative to its result near x = 1 as well, so for the exponents of the fitted materials
@@ -194,17 +190,13 @@ template <class D> HWY_INLINE V<D> MixturePdf(D d, V<D> p_spec, V<D> wi_z, V<D> 
   return hn::Add(hn::Mul(hn::Sub(K(d, 1), p_spec), CosineHemispherePdf(d, wi_z)), hn::Mul(p_spec, lobe_pdf));
 }
 
-template <class D> struct RGBV {
-  V<D> c[3];
-};
-
+template <class D> struct RGBV { V<D> c[3]; };
 
 // LambertPlusLobeT: kd / pi + ks lobe, the lobe chosen with a constant probability.
 template <typename T, typename LobeK> struct LambertPlusLobeK {
   T kd_pi[3], ks[3], p_spec;
   LobeK lobe;
-  template <typename Lobe>
-  explicit LambertPlusLobeK(const LambertPlusLobeT<T, Lobe>& m)
+  template <typename Lobe> explicit LambertPlusLobeK(const LambertPlusLobeT<T, Lobe>& m)
       : kd_pi{m.kd.x * kInvPi<T>, m.kd.y * kInvPi<T>, m.kd.z * kInvPi<T>},
         ks{m.ks.x, m.ks.y, m.ks.z},
         p_spec(m.specular_probability(Vec3T<T>(T(0), T(0), T(1)))),
@@ -221,7 +213,6 @@ template <typename T, typename LobeK> struct LambertPlusLobeK {
   }
   template <class D> HWY_INLINE V<D> SpecularProbability(D d, const V3<D>&) const { return K(d, p_spec); }
 };
-
 
 // SimdTwin<Model>::type: the Highway twin of a registry model whose row says Simd (registry.h),
 // specialised beside each twin in src/batch/twins/; the dispatch (dispatch-inl.h) checks that every

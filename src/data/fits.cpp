@@ -34,8 +34,8 @@ std::vector<CsvRow> parse_csv(std::string_view text, std::string_view source, si
       start = comma + 1;
     }
     if (row.size() != columns)
-      throw InputError(fmt::format("{}: line {}: expected {} comma-separated fields, got {}", source, line_no,
-                                   columns, row.size()));
+      throw InputError(
+          fmt::format("{}: line {}: expected {} comma-separated fields, got {}", source, line_no, columns, row.size()));
     rows.push_back(std::move(row));
   }
   return rows;

@@ -72,7 +72,9 @@ void half_diff_to_dirs(double th, double ph, double td, double pd, Vec3d& wi, Ve
   wo = 2.0 * glm::dot(wi, h) * h - wi;
 }
 
-std::string fmt3(const glm::dvec3& c, const char* sep = ", ") { return fmt::format("{:.9g}{}{:.9g}{}{:.9g}", c.x, sep, c.y, sep, c.z); }
+std::string fmt3(const glm::dvec3& c, const char* sep = ", ") {
+  return fmt::format("{:.9g}{}{:.9g}{}{:.9g}", c.x, sep, c.y, sep, c.z);
+}
 json j3(const glm::dvec3& c) { return json::array({c.x, c.y, c.z}); }
 
 bool has_scalar(const ParamValues& p, std::string_view key) {
@@ -125,9 +127,10 @@ RoughAniso invert_aspect(double& ax, double& ay, double scale, double cap, std::
   r.aniso = std::max(0.0, (1.0 - ay / ax) / scale);
   if (r.aniso < 1e-9) r.aniso = 0.0;
   if (r.aniso > cap) {
-    notes.push_back(fmt::format("alpha ratio {:.3g} exceeds {}'s largest, {:.3g} (anisotropy {:.3g}): written with "
-                                "anisotropy {:.3g} and the same mean alpha",
-                                ax / ay, who, 1.0 / (1.0 - scale * cap), cap, cap));
+    notes.push_back(
+        fmt::format("alpha ratio {:.3g} exceeds {}'s largest, {:.3g} (anisotropy {:.3g}): written with "
+                    "anisotropy {:.3g} and the same mean alpha",
+                    ax / ay, who, 1.0 / (1.0 - scale * cap), cap, cap));
     r.aniso = cap;
   }
   r.rough = std::sqrt(std::sqrt(ax * ay));
@@ -163,8 +166,10 @@ ExactFresnel match_schlick(double f0, double scale, bool allow_conductor) {
     const double r = (std::sqrt(5.0) - 1.0) / 2.0;
     double a = lo, b = hi, x1 = b - r * (b - a), x2 = a + r * (b - a), f1 = f(x1), f2 = f(x2);
     for (int i = 0; i < 80; ++i) {
-      if (f1 < f2) b = x2, x2 = x1, f2 = f1, x1 = b - r * (b - a), f1 = f(x1);
-      else a = x1, x1 = x2, f1 = f2, x2 = a + r * (b - a), f2 = f(x2);
+      if (f1 < f2)
+        b = x2, x2 = x1, f2 = f1, x1 = b - r * (b - a), f1 = f(x1);
+      else
+        a = x1, x1 = x2, f1 = f2, x2 = a + r * (b - a), f2 = f(x2);
     }
     return (a + b) / 2.0;
   };
@@ -216,7 +221,10 @@ std::string py_string(std::string_view s) {
   std::string o = "\"";
   for (char c : s) {
     if (c == '\\' || c == '"') o += '\\';
-    if (c == '\n') { o += "\\n"; continue; }
+    if (c == '\n') {
+      o += "\\n";
+      continue;
+    }
     o += c;
   }
   return o + "\"";
@@ -359,8 +367,9 @@ std::optional<GgxSource> exact_ggx(const MaterialDesc& d) {
       g.kd = glm::dvec3(0.0);
       const RGBT<double> f0 = p.specular_f0();
       g.f0 = glm::dvec3(f0.x, f0.y, f0.z);
-      g.origin = "exact: the source is a metallic Disney principled material (Schlick F0 = base_color; its separable "
-                 "Smith G differs from the targets' height-correlated one)";
+      g.origin =
+          "exact: the source is a metallic Disney principled material (Schlick F0 = base_color; its separable "
+          "Smith G differs from the targets' height-correlated one)";
       return g;
     }
   }
@@ -376,8 +385,10 @@ FitErrors ggx_errors(const GgxSource& g, const SampleSet& data) {
   TargetBrdf t;
   t.lobe.alpha_x = g.alpha_x, t.lobe.alpha_y = g.alpha_y;
   t.lobe.masking = Masking::HeightCorrelated;
-  if (g.conductor) t.lobe.fresnel = FresnelModel::Conductor, t.lobe.eta = g.eta, t.lobe.k = g.k;
-  else t.lobe.fresnel = FresnelModel::Schlick, t.lobe.f0 = g.f0, t.diffuse = g.kd;
+  if (g.conductor)
+    t.lobe.fresnel = FresnelModel::Conductor, t.lobe.eta = g.eta, t.lobe.k = g.k;
+  else
+    t.lobe.fresnel = FresnelModel::Schlick, t.lobe.f0 = g.f0, t.diffuse = g.kd;
   return target_errors(t, data);
 }
 double metric_of(const FitErrors& e, FitMetric m) { return m == FitMetric::L2Cos ? e.l2cos_all : e.log_all; }
@@ -392,7 +403,11 @@ GgxSource grid_fit(const GgxSource& base, const SampleSet& all) {
   SampleSet data;
   const size_t stride = std::max<size_t>(1, all.samples.size() / 6000);
   for (size_t i = 0; i < all.samples.size(); i += stride) data.samples.push_back(all.samples[i]);
-  struct Pre { Vec3d wi, wo; double c, s5, w; glm::dvec3 v; };
+  struct Pre {
+    Vec3d wi, wo;
+    double c, s5, w;
+    glm::dvec3 v;
+  };
   std::vector<Pre> pre;
   for (const MeasuredSample& m : data.samples) {
     const Vec3d h = glm::normalize(m.wi + m.wo);
@@ -429,8 +444,10 @@ GgxSource grid_fit(const GgxSource& base, const SampleSet& all) {
       double kd = det != 0.0 ? (b1[c] * a22 - b2[c] * a12) / det : 0.0;
       double f0 = det != 0.0 ? (a11 * b2[c] - a12 * b1[c]) / det : 0.0;
       // The box [0, 1]^2: clamp one, re-solve the other.
-      if (kd < 0.0 || kd > 1.0) kd = std::clamp(kd, 0.0, 1.0), f0 = a22 > 0 ? std::clamp((b2[c] - a12 * kd) / a22, 0.0, 1.0) : 0.0;
-      if (f0 < 0.0 || f0 > 1.0) f0 = std::clamp(f0, 0.0, 1.0), kd = a11 > 0 ? std::clamp((b1[c] - a12 * f0) / a11, 0.0, 1.0) : 0.0;
+      if (kd < 0.0 || kd > 1.0)
+        kd = std::clamp(kd, 0.0, 1.0), f0 = a22 > 0 ? std::clamp((b2[c] - a12 * kd) / a22, 0.0, 1.0) : 0.0;
+      if (f0 < 0.0 || f0 > 1.0)
+        f0 = std::clamp(f0, 0.0, 1.0), kd = a11 > 0 ? std::clamp((b1[c] - a12 * f0) / a11, 0.0, 1.0) : 0.0;
       g.kd[c] = kd, g.f0[c] = f0;
     }
     for (size_t i = 0; i < pre.size(); ++i) {
@@ -466,14 +483,15 @@ GgxSource grid_fit(const GgxSource& base, const SampleSet& all) {
 GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const ExportOptions& o) {
   if (std::optional<GgxSource> g = exact_ggx(d)) return *g;
   if (samples.samples.empty())
-    throw InputError(fmt::format("{}: the material reflects nothing above the horizon: there is nothing to export",
-                                 d.params.where));
+    throw InputError(
+        fmt::format("{}: the material reflects nothing above the horizon: there is nothing to export", d.params.where));
   double total = 0.0;
   for (const MeasuredSample& s : samples.samples) total += s.value.x + s.value.y + s.value.z;
   if (!(total > 0.0))
-    throw InputError(fmt::format("{}: the material is black (f = 0 at every sampled pair): no target can represent it "
-                                 "other than as black, and a fit has nothing to fit",
-                                 d.params.where.empty() ? d.model : d.params.where));
+    throw InputError(
+        fmt::format("{}: the material is black (f = 0 at every sampled pair): no target can represent it "
+                    "other than as black, and a fit has nothing to fit",
+                    d.params.where.empty() ? d.model : d.params.where));
   FitOptions fo;
   // The target is anisotropic whatever the data say (an isotropic source gives equal alphas), and
   // it follows the source where that gains energy: the export reproduces the source, it does not
@@ -507,7 +525,8 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
   g.conductor = e->conductor;
   g.kd = e->kd, g.f0 = e->f0, g.eta = e->eta, g.k = e->k;
   if (d.params.has("metal")) {
-    if (const MetalData* md = find_metal(d.params.text("metal"))) g.metal = std::string(md->name), g.symbol = std::string(md->symbol);
+    if (const MetalData* md = find_metal(d.params.text("metal")))
+      g.metal = std::string(md->name), g.symbol = std::string(md->symbol);
   }
   g.exact = false;
   g.source_fit = r.errors;
@@ -527,11 +546,11 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
     how = fmt::format("the alpha grid search (Ceres from {} starts reached l2cos {:.4g}, log {:.4g})", fo.starts,
                       r.errors.l2cos_all, r.errors.log_all);
   }
-  g.origin = fmt::format("fitted: aniso's anisotropic {} to {} samples of the {} source ({} metric; {}): l2cos {:.4g}, "
-                         "log {:.4g}",
-                         fo.model == "metal" ? "GGX conductor" : "GGX", samples.samples.size(), d.model,
-                         o.metric == FitMetric::L2Cos ? "l2cos" : "log", how, g.source_fit.l2cos_all,
-                         g.source_fit.log_all);
+  g.origin = fmt::format(
+      "fitted: aniso's anisotropic {} to {} samples of the {} source ({} metric; {}): l2cos {:.4g}, "
+      "log {:.4g}",
+      fo.model == "metal" ? "GGX conductor" : "GGX", samples.samples.size(), d.model,
+      o.metric == FitMetric::L2Cos ? "l2cos" : "log", how, g.source_fit.l2cos_all, g.source_fit.log_all);
   return g;
 }
 
@@ -577,13 +596,15 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
           m.lobe.fresnel = FresnelModel::Conductor;
           m.lobe.eta = g.eta, m.lobe.k = g.k;
           p["IOR"] = j3(g.eta), p["Extinction"] = j3(g.k);
-          notes.push_back("Blender 4.3+: a Metallic BSDF with the physical conductor Fresnel (n, k); before 4.3 the "
-                          "script builds a Principled BSDF with F0 and the F82 tint matching the reflectance at cos = "
-                          "1/7 instead (--blender-version 4.0 reports that one; 3.4 has no tint)");
+          notes.push_back(
+              "Blender 4.3+: a Metallic BSDF with the physical conductor Fresnel (n, k); before 4.3 the "
+              "script builds a Principled BSDF with F0 and the F82 tint matching the reflectance at cos = "
+              "1/7 instead (--blender-version 4.0 reports that one; 3.4 has no tint)");
         } else if (g.conductor) {
-          notes.push_back("the conductor's n, k become F0 and the F82 tint matching its reflectance at cos = 1/7 (the "
-                          "script uses 4.3's Metallic BSDF with n, k where it exists; Blender 3.4 ignores the tint: its "
-                          "Specular Tint is a float)");
+          notes.push_back(
+              "the conductor's n, k become F0 and the F82 tint matching its reflectance at cos = 1/7 (the "
+              "script uses 4.3's Metallic BSDF with n, k where it exists; Blender 3.4 ignores the tint: its "
+              "Specular Tint is a float)");
         }
       } else {
         // Dielectric: F0 = F0_from_ior(IOR) 2 level (closure.h, "Apply IOR adjustment"), exact Fresnel.
@@ -597,17 +618,20 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         p["Specular"] = std::min(f0 / 0.08, 1.0);  // Blender 3.4: F0 = 0.08 Specular, Specular in [0, 1]
         if (f0 > 0.08)
           notes.push_back(fmt::format("Blender 3.4's Specular stops at 1 (F0 0.08); this F0 {:.4g} needs 4.x's IOR", f0));
-        notes.push_back(fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of IOR {:.4g} closest to its "
-                                    "curve (F0 {:.4g})",
-                                    luminance_avg(g.f0), eta, f0));
-        notes.push_back("Cycles layers the diffuse under the specular (its weight times 1 - the specular albedo, "
-                        "closure_layering_weight); the target model adds them as aniso's GGX does");
+        notes.push_back(
+            fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of IOR {:.4g} closest to its "
+                        "curve (F0 {:.4g})",
+                        luminance_avg(g.f0), eta, f0));
+        notes.push_back(
+            "Cycles layers the diffuse under the specular (its weight times 1 - the specular albedo, "
+            "closure_layering_weight); the target model adds them as aniso's GGX does");
         if (max3(g.f0) - std::min({g.f0.x, g.f0.y, g.f0.z}) > 1e-3)
           notes.push_back("the coloured dielectric F0 is written as its mean (Specular IOR Level)");
       }
-      notes.push_back("Blender 3.4: the same node and inputs except Specular (3.4's F0 = 0.08 Specular) for Specular "
-                      "IOR Level; 3.4's Cycles evaluates its own masking and the Principled v1 Fresnel, which the "
-                      "target model (4.x) does not reproduce");
+      notes.push_back(
+          "Blender 3.4: the same node and inputs except Specular (3.4's F0 = 0.08 Specular) for Specular "
+          "IOR Level; 3.4's Cycles evaluates its own masking and the Principled v1 Fresnel, which the "
+          "target model (4.x) does not reproduce");
       break;
     }
     case Target::Mitsuba3:
@@ -627,11 +651,14 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         m.lobe.eta = g.eta, m.lobe.k = g.k;
         const bool named = mitsuba ? mitsuba_has(g.symbol) : pbrt_has(g.symbol);
         if (named) {
-          if (mitsuba) p["material"] = g.symbol;
-          else p["eta"] = "metal-" + g.symbol + "-eta", p["k"] = "metal-" + g.symbol + "-k";
-          notes.push_back(fmt::format("the renderer's own spectrum for {} ({}) replaces aniso's RGB n, k: a different "
-                                      "measurement, so the colour may differ slightly from the target model",
-                                      g.symbol, g.metal));
+          if (mitsuba)
+            p["material"] = g.symbol;
+          else
+            p["eta"] = "metal-" + g.symbol + "-eta", p["k"] = "metal-" + g.symbol + "-k";
+          notes.push_back(
+              fmt::format("the renderer's own spectrum for {} ({}) replaces aniso's RGB n, k: a different "
+                          "measurement, so the colour may differ slightly from the target model",
+                          g.symbol, g.metal));
         } else {
           p["eta"] = j3(g.eta), p["k"] = j3(g.k);
         }
@@ -653,19 +680,22 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
           m.diffuse = g.kd;
           p[mitsuba ? "weight" : "amount"] = w;
           p["diffuse_reflectance"] = j3(g.kd / (1.0 - w));
-          notes.push_back(fmt::format("no additive BSDF sum in the target: a stochastic mix with weight {:.4g}; the "
-                                      "specular reflectance at normal incidence is exact, at grazing it rises to {:.4g} "
-                                      "instead of 1",
-                                      w, w));
+          notes.push_back(
+              fmt::format("no additive BSDF sum in the target: a stochastic mix with weight {:.4g}; the "
+                          "specular reflectance at normal incidence is exact, at grazing it rises to {:.4g} "
+                          "instead of 1",
+                          w, w));
         }
-        notes.push_back("Schlick's Fresnel is written as the exact (dielectric or conductor) Fresnel closest to its "
-                        "curve: the target has no Schlick Fresnel");
+        notes.push_back(
+            "Schlick's Fresnel is written as the exact (dielectric or conductor) Fresnel closest to its "
+            "curve: the target has no Schlick Fresnel");
       }
       if (g.rotation_deg != 0.0)
-        notes.push_back(fmt::format("the tangent is dp/du: {} has no rotation input, so rotate the mesh's uv "
-                                    "parameterisation (or the tangent) by {:.9g} degrees about the normal, towards "
-                                    "dp/dv",
-                                    mitsuba ? "Mitsuba 3" : "pbrt-v4", g.rotation_deg));
+        notes.push_back(
+            fmt::format("the tangent is dp/du: {} has no rotation input, so rotate the mesh's uv "
+                        "parameterisation (or the tangent) by {:.9g} degrees about the normal, towards "
+                        "dp/dv",
+                        mitsuba ? "Mitsuba 3" : "pbrt-v4", g.rotation_deg));
       else
         notes.push_back("alpha along the tangent dp/du and the bitangent, as aniso's alpha_x and alpha_y");
       break;
@@ -711,8 +741,9 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         m.lobe.fresnel = FresnelModel::Conductor;
         m.lobe.eta = n, m.lobe.k = k;
         p["metalness"] = 1.0, p["base_color"] = j3(refl), p["specular_color"] = j3(edge);
-        notes.push_back("the conductor goes through Gulbrandsen's artistic IOR (reflectivity, edge colour): two "
-                        "colours for n, k, so the Fresnel curve is close, not equal");
+        notes.push_back(
+            "the conductor goes through Gulbrandsen's artistic IOR (reflectivity, edge colour): two "
+            "colours for n, k, so the Fresnel curve is close, not equal");
       } else {
         const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
         m.name = "MaterialX standard_surface, dielectric (exact Fresnel, G2 at the mean alpha) + Lambert";
@@ -721,11 +752,13 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         m.diffuse = g.kd;
         p["metalness"] = 0.0, p["base_color"] = j3(g.kd), p["specular_color"] = j3(glm::dvec3(1.0));
         p["specular_IOR"] = eta;
-        notes.push_back("standard_surface layers the diffuse under the specular (scaled by 1 - its albedo); the "
-                        "target model adds them");
+        notes.push_back(
+            "standard_surface layers the diffuse under the specular (scaled by 1 - its albedo); the "
+            "target model adds them");
       }
-      notes.push_back("MaterialX's GGX lobes add a multiple-scattering energy compensation "
-                      "(mx_ggx_energy_compensation, mx_conductor_bsdf.glsl:40) that the target model leaves out");
+      notes.push_back(
+          "MaterialX's GGX lobes add a multiple-scattering energy compensation "
+          "(mx_ggx_energy_compensation, mx_conductor_bsdf.glsl:40) that the target model leaves out");
       break;
     }
     case Target::Gltf: {
@@ -758,8 +791,10 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         m.name = "glTF 2.0 metal_brdf (metallic 1): Schlick F0 = baseColor, height-correlated G";
         m.lobe.f0 = f0;
         p["metallicFactor"] = 1.0, p["baseColorFactor"] = j3(f0);
-        if (g.conductor) notes.push_back("the conductor becomes Schlick's Fresnel with the F0 closest to its curve (least "
-                                         "squares over the cosine)");
+        if (g.conductor)
+          notes.push_back(
+              "the conductor becomes Schlick's Fresnel with the F0 closest to its curve (least "
+              "squares over the cosine)");
       } else {
         // Appendix B: dielectric_brdf = fresnel_mix(ior 1.5, diffuse, specular): (1 - F) diffuse + F specular.
         m.name = "glTF 2.0 dielectric_brdf (metallic 0): fresnel_mix(ior 1.5) of Lambert and GGX";
@@ -767,9 +802,10 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         m.diffuse = g.kd, m.diffuse_times_one_minus_f = true;
         p["metallicFactor"] = 0.0, p["baseColorFactor"] = j3(glm::clamp(g.kd, 0.0, 1.0));
         if (std::abs(luminance_avg(g.f0) - 0.04) > 1e-3)
-          notes.push_back(fmt::format("glTF's dielectric F0 is 0.04 (ior 1.5); the source's is {} "
-                                      "(KHR_materials_specular would carry it; not written)",
-                                      fmt3(g.f0)));
+          notes.push_back(
+              fmt::format("glTF's dielectric F0 is 0.04 (ior 1.5); the source's is {} "
+                          "(KHR_materials_specular would carry it; not written)",
+                          fmt3(g.f0)));
       }
       if (ax > 1.0) notes.push_back("alpha along the tangent above 1 clamped to 1 (glTF's mix(alpha, 1, s^2) <= 1)");
       break;
@@ -789,8 +825,8 @@ json ExportReport::to_json() const {
           {"origin", origin},
           {"parameters", parameters},
           {"error", {{"l2cos", errors.l2cos_all}, {"log", errors.log_all}, {"relative_l2cos", errors.relative_l2cos}}},
-          {"max_albedo_difference", {{"value", max_albedo_difference}, {"theta_o_deg", albedo_theta_deg},
-                                     {"phi_o_deg", albedo_phi_deg}}},
+          {"max_albedo_difference",
+           {{"value", max_albedo_difference}, {"theta_o_deg", albedo_theta_deg}, {"phi_o_deg", albedo_phi_deg}}},
           {"samples", samples},
           {"notes", notes}};
 }
@@ -801,10 +837,10 @@ std::string ExportReport::text(std::string_view pre) const {
   line(fmt::format("aniso export, target {}: {}", target, target_model));
   line(fmt::format("  {}", origin));
   line(fmt::format("  parameters: {}", parameters.dump()));
-  line(fmt::format("  error of the export against the source ({} samples): l2cos {:.4g} (relative {:.3g}), log {:.4g}",
-                   samples, errors.l2cos_all, errors.relative_l2cos, errors.log_all));
-  line(fmt::format("  largest directional-albedo difference: {:.4g} (theta_o {:g}, phi_o {:g} deg)",
-                   max_albedo_difference, albedo_theta_deg, albedo_phi_deg));
+  line(fmt::format("  error of the export against the source ({} samples): l2cos {:.4g} (relative {:.3g}), log {:.4g}", samples,
+                   errors.l2cos_all, errors.relative_l2cos, errors.log_all));
+  line(fmt::format("  largest directional-albedo difference: {:.4g} (theta_o {:g}, phi_o {:g} deg)", max_albedo_difference,
+                   albedo_theta_deg, albedo_phi_deg));
   for (const std::string& n : notes) line("  note: " + n);
   return s;
 }
@@ -860,8 +896,10 @@ std::string write_blender(const std::string& name, const json& p, const std::str
                      num(p, "Specular IOR Level"));
   }
   s += "else:\n";
-  if (metallic) s += "    pass  # 3.4: no edge tint (its Specular Tint is a float that tints the dielectric F0)\n";
-  else s += fmt::format("    put(\"Specular\", {:.9g})  # F0 = 0.08 Specular\n", num(p, "Specular"));
+  if (metallic)
+    s += "    pass  # 3.4: no edge tint (its Specular Tint is a float that tints the dielectric F0)\n";
+  else
+    s += fmt::format("    put(\"Specular\", {:.9g})  # F0 = 0.08 Specular\n", num(p, "Specular"));
   if (p.contains("Extinction")) {
     // Blender 4.3+: the Metallic BSDF (node_shader_bsdf_metallic.cc: IOR and Extinction are
     // vectors, Anisotropy and Rotation as the Principled BSDF's) replaces the Principled one.
@@ -899,7 +937,8 @@ std::string write_mitsuba(const std::string& name, const json& p, const std::str
   std::string conductor = "        <string name=\"distribution\" value=\"ggx\"/>\n";
   conductor += fmt::format("        <float name=\"alpha_u\" value=\"{:.9g}\"/>\n", num(p, "alpha_u"));
   conductor += fmt::format("        <float name=\"alpha_v\" value=\"{:.9g}\"/>\n", num(p, "alpha_v"));
-  if (p.contains("material")) conductor += fmt::format("        <string name=\"material\" value=\"{}\"/>\n", p["material"].get<std::string>());
+  if (p.contains("material"))
+    conductor += fmt::format("        <string name=\"material\" value=\"{}\"/>\n", p["material"].get<std::string>());
   else
     conductor += fmt::format("        <rgb name=\"eta\" value=\"{}\"/>\n        <rgb name=\"k\" value=\"{}\"/>\n",
                              fmt3(col(p, "eta")), fmt3(col(p, "k")));
@@ -927,10 +966,13 @@ std::string write_mitsuba(const std::string& name, const json& p, const std::str
 
 std::string pbrt_conductor(const json& p) {
   std::string s = "    \"string type\" \"conductor\"\n";
-  if (p.contains("reflectance")) s += fmt::format("    \"rgb reflectance\" [ {} ]\n", fmt3(col(p, "reflectance"), " "));
+  if (p.contains("reflectance"))
+    s += fmt::format("    \"rgb reflectance\" [ {} ]\n", fmt3(col(p, "reflectance"), " "));
   else if (p["eta"].is_string())
-    s += fmt::format("    \"spectrum eta\" \"{}\"\n    \"spectrum k\" \"{}\"\n", p["eta"].get<std::string>(), p["k"].get<std::string>());
-  else s += fmt::format("    \"rgb eta\" [ {} ]\n    \"rgb k\" [ {} ]\n", fmt3(col(p, "eta"), " "), fmt3(col(p, "k"), " "));
+    s += fmt::format("    \"spectrum eta\" \"{}\"\n    \"spectrum k\" \"{}\"\n", p["eta"].get<std::string>(),
+                     p["k"].get<std::string>());
+  else
+    s += fmt::format("    \"rgb eta\" [ {} ]\n    \"rgb k\" [ {} ]\n", fmt3(col(p, "eta"), " "), fmt3(col(p, "k"), " "));
   s += fmt::format("    \"float uroughness\" {:.9g}\n    \"float vroughness\" {:.9g}\n    \"bool remaproughness\" false\n",
                    num(p, "uroughness"), num(p, "vroughness"));
   return s;
@@ -940,13 +982,14 @@ std::string write_pbrt(const std::string& name, const json& p, const std::string
   const std::string id = identifier(name);
   std::string s = comment + "\n";
   if (p.contains("amount")) {
-    s += fmt::format("MakeNamedMaterial \"{}-diffuse\"\n    \"string type\" \"diffuse\"\n    \"rgb reflectance\" [ {} ]\n",
-                     id, fmt3(col(p, "diffuse_reflectance"), " "));
+    s += fmt::format("MakeNamedMaterial \"{}-diffuse\"\n    \"string type\" \"diffuse\"\n    \"rgb reflectance\" [ {} ]\n", id,
+                     fmt3(col(p, "diffuse_reflectance"), " "));
     s += fmt::format("MakeNamedMaterial \"{}-specular\"\n", id) + pbrt_conductor(p);
     // materials.h:285-293: amount is the probability of materials[1].
-    s += fmt::format("MakeNamedMaterial \"{}\"\n    \"string type\" \"mix\"\n    \"string materials\" [ \"{}-diffuse\" "
-                     "\"{}-specular\" ]\n    \"float amount\" {:.9g}\n",
-                     id, id, id, num(p, "amount"));
+    s += fmt::format(
+        "MakeNamedMaterial \"{}\"\n    \"string type\" \"mix\"\n    \"string materials\" [ \"{}-diffuse\" "
+        "\"{}-specular\" ]\n    \"float amount\" {:.9g}\n",
+        id, id, id, num(p, "amount"));
   } else {
     s += fmt::format("MakeNamedMaterial \"{}\"\n", id) + pbrt_conductor(p);
   }
@@ -989,8 +1032,8 @@ void write_gltf(const std::string& name, const json& p, const ExportReport& r, c
   };
   const size_t nv = mesh.positions.size() / 3;
   json views = json::array(), accessors = json::array();
-  const auto add = [&](const void* data, size_t bytes, int components, int ctype, const char* type, size_t count,
-                       int target, bool minmax) {
+  const auto add = [&](const void* data, size_t bytes, int components, int ctype, const char* type, size_t count, int target,
+                       bool minmax) {
     const size_t offset = bin.size();
     append(data, bytes);
     views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}, {"target", target}});
@@ -1009,28 +1052,30 @@ void write_gltf(const std::string& name, const json& p, const ExportReport& r, c
   json material = {
       {"name", name},
       {"pbrMetallicRoughness",
-       {{"baseColorFactor", {base.x, base.y, base.z, 1.0}}, {"metallicFactor", num(p, "metallicFactor")},
+       {{"baseColorFactor", {base.x, base.y, base.z, 1.0}},
+        {"metallicFactor", num(p, "metallicFactor")},
         {"roughnessFactor", num(p, "roughnessFactor")}}},
       {"extensions",
        {{"KHR_materials_anisotropy",
          {{"anisotropyStrength", num(p, "anisotropyStrength")}, {"anisotropyRotation", num(p, "anisotropyRotation")}}}}}};
-  json doc = {
-      {"asset", {{"version", "2.0"}, {"generator", "aniso " ANISO_VERSION " export --to gltf"},
-                 {"extras", {{"source", source}, {"aniso_export", r.to_json()}}}}},
-      {"extensionsUsed", {"KHR_materials_anisotropy"}},
-      {"scene", 0},
-      {"scenes", {{{"nodes", {0}}}}},
-      {"nodes", {{{"mesh", 0}, {"name", name}}}},
-      {"meshes",
-       {{{"name", "sphere"},
-         {"primitives",
-          {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TANGENT", 2}, {"TEXCOORD_0", 3}}},
-            {"indices", 4},
-            {"material", 0}}}}}}},
-      {"materials", {material}},
-      {"buffers", {{{"uri", bin_name}, {"byteLength", bin.size()}}}},
-      {"bufferViews", views},
-      {"accessors", accessors}};
+  json doc = {{"asset",
+               {{"version", "2.0"},
+                {"generator", "aniso " ANISO_VERSION " export --to gltf"},
+                {"extras", {{"source", source}, {"aniso_export", r.to_json()}}}}},
+              {"extensionsUsed", {"KHR_materials_anisotropy"}},
+              {"scene", 0},
+              {"scenes", {{{"nodes", {0}}}}},
+              {"nodes", {{{"mesh", 0}, {"name", name}}}},
+              {"meshes",
+               {{{"name", "sphere"},
+                 {"primitives",
+                  {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TANGENT", 2}, {"TEXCOORD_0", 3}}},
+                    {"indices", 4},
+                    {"material", 0}}}}}}},
+              {"materials", {material}},
+              {"buffers", {{{"uri", bin_name}, {"byteLength", bin.size()}}}},
+              {"bufferViews", views},
+              {"accessors", accessors}};
   files.push_back({"", doc.dump(2) + "\n"});
   files.push_back({bin_name, bin});
 }
@@ -1175,9 +1220,10 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
     // The other model the script may build (before 4.3): its error too.
     const TargetBrdf older = target_model(Target::Blender, res.ggx, nullptr, nullptr, 4.0);
     const FitErrors e = target_errors(older, samples);
-    r.notes.push_back(fmt::format("Blender 4.0 to 4.2 (Principled BSDF, F82 tint): l2cos {:.4g} (relative {:.3g}), log "
-                                  "{:.4g}",
-                                  e.l2cos_all, e.relative_l2cos, e.log_all));
+    r.notes.push_back(
+        fmt::format("Blender 4.0 to 4.2 (Principled BSDF, F82 tint): l2cos {:.4g} (relative {:.3g}), log "
+                    "{:.4g}",
+                    e.l2cos_all, e.relative_l2cos, e.log_all));
   }
   r.samples = samples.samples.size();
   r.max_albedo_difference = max_albedo_difference(source, res.model, &r.albedo_theta_deg, &r.albedo_phi_deg);

@@ -248,11 +248,13 @@ class BlockCache final : public ceres::EvaluationCallback {
   }
   // Block b's values at x, from the cache when they were computed at x (false: not cached).
   bool lookup(size_t b, const double* x, double* residuals, double* jacobian, bool& ok) const {
-    if (point_.size() != size_t(size_) || (jacobian && !has_jacobians_) || !std::equal(point_.begin(), point_.end(), x)) return false;
+    if (point_.size() != size_t(size_) || (jacobian && !has_jacobians_) || !std::equal(point_.begin(), point_.end(), x))
+      return false;
     ok = ok_[b] != 0;
     std::copy(residuals_.begin() + long(offset_[b]), residuals_.begin() + long(offset_[b + 1]), residuals);
     if (jacobian)
-      std::copy(jacobians_.begin() + long(offset_[b] * size_t(size_)), jacobians_.begin() + long(offset_[b + 1] * size_t(size_)), jacobian);
+      std::copy(jacobians_.begin() + long(offset_[b] * size_t(size_)), jacobians_.begin() + long(offset_[b + 1] * size_t(size_)),
+                jacobian);
     return true;
   }
 
@@ -341,7 +343,8 @@ std::vector<AlbedoAt> albedo_grid(const MaterialD& m, bool anisotropic) {
   for (double theta : kAlbedoThetaDeg)
     for (int k = 0; k < (anisotropic ? kAlbedoPhiSteps : 1); ++k) {
       AlbedoAt a;
-      a.theta_deg = theta, a.phi_deg = 180.0 * k / kAlbedoPhiSteps, a.wo = direction_from_angles(a.theta_deg * M_PI / 180.0, a.phi_deg * M_PI / 180.0);
+      a.theta_deg = theta, a.phi_deg = 180.0 * k / kAlbedoPhiSteps,
+      a.wo = direction_from_angles(a.theta_deg * M_PI / 180.0, a.phi_deg * M_PI / 180.0);
       const AlbedoEstimate e = albedo_importance(m, a.wo, kAlbedoSamples, seed++);
       a.value = std::max({e.mean.x, e.mean.y, e.mean.z});
       out.push_back(a);
@@ -437,9 +440,9 @@ template <class Model, int N> class EnergyCost final : public ceres::CostFunctio
 // singular values of J D below 1e-5 of the largest.
 constexpr double kWeakEigenvalue = 1e-10, kWeakComponent = 0.5;
 
-template <class Model>
-std::vector<int> weak_entries(const Model& model, const std::vector<std::unique_ptr<ceres::CostFunction>>& costs,
-                              const std::vector<double>& x) {
+template <class Model> std::vector<int> weak_entries(const Model& model,
+                                                     const std::vector<std::unique_ptr<ceres::CostFunction>>& costs,
+                                                     const std::vector<double>& x) {
   const int P = int(model.defs.size());
   Eigen::VectorXd scale(P);
   for (int p = 0; p < P; ++p) scale[p] = p == model.rotation_index() ? 1.0 : std::max(std::abs(x[size_t(p)]), 1e-2);
@@ -576,7 +579,8 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   if (o.starts > 1)
     if (auto s = nearest_ngan_start(model, used, dm)) starts.push_back(*s);
   Rng rng(o.seed);
-  for (int i = 1; int(starts.size()) < o.starts; ++i) starts.push_back({fmt::format("random {}", i), model.random_start(rng, dm)});
+  for (int i = 1; int(starts.size()) < o.starts; ++i)
+    starts.push_back({fmt::format("random {}", i), model.random_start(rng, dm)});
   // The orientation (models.h, Orientation): each deterministic start at kRotationStarts turns
   // spread over the lobe's period (the isotropic starts have no preferred direction, and the
   // solver turns a start by at most about half the spacing), each random start at a random turn
@@ -610,7 +614,8 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   const auto make_costs = [&](const std::vector<Prepared>& samples) {
     std::vector<std::unique_ptr<ceres::CostFunction>> out;
     for (size_t i = 0; i < samples.size(); i += size_t(chunk))
-      out.push_back(std::make_unique<ChunkCost<Model, N>>(model, samples.data() + i, int(std::min(samples.size() - i, size_t(chunk))), o.metric));
+      out.push_back(std::make_unique<ChunkCost<Model, N>>(model, samples.data() + i,
+                                                          int(std::min(samples.size() - i, size_t(chunk))), o.metric));
     return out;
   };
   const auto costs = make_costs(used);
@@ -621,7 +626,8 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   std::vector<Prepared> ranking;
   if (used.size() > kRankingSamples) {
     double sub = 0.0;
-    for (size_t i = 0; i < kRankingSamples; ++i) ranking.push_back(used[i * used.size() / kRankingSamples]), sub += sqr(ranking.back().sqrt_w);
+    for (size_t i = 0; i < kRankingSamples; ++i)
+      ranking.push_back(used[i * used.size() / kRankingSamples]), sub += sqr(ranking.back().sqrt_w);
     for (Prepared& p : ranking) p.sqrt_w /= std::sqrt(sub);
   }
   const auto ranking_costs = make_costs(ranking);
@@ -638,10 +644,14 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   std::unique_ptr<ceres::CostFunction> penalty;
   if (model.penalty_count() > 0) penalty = std::make_unique<PenaltyCost<Model, N>>(model);
   std::unique_ptr<ceres::LossFunction> loss;
-  if (o.loss == "huber") loss = std::make_unique<ceres::HuberLoss>(scale);
-  else if (o.loss == "cauchy") loss = std::make_unique<ceres::CauchyLoss>(scale);
-  else if (o.loss == "soft_l1") loss = std::make_unique<ceres::SoftLOneLoss>(scale);
-  else if (robust) throw InputError(fmt::format("--loss: expected none, huber, cauchy or soft_l1, got \"{}\"", o.loss));
+  if (o.loss == "huber")
+    loss = std::make_unique<ceres::HuberLoss>(scale);
+  else if (o.loss == "cauchy")
+    loss = std::make_unique<ceres::CauchyLoss>(scale);
+  else if (o.loss == "soft_l1")
+    loss = std::make_unique<ceres::SoftLOneLoss>(scale);
+  else if (robust)
+    throw InputError(fmt::format("--loss: expected none, huber, cauchy or soft_l1, got \"{}\"", o.loss));
 
   const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   const int P = int(model.defs.size());
@@ -749,18 +759,18 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     std::vector<Vec3d> watched;
     for (int round = 0; round < kEnergyRounds && grid.front().value > kAlbedoLimit; ++round) {
       for (const AlbedoAt& a : grid)
-        if (a.value > kAlbedoTarget && watched.size() < 24 &&
-            std::find(watched.begin(), watched.end(), a.wo) == watched.end())
+        if (a.value > kAlbedoTarget && watched.size() < 24 && std::find(watched.begin(), watched.end(), a.wo) == watched.end())
           watched.push_back(a.wo);
       const MaterialD current = build_fitted(final_fit.x);
       std::vector<WatchedDirection> dirs;
-      for (size_t k = 0; k < watched.size(); ++k) dirs.push_back(watch(current, watched[k], kWatchSamples, 0xe4e7 + 97 * k + round));
+      for (size_t k = 0; k < watched.size(); ++k)
+        dirs.push_back(watch(current, watched[k], kWatchSamples, 0xe4e7 + 97 * k + round));
       // An excess of 0.005 costs ten times the data term: the constraint wins, the data decide
       // everything it leaves free.
       const double weight = std::sqrt(20.0 * std::max(final_fit.cost, 1e-12)) / 0.005;
       EnergyCost<Model, N> energy(model, std::move(dirs), weight);
-      Solved constrained = solve(final_fit.x, o.max_iterations, fmt::format("energy constraint, round {}", round + 1), 0,
-                                 false, &energy);
+      Solved constrained =
+          solve(final_fit.x, o.max_iterations, fmt::format("energy constraint, round {}", round + 1), 0, false, &energy);
       iterations += constrained.iterations;
       if (!std::isfinite(constrained.cost)) break;
       final_fit = constrained;
@@ -799,7 +809,8 @@ template <class Model> FitResult dispatch(const Model& model, const SampleSet& d
 template <typename E> std::string name_list() {
   const auto names = enum_names<E>();
   std::string s;
-  for (size_t i = 0; i < names.size(); ++i) s += fmt::format("{}{}", i == 0 ? "" : i + 1 == names.size() ? " or " : ", ", names[i]);
+  for (size_t i = 0; i < names.size(); ++i)
+    s += fmt::format("{}{}", i == 0 ? "" : i + 1 == names.size() ? " or " : ", ", names[i]);
   return s;
 }
 
@@ -890,25 +901,32 @@ FitOptions parse_fit_options(const FitOptionText& a) {
       std::string note = fmt::format("--model {} is read as --model {}", alias.alias, alias.model);
       if (!alias.normalization.empty()) {
         if (a.normalization != "ward" && a.normalization != alias.normalization)
-          throw InputError(fmt::format("--model {} sets --normalization {}, not {}", alias.alias, alias.normalization,
-                                       a.normalization));
+          throw InputError(
+              fmt::format("--model {} sets --normalization {}, not {}", alias.alias, alias.normalization, a.normalization));
         o.normalization = alias.normalization;
         note += fmt::format(" --normalization {}", alias.normalization);
       }
       o.notes.push_back(fmt::format("{}: {}", note, alias.note));
     }
   o.lobes = int(parse_integer(a.lobes, 1, kLafortuneMaxLobes, "--lobes"));
-  if (a.anisotropic == "auto") o.anisotropy = Anisotropy::Auto;
-  else if (a.anisotropic == "yes") o.anisotropy = Anisotropy::Yes;
-  else if (a.anisotropic == "no") o.anisotropy = Anisotropy::No;
-  else throw InputError(fmt::format("--anisotropic: expected auto, yes or no, got \"{}\"", a.anisotropic));
+  if (a.anisotropic == "auto")
+    o.anisotropy = Anisotropy::Auto;
+  else if (a.anisotropic == "yes")
+    o.anisotropy = Anisotropy::Yes;
+  else if (a.anisotropic == "no")
+    o.anisotropy = Anisotropy::No;
+  else
+    throw InputError(fmt::format("--anisotropic: expected auto, yes or no, got \"{}\"", a.anisotropic));
   o.allow_energy_gain = a.allow_energy_gain;
   o.shared_exponents = a.shared_exponents;
   o.metal = a.metal;
   o.metal_lobe = a.metal_lobe;
-  if (a.metric == "l2cos") o.metric = FitMetric::L2Cos;
-  else if (a.metric == "log") o.metric = FitMetric::Log;
-  else throw InputError(fmt::format("--metric: expected l2cos or log, got \"{}\"", a.metric));
+  if (a.metric == "l2cos")
+    o.metric = FitMetric::L2Cos;
+  else if (a.metric == "log")
+    o.metric = FitMetric::Log;
+  else
+    throw InputError(fmt::format("--metric: expected l2cos or log, got \"{}\"", a.metric));
   o.loss = a.loss;
   const std::optional<double> scale = parse_decimal(a.loss_scale);
   if (!scale || !(*scale >= 0.0))
@@ -955,7 +973,6 @@ constexpr Fittable kFittable[] = {
     {"lambert", [](const SampleSet& data, const FitOptions& o, bool) { return dispatch(LambertFit(), data, o); }, false},
 };
 
-
 // Whether the data can show anisotropy at all (docs/fitting.md, "Anisotropy"): the azimuths of
 // their half vectors, modulo the half turn every anisotropic lobe repeats after, in 12 bins of 15
 // degrees. An anisotropic lobe is a function of the half vector's azimuth; data whose half
@@ -998,10 +1015,12 @@ FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
   if (o.max_iterations < 1) throw InputError("--max-iterations: expected at least 1");
   // Every sample 0: any black material fits exactly, and the relative error (error / data norm)
   // is 0 / 0. Nothing to fit.
-  if (!data.samples.empty() && std::all_of(data.samples.begin(), data.samples.end(),
-                                           [](const MeasuredSample& s) { return s.value == Vec3d(0.0); }))
-    throw InputError(fmt::format("{}: every sample is 0: there is nothing to fit (any black material matches, and the "
-                                 "relative error is undefined)", data.source));
+  if (!data.samples.empty() &&
+      std::all_of(data.samples.begin(), data.samples.end(), [](const MeasuredSample& s) { return s.value == Vec3d(0.0); }))
+    throw InputError(
+        fmt::format("{}: every sample is 0: there is nothing to fit (any black material matches, and the "
+                    "relative error is undefined)",
+                    data.source));
   const Fittable* row = nullptr;
   std::string names;
   for (size_t i = 0; i < std::size(kFittable); ++i) {
@@ -1026,9 +1045,10 @@ FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
     std::string list;
     for (const std::string& n : a.unconstrained_anisotropy) list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
     FitResult iso = row->fit(data, o, false);
-    iso.tied.push_back(fmt::format("the anisotropic pair to its isotropic partner (alpha_y = alpha_x, n_v = n_u, cy = cx) "
-                                   "and rotation_deg to 0: the data do not constrain {}",
-                                   list));
+    iso.tied.push_back(
+        fmt::format("the anisotropic pair to its isotropic partner (alpha_y = alpha_x, n_v = n_u, cy = cx) "
+                    "and rotation_deg to 0: the data do not constrain {}",
+                    list));
     iso.anisotropy_reason = a.anisotropy_reason + "; then isotropic: the data do not constrain the anisotropic entries";
     return iso;
   };
@@ -1050,21 +1070,23 @@ FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
   FitResult iso = row->fit(data, o, false);
   FitResult an = anisotropic_fit("");
   const double gain = iso.errors.relative_l2cos > 0.0 ? 1.0 - an.errors.relative_l2cos / iso.errors.relative_l2cos : 0.0;
-  const std::string figures = fmt::format("{:.1f}% (relative l2cos {:.4g} -> {:.4g})", 100.0 * gain,
-                                          iso.errors.relative_l2cos, an.errors.relative_l2cos);
+  const std::string figures =
+      fmt::format("{:.1f}% (relative l2cos {:.4g} -> {:.4g})", 100.0 * gain, iso.errors.relative_l2cos, an.errors.relative_l2cos);
   if (an.anisotropic && gain >= kAutoAnisotropicGain) {
-    an.anisotropy_reason = fmt::format("anisotropic: the anisotropic fit lowers the error by {}, at least the {:g}% the "
-                                       "auto rule asks",
-                                       figures, 100.0 * kAutoAnisotropicGain);
+    an.anisotropy_reason = fmt::format(
+        "anisotropic: the anisotropic fit lowers the error by {}, at least the {:g}% the "
+        "auto rule asks",
+        figures, 100.0 * kAutoAnisotropicGain);
     an.seconds += iso.seconds;
     return an;
   }
   if (!an.anisotropic) iso.tied = an.tied;
-  iso.anisotropy_reason =
-      an.anisotropic ? fmt::format("isotropic: the anisotropic fit lowers the error by only {}, less than the {:g}% the "
-                                   "auto rule asks",
-                                   figures, 100.0 * kAutoAnisotropicGain)
-                     : "isotropic: the data do not constrain the anisotropic fit's extra entries (tied below)";
+  iso.anisotropy_reason = an.anisotropic
+                              ? fmt::format(
+                                    "isotropic: the anisotropic fit lowers the error by only {}, less than the {:g}% the "
+                                    "auto rule asks",
+                                    figures, 100.0 * kAutoAnisotropicGain)
+                              : "isotropic: the data do not constrain the anisotropic fit's extra entries (tied below)";
   iso.seconds += an.seconds;
   return iso;
 }
@@ -1085,13 +1107,12 @@ nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const F
   f["anisotropy_reason"] = r.anisotropy_reason;
   f["tied"] = r.tied;
   f["weakly_constrained"] = r.weakly_constrained;
-  f["largest_albedo"] = {{"value", r.largest_albedo},
-                         {"theta_deg", r.largest_albedo_theta_deg},
-                         {"phi_deg", r.largest_albedo_phi_deg},
-                         {"grid", fmt::format("theta_o 0 to 89 deg ({} values) x phi_o {}, {} importance samples each",
-                                              std::size(kAlbedoThetaDeg),
-                                              r.anisotropic ? "0 to 165 deg in steps of 15" : "0 (isotropic)",
-                                              kAlbedoSamples)}};
+  f["largest_albedo"] = {
+      {"value", r.largest_albedo},
+      {"theta_deg", r.largest_albedo_theta_deg},
+      {"phi_deg", r.largest_albedo_phi_deg},
+      {"grid", fmt::format("theta_o 0 to 89 deg ({} values) x phi_o {}, {} importance samples each", std::size(kAlbedoThetaDeg),
+                           r.anisotropic ? "0 to 165 deg in steps of 15" : "0 (isotropic)", kAlbedoSamples)}};
   f["energy"] = o.allow_energy_gain ? "unconstrained (--allow-energy-gain)"
                 : r.energy_constrained
                     ? fmt::format("constrained: directional albedo <= 1 (relative l2cos {:.4g} before, {:.4g} after)",
@@ -1107,8 +1128,11 @@ nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const F
   f["aniso_version"] = ANISO_VERSION;
   f["termination"] = r.termination;
   const auto rgb = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
-  f["error"] = {{"l2cos", r.errors.l2cos_all}, {"l2cos_rgb", rgb(r.errors.l2cos)}, {"log", r.errors.log_all},
-                {"log_rgb", rgb(r.errors.log)}, {"relative_l2cos", r.errors.relative_l2cos}};
+  f["error"] = {{"l2cos", r.errors.l2cos_all},
+                {"l2cos_rgb", rgb(r.errors.l2cos)},
+                {"log", r.errors.log_all},
+                {"log_rgb", rgb(r.errors.log)},
+                {"relative_l2cos", r.errors.relative_l2cos}};
   f["seconds"] = r.seconds;
   return f;
 }

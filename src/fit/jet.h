@@ -18,7 +18,6 @@ template <typename T, int N> inline const ceres::Jet<T, N> kPi<ceres::Jet<T, N>>
 template <typename T, int N> inline const ceres::Jet<T, N> kInvPi<ceres::Jet<T, N>> = ceres::Jet<T, N>(kInvPi<T>);
 template <typename T, int N> inline const ceres::Jet<T, N> kInv2Pi<ceres::Jet<T, N>> = ceres::Jet<T, N>(kInv2Pi<T>);
 template <typename T, int N> inline const ceres::Jet<T, N> kInv4Pi<ceres::Jet<T, N>> = ceres::Jet<T, N>(kInv4Pi<T>);
-template <typename T, int N>
-inline const ceres::Jet<T, N> kPiOver2<ceres::Jet<T, N>> = ceres::Jet<T, N>(kPiOver2<T>);
+template <typename T, int N> inline const ceres::Jet<T, N> kPiOver2<ceres::Jet<T, N>> = ceres::Jet<T, N>(kPiOver2<T>);
 
 }  // namespace aniso

@@ -60,8 +60,7 @@ std::vector<double> alpha_lobe_preset_start(const MaterialDesc& desc, bool aniso
   return x;
 }
 
-std::vector<double> alpha_lobe_random_start(Rng& rng, const DataMoments& d, bool anisotropic,
-                                            const std::vector<ParamDef>& defs) {
+std::vector<double> alpha_lobe_random_start(Rng& rng, const DataMoments& d, bool anisotropic, const std::vector<ParamDef>& defs) {
   std::vector<double> x(defs.size());
   for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
   const double spec = uniform(rng, 0.01, 1.0);
@@ -82,17 +81,21 @@ ParamDef table_def(const ModelSpec& s, std::string_view key, std::string name) {
 // --- Lafortune ---------------------------------------------------------------------------------
 
 LafortuneFit::LafortuneFit(int lobes, bool anisotropic, bool shared_exponents)
-    : lobes_(lobes), anisotropic_(anisotropic), shared_(shared_exponents),
+    : lobes_(lobes),
+      anisotropic_(anisotropic),
+      shared_(shared_exponents),
       stride_((anisotropic ? 9 : 6) + (shared_exponents ? 1 : 3)) {
   const ModelSpec& lobe = lafortune_lobe_spec();
   const char* ch = "rgb";
   for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("lafortune"), "rho_d", fmt::format("rho_d.{}", ch[c])));
   for (int k = 0; k < lobes; ++k) {
-    for (int c = 0; c < 3; ++c) defs.push_back(table_def(lobe, "cx", fmt::format("lobe{}.{}.{}", k, anisotropic ? "cx" : "cxy", ch[c])));
+    for (int c = 0; c < 3; ++c)
+      defs.push_back(table_def(lobe, "cx", fmt::format("lobe{}.{}.{}", k, anisotropic ? "cx" : "cxy", ch[c])));
     if (anisotropic)
       for (int c = 0; c < 3; ++c) defs.push_back(table_def(lobe, "cy", fmt::format("lobe{}.cy.{}", k, ch[c])));
     for (int c = 0; c < 3; ++c) defs.push_back(table_def(lobe, "cz", fmt::format("lobe{}.cz.{}", k, ch[c])));
-    if (shared_exponents) defs.push_back(table_def(lobe, "n", fmt::format("lobe{}.n", k)));
+    if (shared_exponents)
+      defs.push_back(table_def(lobe, "n", fmt::format("lobe{}.n", k)));
     else
       for (int c = 0; c < 3; ++c) defs.push_back(table_def(lobe, "n", fmt::format("lobe{}.n.{}", k, ch[c])));
   }
@@ -207,14 +210,17 @@ void WardFit::canonicalize(double* x) const {
 
 Json WardFit::to_json(const double* x) const {
   const std::string norm(enum_name(norm_));
-  return {{"model", "ward"}, {"kd", rgb_json(x)}, {"ks", rgb_json(x + 3)}, {"alpha_x", x[6]},
-          {"alpha_y", x[anisotropic_ ? 7 : 6]}, {"form", "vector"}, {"normalization", norm}};
+  return {{"model", "ward"},
+          {"kd", rgb_json(x)},
+          {"ks", rgb_json(x + 3)},
+          {"alpha_x", x[6]},
+          {"alpha_y", x[anisotropic_ ? 7 : 6]},
+          {"form", "vector"},
+          {"normalization", norm}};
 }
 
 // ks from the peak: at the mirror direction at normal incidence the lobe is ks / (4 pi alpha^2).
-std::vector<double> WardFit::moment_start(const DataMoments& d) const {
-  return alpha_lobe_moment_start(d, anisotropic_, defs);
-}
+std::vector<double> WardFit::moment_start(const DataMoments& d) const { return alpha_lobe_moment_start(d, anisotropic_, defs); }
 
 std::optional<std::vector<double>> WardFit::from_preset(const MaterialDesc& desc, const DataMoments&) const {
   return alpha_lobe_preset_start(desc, anisotropic_, defs);
@@ -248,8 +254,13 @@ void AshikhminShirleyFit::canonicalize(double* x) const {
 }
 
 Json AshikhminShirleyFit::to_json(const double* x) const {
-  return {{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"rs", x[6]}, {"kd", rgb_json(x)}, {"ks_scale", rgb_json(x + 3)},
-          {"n_u", x[7]}, {"n_v", x[anisotropic_ ? 8 : 7]}};
+  return {{"model", "ashikhmin-shirley"},
+          {"rd", 0.0},
+          {"rs", x[6]},
+          {"kd", rgb_json(x)},
+          {"ks_scale", rgb_json(x + 3)},
+          {"n_u", x[7]},
+          {"n_v", x[anisotropic_ ? 8 : 7]}};
 }
 
 // The half-vector exponent is about four times the mirror one (theta_h ~ a / 2); the specular peak
@@ -310,13 +321,12 @@ void GGXFit::canonicalize(double* x) const {
 }
 
 Json GGXFit::to_json(const double* x) const {
-  return {{"model", "ggx"}, {"kd", rgb_json(x)}, {"f0", rgb_json(x + 3)}, {"alpha_x", x[6]}, {"alpha_y", x[anisotropic_ ? 7 : 6]}};
+  return {
+      {"model", "ggx"}, {"kd", rgb_json(x)}, {"f0", rgb_json(x + 3)}, {"alpha_x", x[6]}, {"alpha_y", x[anisotropic_ ? 7 : 6]}};
 }
 
 // At normal incidence the specular peak is f0 / (4 pi alpha^2) (D = 1 / (pi alpha^2), G2 ~ 1).
-std::vector<double> GGXFit::moment_start(const DataMoments& d) const {
-  return alpha_lobe_moment_start(d, anisotropic_, defs);
-}
+std::vector<double> GGXFit::moment_start(const DataMoments& d) const { return alpha_lobe_moment_start(d, anisotropic_, defs); }
 
 // The nearest material's Ward fit: its kd, its ks as f0, its roughness as alpha.
 std::optional<std::vector<double>> GGXFit::from_preset(const MaterialDesc& desc, const DataMoments&) const {
@@ -349,8 +359,8 @@ void PrincipledFit::canonicalize(double* x) const {
 }
 
 Json PrincipledFit::to_json(const double* x) const {
-  return {{"model", "principled"}, {"base_color", rgb_json(x)}, {"metallic", x[3]}, {"specular", x[4]},
-          {"roughness", x[5]},     {"anisotropic", anisotropic_ ? x[6] : 0.0}};
+  return {{"model", "principled"}, {"base_color", rgb_json(x)}, {"metallic", x[3]},
+          {"specular", x[4]},      {"roughness", x[5]},         {"anisotropic", anisotropic_ ? x[6] : 0.0}};
 }
 
 // A dielectric start: the floor albedo as base colour, specular 0.5 (F0 0.04), roughness from the
@@ -424,10 +434,12 @@ Json MetalFit::to_json(const double* x) const {
     i = 6;
   }
   const double a = x[i], b = x[anisotropic_ ? i + 1 : i];
-  if (lobe_ == SpecularLobeKind::AshikhminShirley) out["lobe"] = {{"model", "ashikhmin-shirley"}, {"n_u", a}, {"n_v", b}};
+  if (lobe_ == SpecularLobeKind::AshikhminShirley)
+    out["lobe"] = {{"model", "ashikhmin-shirley"}, {"n_u", a}, {"n_v", b}};
   else if (lobe_ == SpecularLobeKind::Ward)
     out["lobe"] = {{"model", "ward"}, {"alpha_x", a}, {"alpha_y", b}, {"form", "vector"}, {"normalization", "ward"}};
-  else out["lobe"] = {{"model", "ggx"}, {"alpha_x", a}, {"alpha_y", b}};
+  else
+    out["lobe"] = {{"model", "ggx"}, {"alpha_x", a}, {"alpha_y", b}};
   return out;
 }
 

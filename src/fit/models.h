@@ -29,8 +29,8 @@ struct ParamDef {
 
 // What the starts are built from (fit.cpp, data_moments()).
 struct DataMoments {
-  glm::dvec3 floor_albedo{0.0};  // pi x the 5th percentile of each channel: the diffuse floor
-  glm::dvec3 peak{0.0};          // the largest value above the floor, per channel (1/sr)
+  glm::dvec3 floor_albedo{0.0};   // pi x the 5th percentile of each channel: the diffuse floor
+  glm::dvec3 peak{0.0};           // the largest value above the floor, per channel (1/sr)
   double mirror_exponent = 10.0;  // n of a cosine lobe about the mirror direction fitted to the excess
 };
 

@@ -18,7 +18,9 @@ using render::DisplayImage;
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 constexpr double kInPlaneTolerance = 1.5 * kDeg;  // a sample within this of the plane counts as in it
 
-void dot(DisplayImage& img, int x, int y, int r, const glm::u8vec3& c) { render::fill_rect(img, x - r, y - r, 2 * r + 1, 2 * r + 1, c); }
+void dot(DisplayImage& img, int x, int y, int r, const glm::u8vec3& c) {
+  render::fill_rect(img, x - r, y - r, 2 * r + 1, 2 * r + 1, c);
+}
 
 void line(DisplayImage& img, double x0, double y0, double x1, double y1, const glm::u8vec3& c) {
   const int steps = int(std::ceil(std::max(std::abs(x1 - x0), std::abs(y1 - y0)))) + 1;
@@ -108,7 +110,8 @@ void write_slices_plot(const std::string& path, const SampleSet& data, const std
   // (Ward-Duer's 1 / (cos_i cos_o)), which would squash every other panel's scale.
   for (const auto& [deg, n] : count)
     if (n >= 3 && deg <= 85) populated.push_back(deg);
-  if (populated.size() <= 4) angles = populated;
+  if (populated.size() <= 4)
+    angles = populated;
   else
     for (int i = 0; i < 4; ++i) angles.push_back(populated[size_t(std::lround(i * double(populated.size() - 1) / 3.0))]);
   if (angles.empty()) angles = {0, 30, 60, 75};
@@ -173,13 +176,14 @@ void write_slices_plot(const std::string& path, const SampleSet& data, const std
   const glm::u8vec3 black(0, 0, 0), grey(200, 200, 200), dots_grey(90, 90, 90);
   const glm::u8vec3 channel[3] = {{210, 40, 40}, {30, 150, 40}, {40, 70, 220}};
   // One colour per model (--compare): a qualitative palette (Okabe & Ito 2008, colour-blind safe) and more.
-  const glm::u8vec3 palette[] = {{230, 159, 0}, {86, 180, 233}, {0, 158, 115}, {213, 94, 0}, {0, 114, 178},
-                                 {204, 121, 167}, {120, 80, 20}, {240, 200, 30}, {150, 150, 150}, {0, 0, 0}};
+  const glm::u8vec3 palette[] = {{230, 159, 0},   {86, 180, 233}, {0, 158, 115},  {213, 94, 0},    {0, 114, 178},
+                                 {204, 121, 167}, {120, 80, 20},  {240, 200, 30}, {150, 150, 150}, {0, 0, 0}};
   const std::string what = several ? "every model" : "fitted " + curves[0].label;
   render::draw_text(img, 10, 8, fmt::format("{}: {} vs {}", data.source, data.format, what), 18.0f, black);
   render::draw_text(img, 10, 30,
-                    several ? "lines: each model's f (mean of the channels);  dots: measured samples on the slice"
-                            : "lines: fitted f;  dots: measured samples within 1.5\u00b0 of the slice;  red, green, blue channels",
+                    several
+                        ? "lines: each model's f (mean of the channels);  dots: measured samples on the slice"
+                        : "lines: fitted f;  dots: measured samples within 1.5\u00b0 of the slice;  red, green, blue channels",
                     14.0f, black);
   if (several)
     for (size_t i = 0; i < curves.size(); ++i) {
@@ -211,11 +215,11 @@ void write_slices_plot(const std::string& path, const SampleSet& data, const std
       render::fill_rect(img, x0, y0 + kPanelH, kPanelW, 1, black);
       render::fill_rect(img, x0, y0, 1, kPanelH, black);
       render::fill_rect(img, x0 + kPanelW, y0, 1, kPanelH + 1, black);
-      const char* name = slice == Slice::InPlane ? "in the plane of incidence"
+      const char* name = slice == Slice::InPlane  ? "in the plane of incidence"
                          : slice == Slice::Across ? "across it, through the mirror direction"
                                                   : "on the mirror cone \u03b8o = \u03b8i";
       render::draw_text(img, x0 + 8, y0 + 6, fmt::format("\u03b8i = {}\u00b0, {}", angles[p], name), 14.0f, black);
-      const char* axis = slice == Slice::InPlane ? "\u03b8o (deg, + = mirror side)"
+      const char* axis = slice == Slice::InPlane  ? "\u03b8o (deg, + = mirror side)"
                          : slice == Slice::Across ? "angle from the mirror direction (deg, + = +y)"
                                                   : "\u03c6o from the mirror direction (deg)";
       render::draw_text(img, x0 + kPanelW / 2 - render::text_width(axis, 13.0f) / 2, y0 + kPanelH + 20, axis, 13.0f, black);
@@ -227,7 +231,8 @@ void write_slices_plot(const std::string& path, const SampleSet& data, const std
           bool have = false;
           for (int i = -890; i <= 890; i += 5) {
             const double a = i * 0.1 * kDeg * range / 90.0;
-            const double v = slice_direction(slice, angles[p] * kDeg, a).z > 0.0 ? values(curves[ci], slice, angles[p], a)[k] : 0.0;
+            const double v =
+                slice_direction(slice, angles[p] * kDeg, a).z > 0.0 ? values(curves[ci], slice, angles[p], a)[k] : 0.0;
             if (!(v > 0.0)) {
               have = false;
               continue;

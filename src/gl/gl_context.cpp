@@ -84,8 +84,9 @@ GlContext::GlContext() : impl_(std::make_unique<Impl>()) {
   impl_->display = open_display(impl_->platform, why);
   if (impl_->display == EGL_NO_DISPLAY) throw GlUnavailable(why);
   if (!eglBindAPI(EGL_OPENGL_API)) throw GlUnavailable("eglBindAPI(EGL_OPENGL_API) failed: no desktop OpenGL");
-  const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                          EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  const EGLint attrs[] = {
+      EGL_CONTEXT_MAJOR_VERSION,           4,       EGL_CONTEXT_MINOR_VERSION, 5, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
   // No config and no surface: EGL_KHR_no_config_context and EGL_KHR_surfaceless_context.
   impl_->context = eglCreateContext(impl_->display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attrs);
   if (impl_->context == EGL_NO_CONTEXT)
@@ -127,11 +128,15 @@ namespace {
 
 std::string info_log(GLuint id, bool program) {
   GLint len = 0;
-  if (program) glGetProgramiv(id, GL_INFO_LOG_LENGTH, &len);
-  else glGetShaderiv(id, GL_INFO_LOG_LENGTH, &len);
+  if (program)
+    glGetProgramiv(id, GL_INFO_LOG_LENGTH, &len);
+  else
+    glGetShaderiv(id, GL_INFO_LOG_LENGTH, &len);
   std::string log(size_t(len > 0 ? len : 1), '\0');
-  if (program) glGetProgramInfoLog(id, len, nullptr, log.data());
-  else glGetShaderInfoLog(id, len, nullptr, log.data());
+  if (program)
+    glGetProgramInfoLog(id, len, nullptr, log.data());
+  else
+    glGetShaderInfoLog(id, len, nullptr, log.data());
   return log.c_str();
 }
 

@@ -11,8 +11,8 @@
 #include "aniso/brdf/registry.h"
 
 namespace aniso::embedded {
-extern const std::string_view glsl_core_platform, glsl_core_math, glsl_core_frame, glsl_core_sampling,
-    glsl_core_lobe_mixture, glsl_brdf_fresnel, glsl_tangent_fields;
+extern const std::string_view glsl_core_platform, glsl_core_math, glsl_core_frame, glsl_core_sampling, glsl_core_lobe_mixture,
+    glsl_brdf_fresnel, glsl_tangent_fields;
 // The twin of each registry row that says Glsl: include/aniso/brdf/<member>.glsl (CMakeLists.txt
 // embeds every brdf/*.glsl; a row whose file is missing does not link).
 #define ANISO_GLSL_EXTERN_Glsl(member) extern const std::string_view glsl_brdf_##member;
@@ -66,9 +66,11 @@ std::string glsl_material_dispatch() {
       "  return Lambert_sample(self.lambert, wo, uc, u);\n}}\n"
       "\n"
       "vec3 Material_f(Material self, vec3 wi, vec3 wo) {{\n"
-      "  return Material_model_f(self, FrameRotation_to_model(self.rotation, wi), FrameRotation_to_model(self.rotation, wo));\n}}\n"
+      "  return Material_model_f(self, FrameRotation_to_model(self.rotation, wi), FrameRotation_to_model(self.rotation, "
+      "wo));\n}}\n"
       "float Material_pdf(Material self, vec3 wi, vec3 wo) {{\n"
-      "  return Material_model_pdf(self, FrameRotation_to_model(self.rotation, wi), FrameRotation_to_model(self.rotation, wo));\n}}\n"
+      "  return Material_model_pdf(self, FrameRotation_to_model(self.rotation, wi), FrameRotation_to_model(self.rotation, "
+      "wo));\n}}\n"
       "BSDFSample Material_sample(Material self, vec3 wo, float uc, vec2 u) {{\n"
       "  BSDFSample s = Material_model_sample(self, FrameRotation_to_model(self.rotation, wo), uc, u);\n"
       "  s.wi = FrameRotation_from_model(self.rotation, s.wi);\n"

@@ -94,7 +94,8 @@ struct Walker {
           break;
         }
         case ParamKind::String:
-          throw std::logic_error(fmt::format("table entry {} (a string) has no GLSL counterpart (src/gl/glsl_material.cpp)", key));
+          throw std::logic_error(
+              fmt::format("table entry {} (a string) has no GLSL counterpart (src/gl/glsl_material.cpp)", key));
       }
     }
   }
@@ -144,9 +145,10 @@ class Slots {
   void check_all_used() const {
     for (const GlslSlot& s : slots_)
       if (std::find(used_.begin(), used_.end(), s.name) == used_.end())
-        throw std::logic_error(fmt::format("table entry {} has no GLSL counterpart: the builder in "
-                                           "src/gl/glsl_material.cpp does not use the slot \"{}\"",
-                                           s.table_key, s.name));
+        throw std::logic_error(
+            fmt::format("table entry {} has no GLSL counterpart: the builder in "
+                        "src/gl/glsl_material.cpp does not use the slot \"{}\"",
+                        s.table_key, s.name));
   }
 
  private:
@@ -211,9 +213,10 @@ std::string body(ModelType<LafortuneT<float>>, Build& c) {
   std::string b = fmt::format("  m.rho_d = {};\n  m.lobe_count = {};\n", P("rho_d"), count);
   for (int i = 0; i < count; ++i) {
     const std::string l = fmt::format("lobes{}_", i);
-    b += fmt::format("  m.lobes[{0}].cx = {1};\n  m.lobes[{0}].cy = {2};\n  m.lobes[{0}].cz = {3};\n"
-                     "  m.lobes[{0}].n = {4};\n  m.lobes[{0}].scale = {5};\n",
-                     i, P(l + "cx"), P(l + "cy"), P(l + "cz"), P(l + "n"), P(l + "scale"));
+    b += fmt::format(
+        "  m.lobes[{0}].cx = {1};\n  m.lobes[{0}].cy = {2};\n  m.lobes[{0}].cz = {3};\n"
+        "  m.lobes[{0}].n = {4};\n  m.lobes[{0}].scale = {5};\n",
+        i, P(l + "cx"), P(l + "cy"), P(l + "cz"), P(l + "n"), P(l + "scale"));
   }
   return b;
 }
@@ -236,13 +239,14 @@ std::string body(ModelType<MetalT<float>>, Build& c) {
       b += ward_lobe(P, "m.ward", "lobe_");
       break;
     case SpecularLobeKind::AshikhminShirley:
-      b += fmt::format("  m.lobe_kind = SpecularLobeKind_AshikhminShirley;\n  m.ashikhmin_shirley.n_u = {};\n"
-                       "  m.ashikhmin_shirley.n_v = {};\n",
-                       P("lobe_n_u"), P("lobe_n_v"));
+      b += fmt::format(
+          "  m.lobe_kind = SpecularLobeKind_AshikhminShirley;\n  m.ashikhmin_shirley.n_u = {};\n"
+          "  m.ashikhmin_shirley.n_v = {};\n",
+          P("lobe_n_u"), P("lobe_n_v"));
       break;
     case SpecularLobeKind::GGX:
-      b += fmt::format("  m.lobe_kind = SpecularLobeKind_GGX;\n  m.ggx.alpha_x = {};\n  m.ggx.alpha_y = {};\n",
-                       P("lobe_alpha_x"), P("lobe_alpha_y"));
+      b += fmt::format("  m.lobe_kind = SpecularLobeKind_GGX;\n  m.ggx.alpha_x = {};\n  m.ggx.alpha_y = {};\n", P("lobe_alpha_x"),
+                       P("lobe_alpha_y"));
       break;
   }
   b += "  m.specular_weight = vec3(1.0);\n"
@@ -283,19 +287,19 @@ std::string body(ModelType<PrincipledT<float>>, Build& c) {
 // A tensor file (interpolants over several MB) is data, not a shader: fit a model first.
 std::string body(ModelType<RglT<float>>, Build& c) {
   const std::string file = c.m.params.has("file") ? c.m.params.text("file") : std::string("FILE.bsdf");
-  throw InputError(fmt::format(
-      "{}: an RGL tensor file has no GLSL form; sample it and fit an analytic model first (`aniso eval` on pairs "
-      "of directions, then `aniso fit` on the CSV), or render it with the CPU path tracer",
-      file));
+  throw InputError(
+      fmt::format("{}: an RGL tensor file has no GLSL form; sample it and fit an analytic model first (`aniso eval` on pairs "
+                  "of directions, then `aniso fit` on the CSV), or render it with the CPU path tracer",
+                  file));
 }
 
 // A measured table (35 MB of bins plus sampling tables) is data, not a shader: fit a model first.
 std::string body(ModelType<MeasuredT<float>>, Build& c) {
   const std::string file = c.m.params.has("file") ? c.m.params.text("file") : std::string();
-  throw InputError(fmt::format(
-      "{}: a measured material (a MERL table) has no GLSL form; fit an analytic model to it first "
-      "(`aniso fit {} --model lafortune -o fitted.json`) and export that",
-      file.empty() ? std::string("measured material") : file, file.empty() ? std::string("FILE") : file));
+  throw InputError(
+      fmt::format("{}: a measured material (a MERL table) has no GLSL form; fit an analytic model to it first "
+                  "(`aniso fit {} --model lafortune -o fitted.json`) and export that",
+                  file.empty() ? std::string("measured material") : file, file.empty() ? std::string("FILE") : file));
 }
 
 }  // namespace
@@ -351,7 +355,8 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
     if (storage == GlslStorage::Uniform)
       out.declarations += fmt::format("uniform {} {}{};\n", glsl_type(s.type), prefix, s.name);
     else if (storage == GlslStorage::Const)
-      out.declarations += fmt::format("const {} {}{} = {};  // {}\n", glsl_type(s.type), prefix, s.name, glsl_value(s), s.table_key);
+      out.declarations +=
+          fmt::format("const {} {}{} = {};  // {}\n", glsl_type(s.type), prefix, s.name, glsl_value(s), s.table_key);
   }
   const std::string& M = out.model_struct;
   if (oriented) {
@@ -382,7 +387,8 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
       "// The material's kernel struct, built from its parameters as build_material() does.\n"
       "{0} aniso_model() {{\n  {0} m;\n{1}  return m;\n}}\n"
       "// The same behind the Material dispatch (material.glsl).\n"
-      "Material aniso_material() {{\n  Material mm;\n  mm.kind = {2};\n  mm.rotation = vec2(1.0, 0.0);\n  mm.{3} = aniso_model();\n"
+      "Material aniso_material() {{\n  Material mm;\n  mm.kind = {2};\n  mm.rotation = vec2(1.0, 0.0);\n  mm.{3} = "
+      "aniso_model();\n"
       "  return mm;\n}}\n"
       "// The BRDF without the cosine; local frame (z = normal, x = tangent), both unit; 0 below the horizon.\n"
       "vec3 aniso_f(vec3 wi, vec3 wo) {{ return {0}_f(aniso_model(), wi, wo); }}\n"

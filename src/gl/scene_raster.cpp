@@ -643,23 +643,26 @@ std::vector<std::string> gl_unsupported(const render::Scene& scene) {
   size_t spheres = 0;
   for (const render::Light& l : scene.lights) spheres += l.kind == LightKind::Sphere ? 1 : 0;
   if (spheres > 0)
-    out.push_back(fmt::format("{} sphere light{} not rendered (the GL backend draws point and directional lights only; "
-                              "sphere lights still cast shadows)",
-                              spheres, spheres == 1 ? " is" : "s are"));
+    out.push_back(
+        fmt::format("{} sphere light{} not rendered (the GL backend draws point and directional lights only; "
+                    "sphere lights still cast shadows)",
+                    spheres, spheres == 1 ? " is" : "s are"));
   if (!scene.environment.is_black()) out.push_back("the environment is not rendered (neither seen nor lighting the scene)");
   if (scene.integrator.max_depth > 1)
-    out.push_back(fmt::format("indirect light is not rendered (integrator.max_depth {}: the GL backend renders direct "
-                              "light only, as max_depth 1)",
-                              scene.integrator.max_depth));
+    out.push_back(
+        fmt::format("indirect light is not rendered (integrator.max_depth {}: the GL backend renders direct "
+                    "light only, as max_depth 1)",
+                    scene.integrator.max_depth));
   bool mesh = false;
   for (const render::Object& o : scene.objects) mesh = mesh || o.shape == ShapeKind::Mesh;
   size_t tiles = 0, lights = 0;
   for (const render::Light& l : scene.lights)
     if (l.kind != LightKind::Sphere) tiles += l.kind == LightKind::Point ? 6 : 1, ++lights;
   if (mesh && tiles > 256)
-    out.push_back(fmt::format("meshes cast shadows from the first lights only: the shadow maps hold 256 tiles "
-                              "(a point light takes 6, a directional light 1) and the {} lights need {}",
-                              lights, tiles));
+    out.push_back(
+        fmt::format("meshes cast shadows from the first lights only: the shadow maps hold 256 tiles "
+                    "(a point light takes 6, a directional light 1) and the {} lights need {}",
+                    lights, tiles));
   return out;
 }
 
@@ -747,7 +750,8 @@ struct SceneRasterizer::Impl {
     const int rows = (next + shadow_cols - 1) / shadow_cols, cols_used = std::min(next, shadow_cols);
     // The bounding sphere of everything (the directional maps cover it).
     Vec3 lo(INFINITY), hi(-INFINITY);
-    for (const ObjectGpu& o : objects) lo = glm::min(lo, o.bound_center - o.bound_radius), hi = glm::max(hi, o.bound_center + o.bound_radius);
+    for (const ObjectGpu& o : objects)
+      lo = glm::min(lo, o.bound_center - o.bound_radius), hi = glm::max(hi, o.bound_center + o.bound_radius);
     shadow_center = 0.5f * (lo + hi);
     shadow_radius = std::max(0.5f * glm::length(hi - lo), 1e-6f) * 1.01f;
     if (!shadow_atlas) glGenTextures(1, &shadow_atlas);
@@ -762,7 +766,8 @@ struct SceneRasterizer::Impl {
     if (!shadow_fbo) glGenFramebuffers(1, &shadow_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, shadow_atlas, 0);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) throw GlError("the shadow-map atlas framebuffer is incomplete");
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw GlError("the shadow-map atlas framebuffer is incomplete");
     const float far_value[4] = {3.0e38f, 0, 0, 0};  // nothing in the way
     glClearBufferfv(GL_COLOR, 0, far_value);
     glDisable(GL_DEPTH_TEST);
@@ -829,9 +834,10 @@ struct SceneRasterizer::Impl {
     glGetIntegerv(GL_MAX_VIEWPORT_DIMS, max_viewport);
     const int limit = std::min({max_texture, max_renderbuffer, max_viewport[0], max_viewport[1]});
     if (width > limit || height > limit)
-      throw GlError(fmt::format("{}x{} pixels: this GL's largest render target is {}x{} (GL_MAX_TEXTURE_SIZE, "
-                                "GL_MAX_RENDERBUFFER_SIZE, GL_MAX_VIEWPORT_DIMS); render smaller or with --backend cpu",
-                                width, height, limit, limit));
+      throw GlError(
+          fmt::format("{}x{} pixels: this GL's largest render target is {}x{} (GL_MAX_TEXTURE_SIZE, "
+                      "GL_MAX_RENDERBUFFER_SIZE, GL_MAX_VIEWPORT_DIMS); render smaller or with --backend cpu",
+                      width, height, limit, limit));
     const auto color = [&](GLuint& tex) {
       if (!tex) glGenTextures(1, &tex);
       glBindTexture(GL_TEXTURE_2D, tex);
@@ -863,8 +869,7 @@ struct SceneRasterizer::Impl {
   // Distance from the camera beyond everything (the far plane of the depth mapping).
   float far_plane() const {
     float far = 1.0f;
-    for (const ObjectGpu& o : objects)
-      far = std::max(far, glm::length(o.bound_center - scene.camera.position) + o.bound_radius);
+    for (const ObjectGpu& o : objects) far = std::max(far, glm::length(o.bound_center - scene.camera.position) + o.bound_radius);
     return 2.0f * far;
   }
 
@@ -911,7 +916,10 @@ struct SceneRasterizer::Impl {
       p.set("u_sub", sub);
       p.set("u_far", far);
       p.set("u_alpha", alpha);
-      const int shape = o.shape == ShapeKind::Sphere ? 0 : o.shape == ShapeKind::Disc ? 1 : o.shape == ShapeKind::Rectangle ? 2 : 3;
+      const int shape = o.shape == ShapeKind::Sphere      ? 0
+                        : o.shape == ShapeKind::Disc      ? 1
+                        : o.shape == ShapeKind::Rectangle ? 2
+                                                          : 3;
       p.set("u_shape", shape);
       p.set("u_center", o.center);
       p.set("u_normal", o.normal);
@@ -957,8 +965,10 @@ struct SceneRasterizer::Impl {
       // margin for the rounding of the comparison) every face is drawn: the far ones find the hits.
       const Vec3 rel = glm::abs(c.position - o.center);
       const bool outside = std::max(rel.x, std::max(rel.y, rel.z)) > 1.01f * kProxyGrowth * o.radius;
-      if (o.shape == ShapeKind::Sphere && outside) glEnable(GL_CULL_FACE);
-      else glDisable(GL_CULL_FACE);
+      if (o.shape == ShapeKind::Sphere && outside)
+        glEnable(GL_CULL_FACE);
+      else
+        glDisable(GL_CULL_FACE);
       glBindVertexArray(og.vao);
       glDrawArrays(GL_TRIANGLES, 0, og.count);
     }
@@ -997,7 +1007,8 @@ struct SceneRasterizer::Impl {
 };
 
 SceneRasterizer::SceneRasterizer(const render::Scene& scene, RasterSettings settings) : impl_(std::make_unique<Impl>()) {
-  if (epoxy_gl_version() < 33) throw GlUnavailable(fmt::format("OpenGL {} < 3.3 (the GL backend needs 3.3 core)", epoxy_gl_version()));
+  if (epoxy_gl_version() < 33)
+    throw GlUnavailable(fmt::format("OpenGL {} < 3.3 (the GL backend needs 3.3 core)", epoxy_gl_version()));
   const FramebufferRestore restore;
   Impl& m = *impl_;
   m.scene = scene;
@@ -1096,7 +1107,8 @@ void SceneRasterizer::set_lights(const std::vector<render::Light>& lights) {
   // The shadow maps depend on where the lights are, not on their power.
   bool moved = before.size() != m.lights.size();
   for (size_t i = 0; !moved && i < before.size(); ++i)
-    moved = before[i].kind != m.lights[i].kind || before[i].position != m.lights[i].position || before[i].to_light != m.lights[i].to_light;
+    moved = before[i].kind != m.lights[i].kind || before[i].position != m.lights[i].position ||
+            before[i].to_light != m.lights[i].to_light;
   m.shadows_dirty = m.shadows_dirty || moved;
 }
 
@@ -1120,10 +1132,12 @@ void SceneRasterizer::set_tangent(size_t object, const render::TangentSource& ta
   if (object >= m.objects.size()) throw std::out_of_range(fmt::format("set_tangent: no object {}", object));
   render::Object& o = m.scene.objects[object];
   if (tangent.uv_tangents != o.tangent.uv_tangents)
-    throw std::invalid_argument("set_tangent: uv_tangents cannot change on an existing rasteriser (the mesh's tangents are "
-                                "in its vertex buffer)");
+    throw std::invalid_argument(
+        "set_tangent: uv_tangents cannot change on an existing rasteriser (the mesh's tangents are "
+        "in its vertex buffer)");
   if (tangent.map && o.shape == ShapeKind::Mesh && o.mesh->uvs.empty())
-    throw InputError(fmt::format("{}: objects[{}]: a tangent map needs a mesh with UVs; this mesh has none", m.scene.source, object));
+    throw InputError(
+        fmt::format("{}: objects[{}]: a tangent map needs a mesh with UVs; this mesh has none", m.scene.source, object));
   Impl::ObjectGpu& g = m.objects[object];
   g.upload_tangent_map(tangent.map.get());
   g.field = tangent.field;
@@ -1152,7 +1166,8 @@ void SceneRasterizer::draw_tonemapped(const render::ToneMapOptions& tm) const {
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glUseProgram(0);
-  if (const GLenum err = glGetError(); err != GL_NO_ERROR) throw GlError(fmt::format("GL backend draw_tonemapped: GL error 0x{:x}", err));
+  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+    throw GlError(fmt::format("GL backend draw_tonemapped: GL error 0x{:x}", err));
 }
 
 void SceneRasterizer::set_size(int width, int height) {
@@ -1194,30 +1209,30 @@ void SceneRasterizer::render() {
     const glm::vec2 sub = subsample_position(s, k);
     const glm::mat4 clip = m.clip_from_world(sub);
     for (size_t b = 0; b < batches; ++b) {
-        glBindFramebuffer(GL_FRAMEBUFFER, m.scene_fbo);
-        const float far_depth = 1.0f;
-        glClearBufferfv(GL_COLOR, 0, zero);
-        glClearBufferfv(GL_DEPTH, 0, &far_depth);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        const size_t begin = b * kMaxLightsPerPass, end = std::min(m.lights.size(), begin + kMaxLightsPerPass);
-        m.draw_pass(clip, sub, begin, end, b == 0 ? 1.0f : 0.0f);
-        glDisable(GL_DEPTH_TEST);
-        // accum += weight * scene (additive blending of float targets, GL 3.0 core).
-        glBindFramebuffer(GL_FRAMEBUFFER, m.accum_fbo);
-        glEnable(GL_BLEND);
-        glBlendEquation(GL_FUNC_ADD);
-        glBlendFunc(GL_ONE, GL_ONE);
-        glUseProgram(m.accumulate->id());
-        m.accumulate->set("u_src", 0);
-        m.accumulate->set("u_weight", weight);
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D, m.scene_color);
-        glBindVertexArray(m.empty_vao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glDisable(GL_BLEND);
-      }
+      glBindFramebuffer(GL_FRAMEBUFFER, m.scene_fbo);
+      const float far_depth = 1.0f;
+      glClearBufferfv(GL_COLOR, 0, zero);
+      glClearBufferfv(GL_DEPTH, 0, &far_depth);
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      const size_t begin = b * kMaxLightsPerPass, end = std::min(m.lights.size(), begin + kMaxLightsPerPass);
+      m.draw_pass(clip, sub, begin, end, b == 0 ? 1.0f : 0.0f);
+      glDisable(GL_DEPTH_TEST);
+      // accum += weight * scene (additive blending of float targets, GL 3.0 core).
+      glBindFramebuffer(GL_FRAMEBUFFER, m.accum_fbo);
+      glEnable(GL_BLEND);
+      glBlendEquation(GL_FUNC_ADD);
+      glBlendFunc(GL_ONE, GL_ONE);
+      glUseProgram(m.accumulate->id());
+      m.accumulate->set("u_src", 0);
+      m.accumulate->set("u_weight", weight);
+      glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, m.scene_color);
+      glBindVertexArray(m.empty_vao);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glDisable(GL_BLEND);
     }
+  }
   glDisable(GL_CULL_FACE);
   glBindVertexArray(0);
   glUseProgram(0);
@@ -1241,7 +1256,8 @@ std::vector<float> read_rgba(GLuint fbo, int w, int h) {
   std::vector<float> rgba(size_t(w) * size_t(h) * 4);
   glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, rgba.data());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(old_read));
-  if (const GLenum err = glGetError(); err != GL_NO_ERROR) throw GlError(fmt::format("GL backend read-back: GL error 0x{:x}", err));
+  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+    throw GlError(fmt::format("GL backend read-back: GL error 0x{:x}", err));
   return rgba;
 }
 }  // namespace
@@ -1263,7 +1279,8 @@ std::vector<float> SceneRasterizer::read_coverage() const {
   const std::vector<float> rgba = read_rgba(impl_->accum_fbo, w, h);
   std::vector<float> out(size_t(w) * size_t(h));
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) out[size_t(y) * size_t(w) + size_t(x)] = rgba[(size_t(h - 1 - y) * size_t(w) + size_t(x)) * 4 + 3];
+    for (int x = 0; x < w; ++x)
+      out[size_t(y) * size_t(w) + size_t(x)] = rgba[(size_t(h - 1 - y) * size_t(w) + size_t(x)) * 4 + 3];
   return out;
 }
 

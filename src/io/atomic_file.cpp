@@ -169,7 +169,8 @@ AtomicFile::AtomicFile(const std::string& path) : path_(path), target_(follow_li
   }
   if (fd_ < 0) fail(fmt::format("cannot create a temporary file in {} (100 names taken)", directory_of(target_)), false);
   // The replaced file's permission bits, exactly (fchmod is not masked by the umask).
-  if (exists && ::fchmod(fd_, st.st_mode & 07777) != 0) fail(fmt::format("cannot set the mode of {} ({})", tmp_, errno_text(errno)));
+  if (exists && ::fchmod(fd_, st.st_mode & 07777) != 0)
+    fail(fmt::format("cannot set the mode of {} ({})", tmp_, errno_text(errno)));
 }
 
 AtomicFile::~AtomicFile() {
@@ -201,7 +202,8 @@ void AtomicFile::commit() {
     done_ = true;
     return;
   }
-  if (::rename(tmp_.c_str(), target_.c_str()) != 0) fail(fmt::format("cannot rename {} to {} ({})", tmp_, target_, errno_text(errno)));
+  if (::rename(tmp_.c_str(), target_.c_str()) != 0)
+    fail(fmt::format("cannot rename {} to {} ({})", tmp_, target_, errno_text(errno)));
   done_ = true;
   registry_remove(slot_);
   slot_ = -1;

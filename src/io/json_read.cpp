@@ -20,11 +20,16 @@ std::string text_escape(std::string_view s) {
   out.reserve(s.size());
   for (const char ch : s) {
     const auto c = static_cast<unsigned char>(ch);
-    if (c == '\n') out += "\\n";
-    else if (c == '\t') out += "\\t";
-    else if (c == '\r') out += "\\r";
-    else if (c < 0x20 || c == 0x7f) out += fmt::format("\\u{:04x}", c);
-    else out += ch;
+    if (c == '\n')
+      out += "\\n";
+    else if (c == '\t')
+      out += "\\t";
+    else if (c == '\r')
+      out += "\\r";
+    else if (c < 0x20 || c == 0x7f)
+      out += fmt::format("\\u{:04x}", c);
+    else
+      out += ch;
   }
   return out;
 }
@@ -36,8 +41,8 @@ namespace {
 struct Frame {
   bool is_object = false;
   std::set<std::string> keys;
-  std::string key;   // the object's current key
-  long index = -1;   // the array's current element
+  std::string key;  // the object's current key
+  long index = -1;  // the array's current element
 };
 
 std::string path_of(const std::vector<Frame>& stack) {
@@ -71,8 +76,7 @@ nlohmann::json parse_json_text(std::string_view text, const std::string& where) 
       case json::parse_event_t::object_start:
       case json::parse_event_t::array_start:
         element();
-        if (depth >= kMaxJsonDepth)
-          throw InputError(json_too_deep_message(where, path_of(stack)));
+        if (depth >= kMaxJsonDepth) throw InputError(json_too_deep_message(where, path_of(stack)));
         stack.push_back(Frame{event == json::parse_event_t::object_start, {}, {}, -1});
         break;
       case json::parse_event_t::object_end:

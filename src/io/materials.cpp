@@ -84,7 +84,8 @@ ParamValue read_value(const json& v, const ParamSpec& p, const std::string& wher
       bool ok = false;
       for (auto c : p.choices) ok = ok || c == model;
       if (!ok) fail(where, fmt::format("{}.model", p.name), expected());
-      auto out = std::make_shared<ParamValues>(read_params(v, metal_lobe_spec(model), fmt::format("{}: {}", where, p.name), "model"));
+      auto out =
+          std::make_shared<ParamValues>(read_params(v, metal_lobe_spec(model), fmt::format("{}: {}", where, p.name), "model"));
       out->values["model"] = model;
       return out;
     }
@@ -92,7 +93,8 @@ ParamValue read_value(const json& v, const ParamSpec& p, const std::string& wher
       if (!v.is_array() || v.empty() || static_cast<int>(v.size()) > p.max_items) fail(where, p.name, expected());
       std::vector<ParamValues> items;
       for (size_t i = 0; i < v.size(); ++i) {
-        if (!v[i].is_object()) fail(where, fmt::format("{}[{}]", p.name, i), fmt::format("expected an object, got {}", json_type_name(v[i])));
+        if (!v[i].is_object())
+          fail(where, fmt::format("{}[{}]", p.name, i), fmt::format("expected an object, got {}", json_type_name(v[i])));
         items.push_back(read_params(v[i], *p.sub, fmt::format("{}: {}[{}]", where, p.name, i)));
       }
       return items;
@@ -115,7 +117,8 @@ void resolve_pairs(ParamValues& pv, const json& obj, const ModelSpec& spec) {
     if (p->sets[0].empty() || !obj.contains(p->name)) continue;
     for (const std::string_view half : p->sets)
       if (obj.contains(half))
-        pv.fail(p->name, fmt::format("sets \"{}\" and \"{}\": cannot be given together with \"{}\"", p->sets[0], p->sets[1], half));
+        pv.fail(p->name,
+                fmt::format("sets \"{}\" and \"{}\": cannot be given together with \"{}\"", p->sets[0], p->sets[1], half));
     const ParamValue v = pv.values.at(std::string(p->name));
     pv.values[std::string(p->sets[0])] = v;
     pv.values[std::string(p->sets[1])] = v;
@@ -125,7 +128,8 @@ void resolve_pairs(ParamValues& pv, const json& obj, const ModelSpec& spec) {
     if (p->partner.empty() || !obj.contains(p->name) || obj.contains(p->partner)) continue;
     std::string shorthand;
     for (const ParamSpec* q : spec.params())
-      if (q->sets[0] == p->name || q->sets[1] == p->name) shorthand = fmt::format(", or \"{}\" alone for an isotropic value", q->name);
+      if (q->sets[0] == p->name || q->sets[1] == p->name)
+        shorthand = fmt::format(", or \"{}\" alone for an isotropic value", q->name);
     pv.fail(p->name, fmt::format("given without its partner \"{}\": give both{}", p->partner, shorthand));
   }
 }
@@ -144,16 +148,18 @@ ParamValues read_params(const json& obj, const ModelSpec& spec, const std::strin
       for (const ModelSpec* m : model_specs())
         if (m->find("rotation_deg")) oriented += fmt::format("{}{}", oriented.empty() ? "" : ", ", m->name);
       if (spec.name == "rgl")
-        throw InputError(fmt::format("{}: key \"rotation_deg\": a tensor file is tabulated in its own frame and has no "
-                                     "rotation key; turn the surface's tangent instead (a scene's tangent.angle_deg)",
-                                     where));
-      throw InputError(fmt::format("{}: key \"rotation_deg\": {} is isotropic, so turning its tangent has no effect; remove "
-                                   "the key (the anisotropic models take it: {})",
-                                   where, spec.name, oriented));
+        throw InputError(
+            fmt::format("{}: key \"rotation_deg\": a tensor file is tabulated in its own frame and has no "
+                        "rotation key; turn the surface's tangent instead (a scene's tangent.angle_deg)",
+                        where));
+      throw InputError(
+          fmt::format("{}: key \"rotation_deg\": {} is isotropic, so turning its tangent has no effect; remove "
+                      "the key (the anisotropic models take it: {})",
+                      where, spec.name, oriented));
     }
     if (!spec.find(key))
-      throw InputError(fmt::format("{}: unknown key \"{}\" for {}; allowed keys: {}", where, text_escape(key), spec.name,
-                                   allowed_keys(spec)));
+      throw InputError(
+          fmt::format("{}: unknown key \"{}\" for {}; allowed keys: {}", where, text_escape(key), spec.name, allowed_keys(spec)));
   }
   for (const ParamSpec* p : spec.params()) {
     const auto it = obj.find(p->name);
@@ -212,7 +218,8 @@ MaterialDesc parse_material(const json& obj, const std::string& where, const std
       const ParamValues& l = lobes[i];
       for (int c = 0; c < 3; ++c) {
         const double cmax = std::max({std::abs(l.color("cx")[c]), std::abs(l.color("cy")[c]), std::abs(l.color("cz")[c])});
-        const double log10_peak = l.color("n")[c] * std::log10(std::max(cmax, 1e-300)) + std::log10(std::max(l.color("scale")[c], 1e-300));
+        const double log10_peak =
+            l.color("n")[c] * std::log10(std::max(cmax, 1e-300)) + std::log10(std::max(l.color("scale")[c], 1e-300));
         if (log10_peak > 30.0)
           l.fail("n", fmt::format("with max|C| = {:g} and scale {:g}, channel {} reaches {:g}^{:g}, beyond the float range "
                                   "(the peak scale max|C|^n must stay below 1e30: lower n or |C|)",
@@ -240,8 +247,7 @@ MaterialDesc parse_material(const json& obj, const std::string& where, const std
     if (!named && !(d.params.has("eta") && d.params.has("k")))
       d.params.fail(d.params.has("eta") ? "k" : (d.params.has("k") ? "eta" : "metal"),
                     "missing: a metal needs \"metal\" (a name) or both \"eta\" and \"k\"");
-    if (named && !find_metal(d.params.text("metal")))
-      d.params.fail("metal", unknown_metal_message(d.params.text("metal")));
+    if (named && !find_metal(d.params.text("metal"))) d.params.fail("metal", unknown_metal_message(d.params.text("metal")));
   }
   return d;
 }
@@ -249,7 +255,8 @@ MaterialDesc parse_material(const json& obj, const std::string& where, const std
 MaterialDesc load_material(const std::string& spec) {
   // An inline JSON object (scripts, and users of Mitsuba's dict API, pass materials this way).
   const size_t first = spec.find_first_not_of(" \t\r\n");
-  if (first != std::string::npos && spec[first] == '{') return parse_material(parse_json_text(spec, "inline material"), "inline material");
+  if (first != std::string::npos && spec[first] == '{')
+    return parse_material(parse_json_text(spec, "inline material"), "inline material");
   if (const auto preset = find_preset(spec)) return parse_material(*preset, fmt::format("preset {}", spec));
   if (spec.empty()) throw InputError("material: empty name; expected a preset name, a JSON file or an inline JSON object");
   namespace fs = std::filesystem;
@@ -279,13 +286,19 @@ namespace {
 json values_to_json(const ParamValues& pv) {
   json out = json::object();
   for (const auto& [key, v] : pv.values) {
-    if (const double* d = std::get_if<double>(&v)) out[key] = *d;
+    if (const double* d = std::get_if<double>(&v))
+      out[key] = *d;
     else if (const glm::dvec3* c = std::get_if<glm::dvec3>(&v)) {
-      if (c->x == c->y && c->y == c->z) out[key] = c->x;  // grey: one number, as the presets write it
-      else out[key] = {c->x, c->y, c->z};
-    } else if (const bool* b = std::get_if<bool>(&v)) out[key] = *b;
-    else if (const std::string* s = std::get_if<std::string>(&v)) out[key] = *s;
-    else if (const auto* o = std::get_if<std::shared_ptr<ParamValues>>(&v)) out[key] = values_to_json(**o);
+      if (c->x == c->y && c->y == c->z)
+        out[key] = c->x;  // grey: one number, as the presets write it
+      else
+        out[key] = {c->x, c->y, c->z};
+    } else if (const bool* b = std::get_if<bool>(&v))
+      out[key] = *b;
+    else if (const std::string* s = std::get_if<std::string>(&v))
+      out[key] = *s;
+    else if (const auto* o = std::get_if<std::shared_ptr<ParamValues>>(&v))
+      out[key] = values_to_json(**o);
     else if (const auto* l = std::get_if<std::vector<ParamValues>>(&v)) {
       json arr = json::array();
       for (const ParamValues& item : *l) arr.push_back(values_to_json(item));
@@ -374,7 +387,6 @@ template <typename T> MetalT<T> build(ModelType<MetalT<T>>, const MaterialDesc& 
   }
   return m;
 }
-
 
 template <typename T> LambertT<T> build(ModelType<LambertT<T>>, const MaterialDesc& d) {
   LambertT<T> m;

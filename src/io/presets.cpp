@@ -33,9 +33,9 @@ json rgb(const CsvRow& r, size_t first, std::string_view where) {
 
 // The lecture's "matte steel" (VGP352 week 5, from Lafortune et al. 1997); no diffuse term given.
 json matte_steel() {
-  const double t[9][3] = {{-1.11954, 1.01272, 15.8708}, {-1.11845, 1.01469, 15.6489}, {-1.11999, 1.01942, 15.4571},
+  const double t[9][3] = {{-1.11954, 1.01272, 15.8708}, {-1.11845, 1.01469, 15.6489},  {-1.11999, 1.01942, 15.4571},
                           {-1.05334, 0.69541, 111.267}, {-1.06409, 0.662178, 88.9222}, {-1.08378, 0.626672, 65.2179},
-                          {-1.01684, 1.00132, 180.181}, {-1.01635, 1.00112, 184.152}, {-1.01529, 1.00108, 195.773}};
+                          {-1.01684, 1.00132, 180.181}, {-1.01635, 1.00112, 184.152},  {-1.01529, 1.00108, 195.773}};
   json lobes = json::array();
   for (int lobe = 0; lobe < 3; ++lobe) {
     json cxy = json::array(), cz = json::array(), n = json::array();
@@ -101,8 +101,13 @@ void add_ngan(std::vector<PresetInfo>& out) {
     };
     json m;
     if (r[0] == "ward" || r[0] == "wardduer") {
-      m = {{"model", "ward"}, {"kd", kd}, {"ks", ks}, {"alpha_x", param("roughness")}, {"alpha_y", param("roughness")},
-           {"form", "vector"}, {"normalization", r[0] == "ward" ? "ward" : "duer"}};
+      m = {{"model", "ward"},
+           {"kd", kd},
+           {"ks", ks},
+           {"alpha_x", param("roughness")},
+           {"alpha_y", param("roughness")},
+           {"form", "vector"},
+           {"normalization", r[0] == "ward" ? "ward" : "duer"}};
     } else if (r[0] == "blinnphong") {
       // bbm's NganBlinnPhong is the modified Phong about the mirror direction, (n + 2) / (2 pi).
       m = {{"model", "phong"}, {"kd", kd}, {"ks", ks}, {"exponent", param("sharpness")}, {"normalized", true}};
@@ -114,12 +119,18 @@ void add_ngan(std::vector<PresetInfo>& out) {
       const double norm = (n + 2.0) / (2.0 * M_PI);
       json scale = json::array();
       for (int c = 0; c < 3; ++c) scale.push_back(ks[c].get<double>() * norm);
-      m = {{"model", "lafortune"}, {"rho_d", kd},
+      m = {{"model", "lafortune"},
+           {"rho_d", kd},
            {"lobes", json::array({{{"cxy", cxy / cmax}, {"cz", cz / cmax}, {"n", n}, {"scale", scale}}})}};
     } else if (r[0] == "ashikhminshirley") {
       // Lambertian kd plus ks times the AS specular term with Schlick F0; no coupled diffuse term.
-      m = {{"model", "ashikhmin-shirley"}, {"rd", 0.0}, {"rs", param("fresnelReflectance")}, {"kd", kd},
-           {"ks_scale", ks}, {"n_u", param("sharpness")}, {"n_v", param("sharpness")}};
+      m = {{"model", "ashikhmin-shirley"},
+           {"rd", 0.0},
+           {"rs", param("fresnelReflectance")},
+           {"kd", kd},
+           {"ks_scale", ks},
+           {"n_u", param("sharpness")},
+           {"n_v", param("sharpness")}};
     } else {
       continue;  // cooktorrance, he: models aniso does not implement (yet); see docs/presets.md
     }
@@ -130,7 +141,8 @@ void add_ngan(std::vector<PresetInfo>& out) {
 void add_metals(std::vector<PresetInfo>& out) {
   for (const MetalData& md : metal_table()) {
     const std::string name(md.name);
-    out.push_back({name, fmt::format("polished {}: GGX alpha 0.1, measured n, k ({})", name, md.source),
+    out.push_back({name,
+                   fmt::format("polished {}: GGX alpha 0.1, measured n, k ({})", name, md.source),
                    {{"model", "metal"}, {"metal", name}, {"lobe", {{"model", "ggx"}, {"alpha_x", 0.1}, {"alpha_y", 0.1}}}}});
     out.push_back({"brushed-" + name,
                    fmt::format("{} brushed along the tangent: balanced Ward 0.05 x 0.3 + directional diffuse", name),
@@ -143,9 +155,11 @@ void add_metals(std::vector<PresetInfo>& out) {
 
 // A few Disney principled materials (docs/presets.md, "Disney principled"); base colours linear.
 void add_principled(std::vector<PresetInfo>& out) {
-  out.push_back({"principled/red-plastic", "Disney principled: glossy red plastic (dielectric, F0 0.04)",
+  out.push_back({"principled/red-plastic",
+                 "Disney principled: glossy red plastic (dielectric, F0 0.04)",
                  {{"model", "principled"}, {"base_color", {0.6, 0.05, 0.04}}, {"roughness", 0.3}, {"specular", 0.5}}});
-  out.push_back({"principled/car-paint", "Disney principled: blue paint under a glossy clearcoat",
+  out.push_back({"principled/car-paint",
+                 "Disney principled: blue paint under a glossy clearcoat",
                  {{"model", "principled"},
                   {"base_color", {0.03, 0.08, 0.35}},
                   {"roughness", 0.45},
@@ -155,13 +169,15 @@ void add_principled(std::vector<PresetInfo>& out) {
   // The base colour of a metal is its F0: aluminium's, from the measured eta and k (metals.md).
   const MetalData* al = find_metal("aluminium");
   const glm::dvec3 f0 = F_Conductor(1.0, RGBT<double>(al->eta), RGBT<double>(al->k));
-  out.push_back({"principled/brushed-aluminium", "Disney principled: aluminium (F0 from the metal table) brushed along the tangent",
+  out.push_back({"principled/brushed-aluminium",
+                 "Disney principled: aluminium (F0 from the metal table) brushed along the tangent",
                  {{"model", "principled"},
                   {"base_color", {f0.x, f0.y, f0.z}},
                   {"metallic", 1.0},
                   {"roughness", 0.35},
                   {"anisotropic", 0.8}}});
-  out.push_back({"principled/velvet", "Disney principled: dark red velvet (sheen, subsurface, rough)",
+  out.push_back({"principled/velvet",
+                 "Disney principled: dark red velvet (sheen, subsurface, rough)",
                  {{"model", "principled"},
                   {"base_color", {0.3, 0.02, 0.06}},
                   {"roughness", 0.9},

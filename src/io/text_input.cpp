@@ -63,9 +63,11 @@ int64_t parse_integer(std::string_view token, int64_t lo, int64_t hi, std::strin
   int64_t v = 0;
   const auto [p, ec] = std::from_chars(token.data(), token.data() + token.size(), v, 10);
   if (ec == std::errc::result_out_of_range || (ec == std::errc() && p == token.data() + token.size() && (v < lo || v > hi)))
-    throw InputError(fmt::format("{}: {} is out of range; expected a whole number in [{}, {}]", what, text_escape(token), lo, hi));
+    throw InputError(
+        fmt::format("{}: {} is out of range; expected a whole number in [{}, {}]", what, text_escape(token), lo, hi));
   if (ec != std::errc() || p != token.data() + token.size() || token.empty())
-    throw InputError(fmt::format("{}: expected a whole decimal number in [{}, {}], got \"{}\"", what, lo, hi, text_escape(token)));
+    throw InputError(
+        fmt::format("{}: expected a whole decimal number in [{}, {}], got \"{}\"", what, lo, hi, text_escape(token)));
   return v;
 }
 

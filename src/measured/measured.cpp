@@ -38,7 +38,8 @@ void normalise_cdf(double* cdf, int n) {
 
 std::shared_ptr<const MeasuredData> make_measured(MerlBrdf brdf, std::string source) {
   if (brdf.table.size() != 3 * size_t(MerlLayout::kBins))
-    throw InputError(fmt::format("{}: a MERL table has {} values, got {}", source, 3 * size_t(MerlLayout::kBins), brdf.table.size()));
+    throw InputError(
+        fmt::format("{}: a MERL table has {} values, got {}", source, 3 * size_t(MerlLayout::kBins), brdf.table.size()));
   const auto start = std::chrono::steady_clock::now();
   auto d = std::make_shared<MeasuredData>();
   d->source = std::move(source);
@@ -98,7 +99,8 @@ std::string sha256_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open", path));
   std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), &EVP_MD_CTX_free);
-  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1) throw std::runtime_error("sha256: OpenSSL EVP init failed");
+  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1)
+    throw std::runtime_error("sha256: OpenSSL EVP init failed");
   std::vector<char> buf(size_t(1) << 20);
   while (in) {
     in.read(buf.data(), std::streamsize(buf.size()));

@@ -37,8 +37,7 @@ std::string describe_value(size_t n) {
   const int k = int(n % MerlLayout::kBins);
   const int i_phi_d = k % MerlLayout::kPhiD, i_theta_d = (k / MerlLayout::kPhiD) % MerlLayout::kThetaD,
             i_theta_h = k / (MerlLayout::kPhiD * MerlLayout::kThetaD);
-  return fmt::format("channel {}, bin (theta_h {}, theta_d {}, phi_d {})", kChannelName[channel], i_theta_h, i_theta_d,
-                     i_phi_d);
+  return fmt::format("channel {}, bin (theta_h {}, theta_d {}, phi_d {})", kChannelName[channel], i_theta_h, i_theta_d, i_phi_d);
 }
 
 [[noreturn]] void fail(const std::string& path, size_t offset, const std::string& what) {
@@ -49,7 +48,8 @@ std::string describe_value(size_t n) {
 
 RGBT<double> MerlBrdf::lookup(const Vec3T<double>& wi, const Vec3T<double>& wo) const {
   if (table.size() != 3 * size_t(kBins))
-    throw std::invalid_argument(fmt::format("MerlBrdf::lookup: table has {} values, expected {}", table.size(), 3 * size_t(kBins)));
+    throw std::invalid_argument(
+        fmt::format("MerlBrdf::lookup: table has {} values, expected {}", table.size(), 3 * size_t(kBins)));
   return merl_lookup(table.data(), wi, wo);
 }
 
@@ -57,8 +57,7 @@ std::pair<Vec3T<double>, Vec3T<double>> MerlBrdf::bin_directions(int i_theta_h, 
   return HalfDiffGrid{}.directions(i_theta_h, i_theta_d, i_phi_d);
 }
 
-std::pair<Vec3T<double>, Vec3T<double>> HalfDiffGrid::directions(int i_theta_h, int i_theta_d, int i_phi_d,
-                                                                 int i_phi_h) const {
+std::pair<Vec3T<double>, Vec3T<double>> HalfDiffGrid::directions(int i_theta_h, int i_theta_d, int i_phi_d, int i_phi_h) const {
   const double u = (i_theta_h + 0.5) / n_theta_h;
   const double theta_h = u * u * (M_PI / 2.0);
   const double theta_d = (i_theta_d + 0.5) / n_theta_d * (M_PI / 2.0);
@@ -108,11 +107,12 @@ MerlBrdf read_merl(const std::string& path) {
   in.read(reinterpret_cast<char*>(dims), sizeof dims);
   const size_t header_read = size_t(in.gcount());
   if (header_read == 0 && in.eof())
-    fail(path, 0, fmt::format("empty file; a MERL .binary file is {} bytes (a 12-byte header, then 3 x 90 x 90 x 180 doubles)",
-                              MerlBrdf::kFileBytes));
+    fail(path, 0,
+         fmt::format("empty file; a MERL .binary file is {} bytes (a 12-byte header, then 3 x 90 x 90 x 180 doubles)",
+                     MerlBrdf::kFileBytes));
   if (header_read < sizeof dims)
-    fail(path, header_read, fmt::format("truncated header: the file ends after {} bytes, the header has 12 (three int32: 90 90 180)",
-                                        header_read));
+    fail(path, header_read,
+         fmt::format("truncated header: the file ends after {} bytes, the header has 12 (three int32: 90 90 180)", header_read));
   constexpr int32_t kExpected[3] = {MerlLayout::kThetaH, MerlLayout::kThetaD, MerlLayout::kPhiD};
   constexpr const char* kDimName[3] = {"theta_h", "theta_d", "phi_d"};
   for (int i = 0; i < 3; ++i)
@@ -141,11 +141,12 @@ MerlBrdf read_merl(const std::string& path) {
   for (size_t n = 0; n < m.table.size(); ++n) {
     const double raw = m.table[n];
     if (!std::isfinite(raw))
-      fail(path, 12 + 8 * n, fmt::format("{} ({}): expected a finite number (negative marks a missing sample)",
-                                         std::isnan(raw) ? "NaN" : "infinite value", describe_value(n)));
+      fail(path, 12 + 8 * n,
+           fmt::format("{} ({}): expected a finite number (negative marks a missing sample)",
+                       std::isnan(raw) ? "NaN" : "infinite value", describe_value(n)));
     if (raw > kMaxStored)
-      fail(path, 12 + 8 * n, fmt::format("{:g} ({}): above {:g}, no measured reflectance (a corrupt file?)", raw, describe_value(n),
-                                         kMaxStored));
+      fail(path, 12 + 8 * n,
+           fmt::format("{:g} ({}): above {:g}, no measured reflectance (a corrupt file?)", raw, describe_value(n), kMaxStored));
     m.table[n] = raw * MerlBrdf::kScale[n / MerlLayout::kBins];
   }
   return m;
@@ -181,8 +182,8 @@ void write_merl(const std::string& path, const MerlBrdf& brdf) {
       throw InputError(fmt::format("{}: cannot write value {} ({}): not finite", path, n, describe_value(n)));
     raw[n] = stored_number(brdf.table[n], MerlBrdf::kScale[n / MerlLayout::kBins]);
     if (raw[n] > kMaxStored)
-      throw InputError(fmt::format("{}: cannot write value {} ({}): {:g} / sr is above what a MERL file holds ({:g} stored)", path, n,
-                                   describe_value(n), brdf.table[n], kMaxStored));
+      throw InputError(fmt::format("{}: cannot write value {} ({}): {:g} / sr is above what a MERL file holds ({:g} stored)",
+                                   path, n, describe_value(n), brdf.table[n], kMaxStored));
   }
   const int32_t dims[3] = {MerlLayout::kThetaH, MerlLayout::kThetaD, MerlLayout::kPhiD};
   io::AtomicFile out(path);

@@ -93,8 +93,9 @@ double number_at(std::string_view token, const std::string& path, size_t line, s
 // theta in [0, pi/2): above the horizon, where every model is defined (docs/conventions.md).
 void check_theta(double theta, double full_turn, const std::string& path, size_t line, std::string_view name) {
   if (!(theta >= 0.0 && theta < full_turn / 4.0))
-    fail_at(path, line, fmt::format("{} = {:g}: out of range, expected [0, {:g}) (strictly above the horizon)", name,
-                                    theta, full_turn / 4.0));
+    fail_at(
+        path, line,
+        fmt::format("{} = {:g}: out of range, expected [0, {:g}) (strictly above the horizon)", name, theta, full_turn / 4.0));
 }
 void check_phi(double phi, double full_turn, const std::string& path, size_t line, std::string_view name) {
   if (!(phi >= -full_turn && phi <= full_turn))
@@ -117,8 +118,11 @@ SampleSet read_samples_csv(const std::string& path) {
     have_header = true;
     break;
   }
-  if (!have_header) throw InputError(fmt::format("{}: empty file: expected a header line naming the columns "
-                                                 "theta_i,phi_i,theta_o,phi_o,r,g,b", path));
+  if (!have_header)
+    throw InputError(
+        fmt::format("{}: empty file: expected a header line naming the columns "
+                    "theta_i,phi_i,theta_o,phi_o,r,g,b",
+                    path));
   const size_t header_line = lines.number;
   const std::vector<std::string_view> names = split(line, ',');
   // Column roles: the four angles (radians or degrees), the colour, the optional weight.
@@ -136,8 +140,7 @@ SampleSet read_samples_csv(const std::string& path) {
     for (int a = 0; a < 4; ++a) {
       const bool rad = n == kAngles[a], deg = n == fmt::format("{}_deg", kAngles[a]);
       if (!rad && !deg) continue;
-      if (angle_col[a] >= 0)
-        fail_at(path, header_line, fmt::format("both \"{0}\" and \"{0}_deg\" given: give one", kAngles[a]));
+      if (angle_col[a] >= 0) fail_at(path, header_line, fmt::format("both \"{0}\" and \"{0}_deg\" given: give one", kAngles[a]));
       angle_col[a] = int(c);
       degrees[a] = deg;
       known = true;
@@ -153,24 +156,29 @@ SampleSet read_samples_csv(const std::string& path) {
   for (int k = 0; k < 3; ++k)
     if (colour_col[k] < 0) missing += fmt::format("{}\"{}\"", missing.empty() ? "" : ", ", kColour[k]);
   if (!missing.empty())
-    fail_at(path, header_line, fmt::format("missing column{} {}; the header must name theta_i,phi_i,theta_o,phi_o,r,g,b "
-                                           "(radians; theta_i_deg etc. for degrees)",
-                                           missing.find(',') == std::string::npos ? "" : "s", missing));
+    fail_at(path, header_line,
+            fmt::format("missing column{} {}; the header must name theta_i,phi_i,theta_o,phi_o,r,g,b "
+                        "(radians; theta_i_deg etc. for degrees)",
+                        missing.find(',') == std::string::npos ? "" : "s", missing));
   for (const std::string& n : ignored)
-    set.warnings.push_back(fmt::format("{}: line {}: column \"{}\" is not used and is ignored", path, header_line, text_escape(n)));
+    set.warnings.push_back(
+        fmt::format("{}: line {}: column \"{}\" is not used and is ignored", path, header_line, text_escape(n)));
 
   while (lines.next(line)) {
     if (is_blank_or_comment(line)) continue;
     const std::vector<std::string_view> fields = split(line, ',');
     if (fields.size() != names.size())
-      fail_at(path, lines.number, fmt::format("{} columns, but the header (line {}) names {}", fields.size(), header_line, names.size()));
+      fail_at(path, lines.number,
+              fmt::format("{} columns, but the header (line {}) names {}", fields.size(), header_line, names.size()));
     double ang[4];
     for (int a = 0; a < 4; ++a) {
       const std::string_view name = names[size_t(angle_col[a])];
       ang[a] = number_at(fields[size_t(angle_col[a])], path, lines.number, fmt::format("column {}", name));
       const double full_turn = degrees[a] ? 360.0 : 2.0 * kPiD;
-      if (a % 2 == 0) check_theta(ang[a], full_turn, path, lines.number, name);
-      else check_phi(ang[a], full_turn, path, lines.number, name);
+      if (a % 2 == 0)
+        check_theta(ang[a], full_turn, path, lines.number, name);
+      else
+        check_phi(ang[a], full_turn, path, lines.number, name);
       if (degrees[a]) ang[a] *= kPiD / 180.0;
     }
     MeasuredSample s;
@@ -178,9 +186,11 @@ SampleSet read_samples_csv(const std::string& path) {
     s.wo = direction_from_angles(ang[2], ang[3]);
     for (int k = 0; k < 3; ++k) {
       const double v = number_at(fields[size_t(colour_col[k])], path, lines.number, fmt::format("column {}", kColour[k]));
-      if (!(v >= 0.0)) fail_at(path, lines.number, fmt::format("column {} = {:g}: a BRDF value cannot be negative", kColour[k], v));
+      if (!(v >= 0.0))
+        fail_at(path, lines.number, fmt::format("column {} = {:g}: a BRDF value cannot be negative", kColour[k], v));
       if (v > kMaxSampleValue)
-        fail_at(path, lines.number, fmt::format("column {} = {:g}: expected a BRDF value of at most {:g} (1/sr)", kColour[k], v, kMaxSampleValue));
+        fail_at(path, lines.number,
+                fmt::format("column {} = {:g}: expected a BRDF value of at most {:g} (1/sr)", kColour[k], v, kMaxSampleValue));
       s.value[k] = v + 0.0;
     }
     if (weight_col >= 0) {
@@ -211,22 +221,26 @@ SampleSet read_cornell(const std::string& path) {
     const std::vector<std::string_view> tokens = split_whitespace(line);
     if (wavelength_count < 0) {
       if (tokens.size() != 1)
-        fail_at(path, lines.number, fmt::format("expected the number of wavelengths alone on the line, got {} values", tokens.size()));
+        fail_at(path, lines.number,
+                fmt::format("expected the number of wavelengths alone on the line, got {} values", tokens.size()));
       const double n = number_at(tokens[0], path, lines.number, "number of wavelengths");
       if (!(n >= 2 && n <= kMaxWavelengths && n == std::floor(n)))
-        fail_at(path, lines.number, fmt::format("number of wavelengths = {:g}: expected a whole number in [2, {}]", n, kMaxWavelengths));
+        fail_at(path, lines.number,
+                fmt::format("number of wavelengths = {:g}: expected a whole number in [2, {}]", n, kMaxWavelengths));
       wavelength_count = int(n);
       continue;
     }
     if (int(lambda.size()) < wavelength_count) {
       if (int(lambda.size() + tokens.size()) > wavelength_count)
-        fail_at(path, lines.number, fmt::format("{} more wavelengths, but only {} of {} were missing", tokens.size(),
-                                                wavelength_count - int(lambda.size()), wavelength_count));
+        fail_at(path, lines.number,
+                fmt::format("{} more wavelengths, but only {} of {} were missing", tokens.size(),
+                            wavelength_count - int(lambda.size()), wavelength_count));
       for (std::string_view t : tokens) {
         const double l = number_at(t, path, lines.number, "wavelength");
         if (!(l > 0.0 && l < 1e5)) fail_at(path, lines.number, fmt::format("wavelength {:g} nm: expected (0, 1e5) nm", l));
         if (!lambda.empty() && !(l > lambda.back()))
-          fail_at(path, lines.number, fmt::format("wavelength {:g} nm after {:g} nm: wavelengths must increase", l, lambda.back()));
+          fail_at(path, lines.number,
+                  fmt::format("wavelength {:g} nm after {:g} nm: wavelengths must increase", l, lambda.back()));
         lambda.push_back(l);
       }
       if (int(lambda.size()) == wavelength_count) to_rgb.emplace(lambda);
@@ -234,23 +248,29 @@ SampleSet read_cornell(const std::string& path) {
     }
     const size_t expected = 4 + size_t(wavelength_count);
     if (tokens.size() != expected)
-      fail_at(path, lines.number, fmt::format("{} values, expected {} (theta_i phi_i theta_s phi_s and {} spectral values){}",
-                                              tokens.size(), expected, wavelength_count,
-                                              tokens.size() < expected && lines.pos >= text.size() ? ": the file is truncated" : ""));
+      fail_at(
+          path, lines.number,
+          fmt::format("{} values, expected {} (theta_i phi_i theta_s phi_s and {} spectral values){}", tokens.size(), expected,
+                      wavelength_count, tokens.size() < expected && lines.pos >= text.size() ? ": the file is truncated" : ""));
     constexpr std::string_view kNames[4] = {"theta_i", "phi_i", "theta_s", "phi_s"};
     double ang[4];
     for (int a = 0; a < 4; ++a) {
       ang[a] = number_at(tokens[size_t(a)], path, lines.number, kNames[a]);
-      if (a % 2 == 0) check_theta(ang[a], 2.0 * kPiD, path, lines.number, kNames[a]);
-      else check_phi(ang[a], 2.0 * kPiD, path, lines.number, kNames[a]);
+      if (a % 2 == 0)
+        check_theta(ang[a], 2.0 * kPiD, path, lines.number, kNames[a]);
+      else
+        check_phi(ang[a], 2.0 * kPiD, path, lines.number, kNames[a]);
     }
     spectrum.resize(size_t(wavelength_count));
     for (int j = 0; j < wavelength_count; ++j) {
       const double v = number_at(tokens[4 + size_t(j)], path, lines.number, fmt::format("spectral value {}", j + 1));
-      if (!(v >= 0.0)) fail_at(path, lines.number, fmt::format("spectral value {} ({:g} nm) = {:g}: a BRDF value cannot be negative", j + 1, lambda[size_t(j)], v));
+      if (!(v >= 0.0))
+        fail_at(path, lines.number,
+                fmt::format("spectral value {} ({:g} nm) = {:g}: a BRDF value cannot be negative", j + 1, lambda[size_t(j)], v));
       if (v > kMaxSampleValue)
-        fail_at(path, lines.number, fmt::format("spectral value {} ({:g} nm) = {:g}: expected a BRDF value of at most {:g} (1/sr)", j + 1,
-                                                lambda[size_t(j)], v, kMaxSampleValue));
+        fail_at(path, lines.number,
+                fmt::format("spectral value {} ({:g} nm) = {:g}: expected a BRDF value of at most {:g} (1/sr)", j + 1,
+                            lambda[size_t(j)], v, kMaxSampleValue));
       spectrum[size_t(j)] = v;
     }
     MeasuredSample s;
@@ -259,9 +279,11 @@ SampleSet read_cornell(const std::string& path) {
     s.value = (*to_rgb)(spectrum);
     set.samples.push_back(s);
   }
-  if (wavelength_count < 0) throw InputError(fmt::format("{}: empty file: expected the number of wavelengths, the wavelengths, then the samples", path));
+  if (wavelength_count < 0)
+    throw InputError(fmt::format("{}: empty file: expected the number of wavelengths, the wavelengths, then the samples", path));
   if (int(lambda.size()) < wavelength_count)
-    throw InputError(fmt::format("{}: line {}: the file is truncated: {} of {} wavelengths", path, lines.number, lambda.size(), wavelength_count));
+    throw InputError(fmt::format("{}: line {}: the file is truncated: {} of {} wavelengths", path, lines.number, lambda.size(),
+                                 wavelength_count));
   if (set.samples.empty()) throw InputError(fmt::format("{}: line {}: no samples after the wavelengths", path, lines.number));
   return set;
 }
@@ -342,15 +364,14 @@ SampleSet rgl_samples(const rgl::RglData& data, const std::string& source, const
   for (size_t n = 0; n < all.size(); ++n)
     if (keep[n]) set.samples.push_back(all[n]);
   if (set.samples.empty()) throw InputError(fmt::format("{}: the sample grid has no pair above the horizon", source));
-  const std::string azimuths =
-      grid.n_phi_h == 1 ? std::string("phi_h 0") : fmt::format("{} phi_h over 360 deg", grid.n_phi_h);
+  const std::string azimuths = grid.n_phi_h == 1 ? std::string("phi_h 0") : fmt::format("{} phi_h over 360 deg", grid.n_phi_h);
   set.description = fmt::format(
       "RGL tensor file ({}, {} x {} theta_i x phi_i, {} colour grid {}x{}) sampled with pbrt-v4's MeasuredBxDF::f at the "
       "centres of a MERL-style half/difference-angle grid (Rusinkiewicz 1998): {} theta_h (square-root spaced) x {} theta_d "
       "x {} phi_d over {:g} deg x {}; {} pairs with both directions above the horizon, weighted by solid angle",
-      data.isotropic ? "isotropic" : "anisotropic", data.theta_i.size(), data.phi_i.size(),
-      data.spectral ? "spectral" : "rgb", data.colour_grid, data.colour_grid, grid.n_theta_h, grid.n_theta_d, grid.n_phi_d,
-      grid.phi_d_range * 180.0 / kPiD, azimuths, set.samples.size());
+      data.isotropic ? "isotropic" : "anisotropic", data.theta_i.size(), data.phi_i.size(), data.spectral ? "spectral" : "rgb",
+      data.colour_grid, data.colour_grid, grid.n_theta_h, grid.n_theta_d, grid.n_phi_d, grid.phi_d_range * 180.0 / kPiD, azimuths,
+      set.samples.size());
   return set;
 }
 
@@ -363,9 +384,10 @@ SampleSet read_measured(const std::string& path) {
     const std::shared_ptr<const rgl::RglData> d = rgl::load_rgl(path);  // InputError naming the file, the field and the problem
     return rgl_samples(*d, path, rgl_sample_grid(d->isotropic));
   }
-  throw InputError(fmt::format("{}: unknown data format \"{}\": expected .csv (samples), .brdf (Cornell), .binary (MERL), "
-                               ".bsdf (RGL tensor file)",
-                               path, text_escape(ext)));
+  throw InputError(
+      fmt::format("{}: unknown data format \"{}\": expected .csv (samples), .brdf (Cornell), .binary (MERL), "
+                  ".bsdf (RGL tensor file)",
+                  path, text_escape(ext)));
 }
 
 }  // namespace aniso

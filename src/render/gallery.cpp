@@ -119,8 +119,7 @@ GalleryResult render_gallery(const GalleryOptions& opt) {
     if (!opt.sampler.empty()) sj["integrator"]["sampler"] = opt.sampler;
     const Scene scene = parse_scene(sj, fmt::format("embedded gallery, cell {}", c), "");
     RenderOptions ro = opt.render;
-    if (opt.render.progress)
-      ro.progress = [&, c](double f) { opt.render.progress((double(c) + f) / double(cells)); };
+    if (opt.render.progress) ro.progress = [&, c](double f) { opt.render.progress((double(c) + f) / double(cells)); };
     RenderStats st;
     const Image img = render(scene, ro, &st);
     res.stats.seconds += st.seconds;
@@ -156,10 +155,14 @@ nlohmann::json preview_scene(const nlohmann::json& material) {
   s["camera"] = {{"position", {0.0, 2.2, 6.0}}, {"look_at", {0.0, -0.1, 0.0}}, {"up", {0, 1, 0}}, {"fov_deg", 30}};
   s["lights"][1]["center"] = {3.5, 3.0, -3.5};
   s["film"] = {{"width", 640}, {"height", 360}, {"spp", 64}};
-  s["objects"] = nlohmann::json::array(
-      {{{"shape", "sphere"}, {"center", {-1.25, 0.0, 0.0}}, {"radius", 1.0}, {"material", material}},
-       {{"shape", "torus"}, {"center", {1.35, -0.25, 0.0}}, {"major_radius", 0.95}, {"minor_radius", 0.36},
-        {"rotate_deg", {25, 0, 0}}, {"material", material}}});
+  s["objects"] =
+      nlohmann::json::array({{{"shape", "sphere"}, {"center", {-1.25, 0.0, 0.0}}, {"radius", 1.0}, {"material", material}},
+                             {{"shape", "torus"},
+                              {"center", {1.35, -0.25, 0.0}},
+                              {"major_radius", 0.95},
+                              {"minor_radius", 0.36},
+                              {"rotate_deg", {25, 0, 0}},
+                              {"material", material}}});
   s["name"] = "material preview";
   return s;
 }

@@ -50,25 +50,30 @@ SceneGeometry::SceneGeometry(const Scene& scene) : scene_(scene), impl_(std::mak
     switch (o.shape) {
       case ShapeKind::Sphere: {
         g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+        auto* v =
+            static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
         v[0] = o.center.x, v[1] = o.center.y, v[2] = o.center.z, v[3] = o.radius;
         break;
       }
       case ShapeKind::Disc: {
         g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+        auto* v =
+            static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
         v[0] = o.center.x, v[1] = o.center.y, v[2] = o.center.z, v[3] = o.radius;
-        auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 1));
+        auto* n =
+            static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 1));
         n[0] = o.normal.x, n[1] = o.normal.y, n[2] = o.normal.z;
         break;
       }
       case ShapeKind::Rectangle: {
         g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_QUAD);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
+        auto* v =
+            static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
         const Vec3 u = o.u_axis * (0.5f * o.size.x), w = glm::cross(o.normal, o.u_axis) * (0.5f * o.size.y);
         const Vec3 corners[4] = {o.center - u - w, o.center + u - w, o.center + u + w, o.center - u + w};
         for (int i = 0; i < 4; ++i) v[3 * i] = corners[i].x, v[3 * i + 1] = corners[i].y, v[3 * i + 2] = corners[i].z;
-        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), 1));
+        auto* idx = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), 1));
         idx[0] = 0, idx[1] = 1, idx[2] = 2, idx[3] = 3;
         break;
       }
@@ -91,7 +96,8 @@ SceneGeometry::SceneGeometry(const Scene& scene) : scene_(scene), impl_(std::mak
   for (const Light& l : scene.lights) {
     if (l.kind == LightKind::Sphere) {
       RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+      auto* v =
+          static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
       v[0] = l.position.x, v[1] = l.position.y, v[2] = l.position.z, v[3] = l.radius;
       attach(g, id);
     }

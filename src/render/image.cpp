@@ -102,8 +102,8 @@ void check_size(int64_t w, int64_t h, const std::string& where, const std::strin
   if (w <= 0 || h <= 0) input_error(where, path, fmt::format("zero-size image ({} x {})", w, h));
   if (w > kMaxPixels || h > kMaxPixels || w * h > kMaxPixels)
     input_error(where, path,
-                fmt::format("image too large ({} x {} = {} pixels; at most {} pixels, e.g. 8192 x 8192 or 16384 x 4096)",
-                            w, h, w * h, kMaxPixels));
+                fmt::format("image too large ({} x {} = {} pixels; at most {} pixels, e.g. 8192 x 8192 or 16384 x 4096)", w, h,
+                            w * h, kMaxPixels));
 }
 
 // Reads a whole regular file. Every failure is an InputError that says which one it was.
@@ -205,15 +205,15 @@ void check_radiance_pixels(const std::vector<unsigned char>& data, int64_t w, in
     if (n - pos < 4) truncated(y);
     if (data[pos] != 2 || data[pos + 1] != 2 || (data[pos + 2] & 0x80) != 0) {
       if (y == 0) return flat(pos);
-      input_error(where, path,
-                  fmt::format("corrupt Radiance HDR: scanline {} of {} (byte {}) is flat after run-length encoded ones",
-                              y, h, pos));
+      input_error(
+          where, path,
+          fmt::format("corrupt Radiance HDR: scanline {} of {} (byte {}) is flat after run-length encoded ones", y, h, pos));
     }
     const int64_t len = int64_t(data[pos + 2]) << 8 | data[pos + 3];
     if (len != w)
       input_error(where, path,
-                  fmt::format("corrupt Radiance HDR: scanline {} of {} (byte {}) claims {} pixels, the image is {} wide",
-                              y, h, pos, len, w));
+                  fmt::format("corrupt Radiance HDR: scanline {} of {} (byte {}) claims {} pixels, the image is {} wide", y, h,
+                              pos, len, w));
     pos += 4;
     for (int k = 0; k < 4; ++k)
       for (int64_t x = 0; x < w;) {
@@ -223,8 +223,7 @@ void check_radiance_pixels(const std::vector<unsigned char>& data, int64_t w, in
         const size_t bytes = c > 128 ? 1 : c;
         if (count > w - x)
           input_error(where, path,
-                      fmt::format("corrupt Radiance HDR: scanline {} of {} (byte {}) has a run past its end", y, h,
-                                  pos - 1));
+                      fmt::format("corrupt Radiance HDR: scanline {} of {} (byte {}) has a run past its end", y, h, pos - 1));
         if (n - pos < bytes) truncated(y);
         pos += bytes;
         x += count;
@@ -232,8 +231,8 @@ void check_radiance_pixels(const std::vector<unsigned char>& data, int64_t w, in
   }
 }
 
-Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, const std::string& where,
-               const std::string& path, bool linear_8bit) {
+Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, const std::string& where, const std::string& path,
+               bool linear_8bit) {
   const auto* bytes = data.data();
   const int len = int(data.size());
   int w = 0, h = 0, comp = 0;
@@ -247,11 +246,12 @@ Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, c
   // 4-byte type, data, 4-byte CRC; PNG spec 5.3) must fit in the file.
   if (ext == ".png") {
     for (size_t off = 8; off + 8 <= data.size();) {
-      const uint32_t n = uint32_t(bytes[off]) << 24 | uint32_t(bytes[off + 1]) << 16 | uint32_t(bytes[off + 2]) << 8 |
-                         uint32_t(bytes[off + 3]);
+      const uint32_t n =
+          uint32_t(bytes[off]) << 24 | uint32_t(bytes[off + 1]) << 16 | uint32_t(bytes[off + 2]) << 8 | uint32_t(bytes[off + 3]);
       if (size_t(n) > data.size() - off - 8)
-        input_error(where, path, fmt::format("corrupt PNG: the chunk at byte {} claims {} bytes, past the end of the file ({} bytes)",
-                                             off, n, data.size()));
+        input_error(where, path,
+                    fmt::format("corrupt PNG: the chunk at byte {} claims {} bytes, past the end of the file ({} bytes)", off, n,
+                                data.size()));
       off += 12 + size_t(n);
     }
   }
@@ -281,8 +281,7 @@ Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, c
     img = Image(w, h);
     std::copy(px.get(), px.get() + img.rgb.size(), img.rgb.begin());
   } else if (stbi_is_16_bit_from_memory(bytes, len)) {
-    std::unique_ptr<stbi_us, void (*)(void*)> px(stbi_load_16_from_memory(bytes, len, &w, &h, &comp, 3),
-                                                 &stbi_image_free);
+    std::unique_ptr<stbi_us, void (*)(void*)> px(stbi_load_16_from_memory(bytes, len, &w, &h, &comp, 3), &stbi_image_free);
     if (!px) fail();
     img = Image(w, h);
     for (size_t i = 0; i < img.rgb.size(); ++i) {
@@ -316,8 +315,7 @@ Image read_pfm(const std::vector<unsigned char>& data, const std::string& where,
     return std::string(data.begin() + std::ptrdiff_t(start), data.begin() + std::ptrdiff_t(pos));
   };
   const std::string magic = token("\"PF\" or \"Pf\"");
-  if (magic != "PF" && magic != "Pf")
-    input_error(where, path, "not a PFM file (the header must start with \"PF\" or \"Pf\")");
+  if (magic != "PF" && magic != "Pf") input_error(where, path, "not a PFM file (the header must start with \"PF\" or \"Pf\")");
   const int channels = magic == "PF" ? 3 : 1;
 
   auto integer = [&](const char* what) -> int64_t {
@@ -343,8 +341,8 @@ Image read_pfm(const std::vector<unsigned char>& data, const std::string& where,
   const size_t count = size_t(w) * size_t(h) * size_t(channels);
   const size_t available = data.size() - pos;
   if (available < count * 4)
-    input_error(where, path, fmt::format("truncated PFM: {} x {} needs {} bytes of pixels, the file has {}", w, h,
-                                         count * 4, available));
+    input_error(where, path,
+                fmt::format("truncated PFM: {} x {} needs {} bytes of pixels, the file has {}", w, h, count * 4, available));
   const bool file_little = scale < 0.0;
   const bool swap = file_little != (std::endian::native == std::endian::little);
 
@@ -526,10 +524,14 @@ std::vector<uint32_t> decode_utf8(std::string_view s) {
     const auto b0 = uint8_t(s[i]);
     int len = 0;
     uint32_t cp = 0, min = 0;
-    if (b0 < 0x80) len = 1, cp = b0;
-    else if ((b0 & 0xE0) == 0xC0) len = 2, cp = b0 & 0x1Fu, min = 0x80;
-    else if ((b0 & 0xF0) == 0xE0) len = 3, cp = b0 & 0x0Fu, min = 0x800;
-    else if ((b0 & 0xF8) == 0xF0) len = 4, cp = b0 & 0x07u, min = 0x10000;
+    if (b0 < 0x80)
+      len = 1, cp = b0;
+    else if ((b0 & 0xE0) == 0xC0)
+      len = 2, cp = b0 & 0x1Fu, min = 0x80;
+    else if ((b0 & 0xF0) == 0xE0)
+      len = 3, cp = b0 & 0x0Fu, min = 0x800;
+    else if ((b0 & 0xF8) == 0xF0)
+      len = 4, cp = b0 & 0x07u, min = 0x10000;
     bool ok = len > 0 && i + size_t(len) <= s.size();
     for (int k = 1; ok && k < len; ++k) {
       const auto b = uint8_t(s[i + size_t(k)]);
@@ -545,8 +547,7 @@ std::vector<uint32_t> decode_utf8(std::string_view s) {
 
 // Lays the text out on one line and calls draw(glyph, pen_x) for each glyph, pen_x being the
 // origin of the glyph relative to the start of the text. Returns the advance width in pixels.
-template <typename Draw>
-double layout_text(const LabelFont& font, std::string_view text, float scale, Draw&& draw) {
+template <typename Draw> double layout_text(const LabelFont& font, std::string_view text, float scale, Draw&& draw) {
   double pen = 0.0;
   int prev = 0;
   for (const uint32_t cp : decode_utf8(text)) {
@@ -604,13 +605,15 @@ Image read_image(const std::string& path, const std::string& where, bool linear_
   const std::string ext = lower_extension(path);
   const bool known = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".hdr" || ext == ".exr" || ext == ".pfm";
   if (!known)
-    input_error(where, path,
-                fmt::format("unknown image extension \"{}\" (expected .png, .jpg, .jpeg, .hdr, .exr or .pfm)", ext));
+    input_error(where, path, fmt::format("unknown image extension \"{}\" (expected .png, .jpg, .jpeg, .hdr, .exr or .pfm)", ext));
   const std::vector<unsigned char> data = read_file(path, where);
   Image img;
-  if (ext == ".pfm") img = read_pfm(data, where, path);
-  else if (ext == ".exr") img = read_exr(data, where, path);
-  else img = read_stb(data, ext, where, path, linear_8bit);
+  if (ext == ".pfm")
+    img = read_pfm(data, where, path);
+  else if (ext == ".exr")
+    img = read_exr(data, where, path);
+  else
+    img = read_stb(data, ext, where, path, linear_8bit);
   check_values(img, where, path);
   return img;
 }
@@ -618,11 +621,12 @@ Image read_image(const std::string& path, const std::string& where, bool linear_
 void write_image(const std::string& path, const Image& img, const ToneMapOptions& tm) {
   const std::string ext = lower_extension(path);
   if (ext != ".png" && ext != ".exr" && ext != ".pfm")
-    throw InputError(
-        fmt::format("cannot write {}: unknown image extension \"{}\" (expected .png, .exr or .pfm)", path, ext));
+    throw InputError(fmt::format("cannot write {}: unknown image extension \"{}\" (expected .png, .exr or .pfm)", path, ext));
   check_writable(path, img.width, img.height, img.rgb.size());
-  if (ext == ".png") write_png(path, tonemap(img, tm));
-  else write_bytes(path, ext == ".exr" ? encode_exr(path, img) : encode_pfm(img));
+  if (ext == ".png")
+    write_png(path, tonemap(img, tm));
+  else
+    write_bytes(path, ext == ".exr" ? encode_exr(path, img) : encode_pfm(img));
 }
 
 void write_png(const std::string& path, const DisplayImage& img) {

@@ -223,7 +223,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
   const Environment& env = scene_.environment;
   const float env_prob = light_prob_.back();
   RGB L(0.0f), beta(1.0f);
-  float prev_pdf = 0.0f;  // solid-angle pdf of the BRDF sample that made `ray` (0: camera ray)
+  float prev_pdf = 0.0f;     // solid-angle pdf of the BRDF sample that made `ray` (0: camera ray)
   float min_pdf = INFINITY;  // the smallest of the path's BRDF-sample pdfs (Cycles' min_ray_pdf)
   Vec3 prev_p(0.0f);
   const float clamp = scene_.integrator.clamp;
@@ -352,9 +352,7 @@ int next_pass_end(int spp_so_far, int spp_max) {
   return int(std::min<int64_t>(int64_t(spp_so_far) + step, spp_max));
 }
 
-int automatic_min_spp(float noise_threshold) {
-  return std::max(4, int(std::ceil(16.0f / std::pow(noise_threshold, 0.3f))));
-}
+int automatic_min_spp(float noise_threshold) { return std::max(4, int(std::ceil(16.0f / std::pow(noise_threshold, 0.3f)))); }
 
 Image render(const Scene& scene, const RenderOptions& opt, RenderStats* stats_out) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -2,8 +2,8 @@
 // message (docs/scenes.md is the reference for the keys); the renderer trusts what it gets.
 #include "aniso/render/scene.h"
 
-#include <cerrno>
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -53,13 +53,15 @@ class Node {
   // rounded: 1e15 is 999999986991104, 0.05f is 0.0500000007, refusing the documented limits).
   float number(std::string_view key, double def, double lo, double hi, bool required = false, bool lo_exclusive = false) {
     if (!has(key)) {
-      if (required) fail(key, fmt::format("missing (required): expected a number in {}{}, {}]", lo_exclusive ? "(" : "[", lo, hi));
+      if (required)
+        fail(key, fmt::format("missing (required): expected a number in {}{}, {}]", lo_exclusive ? "(" : "[", lo, hi));
       return float(def);
     }
     const json& v = obj_.at(std::string(key));
     const double x = v.is_number() ? v.get<double>() : NAN;
     const bool ok = v.is_number() && std::isfinite(x) && (lo_exclusive ? x > lo : x >= lo) && x <= hi;
-    if (!ok) fail(key, fmt::format("expected a number in {}{}, {}], got {}", lo_exclusive ? "(" : "[", lo, hi, json_type_name(v)));
+    if (!ok)
+      fail(key, fmt::format("expected a number in {}{}, {}], got {}", lo_exclusive ? "(" : "[", lo, hi, json_type_name(v)));
     return float(x);
   }
   int integer(std::string_view key, int def, int lo, int hi) {
@@ -75,7 +77,8 @@ class Node {
       return def;
     }
     const json& v = obj_.at(std::string(key));
-    if (!v.is_array() || v.size() != 3) fail(key, fmt::format("expected [x, y, z] (3 finite numbers), got {}", json_type_name(v)));
+    if (!v.is_array() || v.size() != 3)
+      fail(key, fmt::format("expected [x, y, z] (3 finite numbers), got {}", json_type_name(v)));
     Vec3 r;
     for (int i = 0; i < 3; ++i) {
       if (!v[i].is_number() || !std::isfinite(v[i].get<double>()) || std::fabs(v[i].get<double>()) > 1e30)
@@ -101,17 +104,23 @@ class Node {
       return def;
     }
     const json& v = obj_.at(std::string(key));
-    const auto ok = [](const json& x) { return x.is_number() && std::isfinite(x.get<double>()) && x.get<double>() >= 0.0 && x.get<double>() < 1e30; };
+    const auto ok = [](const json& x) {
+      return x.is_number() && std::isfinite(x.get<double>()) && x.get<double>() >= 0.0 && x.get<double>() < 1e30;
+    };
     if (ok(v)) return RGB(float(v.get<double>()));
-    if (!v.is_array() || v.size() != 3) fail(key, fmt::format("expected a colour (a number >= 0 or [r, g, b]), got {}", json_type_name(v)));
+    if (!v.is_array() || v.size() != 3)
+      fail(key, fmt::format("expected a colour (a number >= 0 or [r, g, b]), got {}", json_type_name(v)));
     RGB c;
     for (int i = 0; i < 3; ++i) {
-      if (!ok(v[i])) fail_at(fmt::format("{}[{}]", key_path(key), i), fmt::format("expected a finite number >= 0, got {}", json_type_name(v[i])));
+      if (!ok(v[i]))
+        fail_at(fmt::format("{}[{}]", key_path(key), i),
+                fmt::format("expected a finite number >= 0, got {}", json_type_name(v[i])));
       c[i] = float(v[i].get<double>());
     }
     return c;
   }
-  std::string choice(std::string_view key, std::initializer_list<std::string_view> allowed, bool required, std::string_view def = "") {
+  std::string choice(std::string_view key, std::initializer_list<std::string_view> allowed, bool required,
+                     std::string_view def = "") {
     if (!has(key)) {
       if (required) fail(key, fmt::format("missing (required): expected one of {}", list(allowed)));
       return std::string(def);
@@ -128,7 +137,8 @@ class Node {
       return {};
     }
     const json& v = obj_.at(std::string(key));
-    if (!v.is_string() || v.get<std::string>().empty()) fail(key, fmt::format("expected a non-empty string, got {}", json_type_name(v)));
+    if (!v.is_string() || v.get<std::string>().empty())
+      fail(key, fmt::format("expected a non-empty string, got {}", json_type_name(v)));
     return v.get<std::string>();
   }
 
@@ -249,9 +259,10 @@ TangentMap read_tangent_map(const std::string& file, const std::string& encoding
       // Below 1e-3 (a quarter of one 8-bit step from the (0.5, 0.5) centre) the direction of an xy
       // texel is quantisation noise, not a tangent.
       if (!(glm::length(d) > 1e-3f) || !std::isfinite(d.x) || !std::isfinite(d.y))
-        throw InputError(fmt::format("{}: {}: texel ({}, {}) encodes a zero-length or non-finite tangent "
-                                     "(xy encoding: red and green must not both be 0.5)",
-                                     where, file, x, y));
+        throw InputError(
+            fmt::format("{}: {}: texel ({}, {}) encodes a zero-length or non-finite tangent "
+                        "(xy encoding: red and green must not both be 0.5)",
+                        where, file, x, y));
       m.doubled[size_t(y) * size_t(img.width) + size_t(x)] = TangentMap_ToDoubled(d);
     }
   return m;
@@ -320,11 +331,12 @@ void check_obj_numbers(const std::string& file, const std::string& where) {
     const size_t min = kind == 't' ? 1 : 3, max = kind == 'v' ? 6 : 3;
     i = k;
     const size_t comment = line.find('#', i);
-    const std::string_view rest = std::string_view(line).substr(i, comment == std::string::npos ? std::string::npos : comment - i);
+    const std::string_view rest =
+        std::string_view(line).substr(i, comment == std::string::npos ? std::string::npos : comment - i);
     size_t count = 0, j = 0;
     const auto fail = [&](const std::string& problem) {
-      throw InputError(fmt::format("{}: {}: line {}: \"{}\": {}", where, file, line_no, text_escape(std::string_view(line).substr(0, 80)),
-                                   problem));
+      throw InputError(fmt::format("{}: {}: line {}: \"{}\": {}", where, file, line_no,
+                                   text_escape(std::string_view(line).substr(0, 80)), problem));
     };
     while (true) {
       while (j < rest.size() && is_space(rest[j])) ++j;
@@ -396,7 +408,8 @@ std::shared_ptr<Mesh> load_obj(const std::string& file, const std::string& where
       throw InputError(fmt::format("{}: {}: vertex {} is not finite", where, file, i + 1));
     if (!mesh->normals.empty()) {
       const float len = glm::length(mesh->normals[i]);
-      if (!(len > 0.0f) || !std::isfinite(len)) throw InputError(fmt::format("{}: {}: normal of vertex {} is zero or not finite", where, file, i + 1));
+      if (!(len > 0.0f) || !std::isfinite(len))
+        throw InputError(fmt::format("{}: {}: normal of vertex {} is zero or not finite", where, file, i + 1));
       mesh->normals[i] /= len;
     }
   }
@@ -423,7 +436,8 @@ TangentSource read_tangent(Node n, const Object& obj, const std::string& base_di
       f.kind = TangentFieldKind::Projected;
       f.direction = n.direction("direction", f.direction, true);
     } else if (kind == "radial" || kind == "concentric" || kind == "swirl") {
-      f.kind = kind == "radial" ? TangentFieldKind::Radial : (kind == "concentric" ? TangentFieldKind::Concentric : TangentFieldKind::Swirl);
+      f.kind = kind == "radial" ? TangentFieldKind::Radial
+                                : (kind == "concentric" ? TangentFieldKind::Concentric : TangentFieldKind::Swirl);
       f.center = n.vec3("center", obj.center);
       f.axis = n.direction("axis", default_axis);
       if (kind == "swirl") f.swirl = glm::radians(n.number("swirl_deg", 45.0f, -90.0f, 90.0f));
@@ -437,14 +451,15 @@ TangentSource read_tangent(Node n, const Object& obj, const std::string& base_di
       if (obj.mesh->normals.empty() || obj.mesh->uvs.empty())
         n.fail("field", fmt::format("\"uv\" tangents need per-vertex normals and UVs; the mesh has {}",
                                     obj.mesh->normals.empty() && obj.mesh->uvs.empty() ? "neither"
-                                    : obj.mesh->normals.empty()                         ? "no normals"
-                                                                                        : "no UVs"));
+                                    : obj.mesh->normals.empty()                        ? "no normals"
+                                                                                       : "no UVs"));
       ts.uv_tangents = true;
     }
   } else if (has_map) {
     const std::string file = n.string("map");
     const std::string encoding = n.choice("encoding", {"angle", "xy"}, false, "angle");
-    if (obj.shape == ShapeKind::Mesh && obj.mesh->uvs.empty()) n.fail("map", "a tangent map needs a mesh with UVs; this mesh has none");
+    if (obj.shape == ShapeKind::Mesh && obj.mesh->uvs.empty())
+      n.fail("map", "a tangent map needs a mesh with UVs; this mesh has none");
     ts.map = std::make_shared<TangentMap>(
         read_tangent_map(resolve_path(file, base_dir), encoding, fmt::format("{}: {}", n.source(), n.key_path("map"))));
   }
@@ -533,7 +548,8 @@ Material resolve_material(const json& m, const std::string& where, const std::st
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", where, e.what()));
   }
-  throw InputError(fmt::format("{}: expected a preset name, a JSON file name or a material object, got {}", where, json_type_name(m)));
+  throw InputError(
+      fmt::format("{}: expected a preset name, a JSON file name or a material object, got {}", where, json_type_name(m)));
 }
 
 Vec2 TangentMap::lookup(const Vec2& uv) const {
@@ -603,7 +619,8 @@ Scene parse_scene(const json& doc, const std::string& source, const std::string&
     const std::string sm = in.choice("sampler", {"sobol", "independent"}, false, "sobol");
     s.integrator.sampler = sm == "independent" ? SamplerKind::Independent : SamplerKind::Sobol;
     const std::string ls = in.choice("light_selection", {"auto", "power", "all"}, false, "auto");
-    s.integrator.light_selection = ls == "all" ? LightSelection::All : (ls == "power" ? LightSelection::Power : LightSelection::Auto);
+    s.integrator.light_selection =
+        ls == "all" ? LightSelection::All : (ls == "power" ? LightSelection::Power : LightSelection::Auto);
     s.integrator.clamp = in.number("clamp", s.integrator.clamp, 0.0f, 1e30f);
     s.integrator.filter_glossy = in.number("filter_glossy", s.integrator.filter_glossy, 0.0f, 100.0f);
     in.finish();
@@ -616,7 +633,8 @@ Scene parse_scene(const json& doc, const std::string& source, const std::string&
   }
   const json& objs = top.get("objects");
   if (!objs.is_array()) top.fail("objects", fmt::format("expected an array, got {}", json_type_name(objs)));
-  for (size_t i = 0; i < objs.size(); ++i) s.objects.push_back(read_object(Node(objs[i], source, fmt::format("objects[{}]", i)), base_dir));
+  for (size_t i = 0; i < objs.size(); ++i)
+    s.objects.push_back(read_object(Node(objs[i], source, fmt::format("objects[{}]", i)), base_dir));
   top.text("name");
   top.text("description");
   top.finish();

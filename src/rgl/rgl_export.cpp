@@ -222,7 +222,8 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
       const double target = s.back() * q / (opt.theta_i - 1);
       const size_t k = size_t(std::lower_bound(s.begin(), s.end(), target) - s.begin());
       double t = th[std::min(k, size_t(fine))];
-      if (k > 0 && k <= size_t(fine) && s[k] > s[k - 1]) t = th[k - 1] + (th[k] - th[k - 1]) * (target - s[k - 1]) / (s[k] - s[k - 1]);
+      if (k > 0 && k <= size_t(fine) && s[k] > s[k - 1])
+        t = th[k - 1] + (th[k] - th[k - 1]) * (target - s[k - 1]) / (s[k] - s[k - 1]);
       theta_i[size_t(q)] = float(t);
     }
     theta_i.front() = 0.f;
@@ -231,7 +232,8 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
   // phi_i: isotropic: one value (0), the readers then measure phi relative to phi_i (bxdfs.cpp:
   // 1033-1034); anisotropic: the full circle [-pi, pi] (bxdfs.cpp:941-948).
   std::vector<float> phi_i;
-  if (iso) phi_i = {0.f};
+  if (iso)
+    phi_i = {0.f};
   else
     for (int j = 0; j < opt.phi_i; ++j) phi_i.push_back(float(u2phi(node(j, opt.phi_i))));
   const size_t n_phi = phi_i.size(), n_theta = theta_i.size();
@@ -279,7 +281,8 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
           // At a node on the border of a region of zero density the warp can give 0 / 0
           // (PL2DSample::finite); the point 1e-4 inside the square stands in for it.
           if (!s.finite())
-            s = vndf_pl.view.sample(float(std::clamp(node(x, n), 1e-4, 1.0 - 1e-4)), float(std::clamp(node(y, n), 1e-4, 1.0 - 1e-4)), p);
+            s = vndf_pl.view.sample(float(std::clamp(node(x, n), 1e-4, 1.0 - 1e-4)),
+                                    float(std::clamp(node(y, n), 1e-4, 1.0 - 1e-4)), p);
           if (!s.finite()) continue;  // the table keeps 0 there
           const double th_m = rgl_u2theta(s.x), ph_m = rgl_u2phi(s.y) + (iso ? phi_i[a] : 0.f);
           const Vec3d m = dir(th_m, ph_m);
@@ -314,7 +317,8 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
 
   std::vector<TensorField> fields;
   const std::string& desc = src.description;
-  fields.push_back(make_field("description", {desc.size()}, std::span(reinterpret_cast<const uint8_t*>(desc.data()), desc.size())));
+  fields.push_back(
+      make_field("description", {desc.size()}, std::span(reinterpret_cast<const uint8_t*>(desc.data()), desc.size())));
   fields.push_back(make_field("phi_i", {n_phi}, phi_i));
   fields.push_back(make_field("theta_i", {n_theta}, theta_i));
   fields.push_back(make_field("ndf", {uint64_t(rows), uint64_t(N)}, ndf_t));

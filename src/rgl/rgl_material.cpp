@@ -12,8 +12,8 @@
 
 namespace aniso::rgl {
 
-void PL2DTables::build(const float* in, int size_x, int size_y, const std::vector<std::vector<float>>& params,
-                       bool normalize, bool build_cdf) {
+void PL2DTables::build(const float* in, int size_x, int size_y, const std::vector<std::vector<float>>& params, bool normalize,
+                       bool build_cdf) {
   PL2D& v = view;
   v = PL2D{};
   v.size_x = size_x;
@@ -103,8 +103,7 @@ const TensorField& need(const TensorFile& t, const std::string& name, const std:
 
 // dtype and rank, as both readers check them (bxdfs.cpp:897-935, measured.cpp:127-172).
 void expect(const TensorFile& t, const TensorField& f, Dtype dtype, size_t ndim) {
-  if (f.dtype != dtype)
-    fail(t.source, f.name, fmt::format("dtype {}, expected {}", dtype_name(f.dtype), dtype_name(dtype)));
+  if (f.dtype != dtype) fail(t.source, f.name, fmt::format("dtype {}, expected {}", dtype_name(f.dtype), dtype_name(dtype)));
   if (f.shape.size() != ndim)
     fail(t.source, f.name, fmt::format("shape {} has {} dimensions, expected {}", f.shape_string(), f.shape.size(), ndim));
 }
@@ -129,7 +128,8 @@ void grid_at_least_2(const TensorFile& t, const TensorField& f, size_t a, size_t
     fail(t.source, f.name, fmt::format("shape {}: the 2D grid needs at least 2 x 2 points", f.shape_string()));
 }
 
-void increasing(const TensorFile& t, const std::string& name, const std::vector<float>& v, float lo, float hi, const char* range) {
+void increasing(const TensorFile& t, const std::string& name, const std::vector<float>& v, float lo, float hi,
+                const char* range) {
   for (size_t i = 0; i < v.size(); ++i) {
     if (!std::isfinite(v[i]) || v[i] < lo || v[i] > hi)
       fail(t.source, name, fmt::format("value {} at index {} outside {}", v[i], i, range));
@@ -154,8 +154,9 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
   // Mitsuba 3 measured.cpp:108-125: a file with "wavelengths" is spectral ("spectra"), else RGB
   // ("rgb"); pbrt-v4 reads spectral files only (bxdfs.cpp:892-893).
   const bool spectral = t.find("wavelengths") != nullptr;
-  const TensorField& spectra = spectral ? need(t, "spectra", "a file with \"wavelengths\" is spectral (Mitsuba 3 measured.cpp:113-118)")
-                                        : need(t, "rgb", "a file without \"wavelengths\" is an RGB file (Mitsuba 3 measured.cpp:119-124)");
+  const TensorField& spectra =
+      spectral ? need(t, "spectra", "a file with \"wavelengths\" is spectral (Mitsuba 3 measured.cpp:113-118)")
+               : need(t, "rgb", "a file without \"wavelengths\" is an RGB file (Mitsuba 3 measured.cpp:119-124)");
   expect(t, description, Dtype::UInt8, 1);
   expect(t, theta_i, Dtype::Float32, 1);
   expect(t, phi_i, Dtype::Float32, 1);
@@ -173,7 +174,8 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
     size_t d = 0;
     for (const uint64_t s : dims) {
       if (s != 0 && f.shape[d] != s)
-        fail(src, f.name, fmt::format("shape {}, expected {} (phi_i has {}, theta_i {})", f.shape_string(), expected, n_phi, n_theta));
+        fail(src, f.name,
+             fmt::format("shape {}, expected {} (phi_i has {}, theta_i {})", f.shape_string(), expected, n_phi, n_theta));
       ++d;
     }
   };
@@ -182,15 +184,20 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
   shape_is(spectra, {n_phi, n_theta, n_lambda, 0, 0},
            spectral ? "[phi_i, theta_i, wavelengths, n, n]" : "[phi_i, theta_i, 3, n, n]");
   if (luminance.shape[2] != luminance.shape[3])
-    fail(src, "luminance", fmt::format("shape {}: the last two sizes must be equal (pbrt-v4 bxdfs.cpp:915)", luminance.shape_string()));
+    fail(src, "luminance",
+         fmt::format("shape {}: the last two sizes must be equal (pbrt-v4 bxdfs.cpp:915)", luminance.shape_string()));
   if (spectra.shape[3] != spectra.shape[4])
-    fail(src, spectra.name, fmt::format("shape {}: the last two sizes must be equal (pbrt-v4 bxdfs.cpp:921)", spectra.shape_string()));
+    fail(src, spectra.name,
+         fmt::format("shape {}: the last two sizes must be equal (pbrt-v4 bxdfs.cpp:921)", spectra.shape_string()));
   if (luminance.shape[2] != spectra.shape[3])
-    fail(src, "luminance", fmt::format("shape {}: its grid must be the {} grid ({})", luminance.shape_string(), spectra.name, spectra.shape_string()));
+    fail(src, "luminance",
+         fmt::format("shape {}: its grid must be the {} grid ({})", luminance.shape_string(), spectra.name,
+                     spectra.shape_string()));
   if (jacobian.shape[0] != 1) fail(src, "jacobian", fmt::format("shape {}, expected [1]", jacobian.shape_string()));
   if (jacobian.bytes[0] != 1)
-    fail(src, "jacobian", "value 0: pbrt-v4 always applies ndf / (4 sigma) (bxdfs.cpp:1048-1049), Mitsuba 3 only when jacobian is 1 "
-                          "(measured.cpp:364-366); the two renderers disagree on such a file, aniso reads only jacobian = 1");
+    fail(src, "jacobian",
+         "value 0: pbrt-v4 always applies ndf / (4 sigma) (bxdfs.cpp:1048-1049), Mitsuba 3 only when jacobian is 1 "
+         "(measured.cpp:364-366); the two renderers disagree on such a file, aniso reads only jacobian = 1");
   if (n_phi < 1 || n_theta < 1) fail(src, n_phi < 1 ? "phi_i" : "theta_i", "empty (at least 1 value expected)");
   if (spectral && n_lambda < 2) fail(src, "wavelengths", "fewer than 2 wavelengths");
   grid_at_least_2(t, ndf, 0, 1);
@@ -220,8 +227,9 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
     const float span = d->phi_i.back() - d->phi_i.front();
     const int reduction = int(std::rint((2.f * kPi<float>) / span));
     if (reduction != 1)
-      fail(src, "phi_i", fmt::format("covers {:.4g} of 2 pi (reduction {}): pbrt-v4 reads only a full circle, [-pi, pi] (bxdfs.cpp:943-947)",
-                                     span / (2.f * kPi<float>), reduction));
+      fail(src, "phi_i",
+           fmt::format("covers {:.4g} of 2 pi (reduction {}): pbrt-v4 reads only a full circle, [-pi, pi] (bxdfs.cpp:943-947)",
+                       span / (2.f * kPi<float>), reduction));
   }
   if (spectral) {
     d->wavelengths = wavelengths->floats();
@@ -237,10 +245,13 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
   // interpolated value at 0, bxdfs.cpp:1045), but must be finite.
   for (size_t i = 0; i < spec_v.size(); ++i)
     if (!std::isfinite(spec_v[i]) || std::abs(spec_v[i]) > kMaxTableValue)
-      fail(src, spectra.name, fmt::format("value {} at flat index {} (finite, magnitude <= {:g} expected)", spec_v[i], i, kMaxTableValue));
+      fail(src, spectra.name,
+           fmt::format("value {} at flat index {} (finite, magnitude <= {:g} expected)", spec_v[i], i, kMaxTableValue));
   for (size_t i = 0; i < sigma_v.size(); ++i)
     if (!(sigma_v[i] >= kMinSigma))
-      fail(src, "sigma", fmt::format("value {} at flat index {}: f divides by sigma (bxdfs.cpp:1049), >= {:g} expected", sigma_v[i], i, kMinSigma));
+      fail(src, "sigma",
+           fmt::format("value {} at flat index {}: f divides by sigma (bxdfs.cpp:1049), >= {:g} expected", sigma_v[i], i,
+                       kMinSigma));
   // Every vndf and luminance slice is normalised by its sum (sampling.h:1404-1405): a zero slice
   // gives NaN densities.
   auto positive_slices = [&](const char* name, const std::vector<float>& v, uint64_t per_slice) {
@@ -250,8 +261,9 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
       // 1e-20: the slice is scaled by 1 / sum in float (sampling.h:1404); a sum near float's
       // smallest values would overflow that scale.
       if (!(sum > 1e-20))
-        fail(src, name, fmt::format("slice (phi_i {}, theta_i {}) is all zero (sum {:g}): its density cannot be normalised", s / n_theta,
-                                    s % n_theta, sum));
+        fail(src, name,
+             fmt::format("slice (phi_i {}, theta_i {}) is all zero (sum {:g}): its density cannot be normalised", s / n_theta,
+                         s % n_theta, sum));
     }
   };
   positive_slices("vndf", vndf_v, vndf.shape[2] * vndf.shape[3]);
@@ -264,7 +276,8 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
   d->vndf_grid[0] = int(vndf.shape[2]);
   d->vndf_grid[1] = int(vndf.shape[3]);
   d->colour_grid = int(spectra.shape[3]);
-  for (const TensorField& f : t.fields) d->field_summary.push_back(fmt::format("{} {} {}", f.name, dtype_name(f.dtype), f.shape_string()));
+  for (const TensorField& f : t.fields)
+    d->field_summary.push_back(fmt::format("{} {} {}", f.name, dtype_name(f.dtype), f.shape_string()));
 
   // bxdfs.cpp:950-985 / measured.cpp:183-231: the same constructors and arguments.
   const std::vector<std::vector<float>> angle_params{d->phi_i, d->theta_i};

@@ -35,10 +35,17 @@ const char* dtype_name(Dtype t) {
 
 size_t dtype_size(Dtype t) {
   switch (t) {
-    case Dtype::UInt8: case Dtype::Int8: return 1;
-    case Dtype::UInt16: case Dtype::Int16: case Dtype::Float16: return 2;
-    case Dtype::UInt32: case Dtype::Int32: case Dtype::Float32: return 4;
-    case Dtype::UInt64: case Dtype::Int64: case Dtype::Float64: return 8;
+    case Dtype::UInt8:
+    case Dtype::Int8: return 1;
+    case Dtype::UInt16:
+    case Dtype::Int16:
+    case Dtype::Float16: return 2;
+    case Dtype::UInt32:
+    case Dtype::Int32:
+    case Dtype::Float32: return 4;
+    case Dtype::UInt64:
+    case Dtype::Int64:
+    case Dtype::Float64: return 8;
     case Dtype::Invalid: break;
   }
   return 0;
@@ -91,14 +98,16 @@ struct Cursor {
   template <typename T> T read(const std::string& what) {
     T v;
     if (bytes.size() - pos < sizeof(T))
-      throw InputError(fmt::format("{}: truncated file: {} at byte {} runs past the end ({} bytes)", where, what, pos, bytes.size()));
+      throw InputError(
+          fmt::format("{}: truncated file: {} at byte {} runs past the end ({} bytes)", where, what, pos, bytes.size()));
     std::memcpy(&v, bytes.data() + pos, sizeof(T));
     pos += sizeof(T);
     return v;
   }
   std::string read_string(size_t n, const std::string& what) {
     if (bytes.size() - pos < n)
-      throw InputError(fmt::format("{}: truncated file: {} ({} bytes at byte {}) runs past the end ({} bytes)", where, what, n, pos, bytes.size()));
+      throw InputError(fmt::format("{}: truncated file: {} ({} bytes at byte {}) runs past the end ({} bytes)", where, what, n,
+                                   pos, bytes.size()));
     std::string s(reinterpret_cast<const char*>(bytes.data() + pos), n);
     pos += n;
     return s;
@@ -117,11 +126,13 @@ TensorFile parse_tensor(std::span<const uint8_t> bytes, const std::string& where
   t.size = bytes.size();
   // pbrt-v4 bxdfs.cpp:757 and Mitsuba tensor.cpp:13: at least the magic, the version and the count.
   if (bytes.size() < kHeaderSize)
-    throw InputError(fmt::format("{}: not a tensor file: {} bytes, the header alone is {} (truncated?)", where, bytes.size(), kHeaderSize));
+    throw InputError(
+        fmt::format("{}: not a tensor file: {} bytes, the header alone is {} (truncated?)", where, bytes.size(), kHeaderSize));
   Cursor c{bytes, where};
   const std::string magic = c.read_string(12, "the magic");
   if (std::memcmp(magic.data(), "tensor_file\0", 12) != 0)
-    throw InputError(fmt::format("{}: not a tensor file: the first 12 bytes are not \"tensor_file\\0\" (pbrt-v4 and Mitsuba 3's magic)", where));
+    throw InputError(fmt::format(
+        "{}: not a tensor file: the first 12 bytes are not \"tensor_file\\0\" (pbrt-v4 and Mitsuba 3's magic)", where));
   const auto major = c.read<uint8_t>("the version"), minor = c.read<uint8_t>("the version");
   if (major != 1 || minor != 0)
     throw InputError(fmt::format("{}: tensor file version {}.{}, only 1.0 exists (pbrt-v4 bxdfs.cpp:769)", where, major, minor));
@@ -129,7 +140,8 @@ TensorFile parse_tensor(std::span<const uint8_t> bytes, const std::string& where
   // Each entry takes at least kMinFieldEntry bytes: a count the file cannot hold is refused before
   // anything is allocated for it.
   if (n_fields > (bytes.size() - kHeaderSize) / kMinFieldEntry)
-    throw InputError(fmt::format("{}: the header announces {} fields, more than the {} bytes of the file can hold", where, n_fields, bytes.size()));
+    throw InputError(fmt::format("{}: the header announces {} fields, more than the {} bytes of the file can hold", where,
+                                 n_fields, bytes.size()));
   std::set<std::string> names;
   t.fields.reserve(n_fields);
   for (uint32_t i = 0; i < n_fields; ++i) {
@@ -155,15 +167,14 @@ TensorFile parse_tensor(std::span<const uint8_t> bytes, const std::string& where
       f.shape[d] = c.read<uint64_t>(label + ": shape");
       if (f.shape[d] == 0) zero = true;
       if (!zero && f.shape[d] > bytes.size() / total)
-        throw InputError(fmt::format("{}: {}: shape {} ({}) needs more bytes than the file has ({})", where, label, d,
-                                     f.shape[d], bytes.size()));
+        throw InputError(fmt::format("{}: {}: shape {} ({}) needs more bytes than the file has ({})", where, label, d, f.shape[d],
+                                     bytes.size()));
       total = zero ? 0 : total * f.shape[d];
     }
     if (f.offset > bytes.size() || total > bytes.size() - f.offset)
-      throw InputError(fmt::format("{}: {}: data ({} bytes at offset {}) runs past the end of the file ({} bytes)", where,
-                                   label, total, f.offset, bytes.size()));
-    if (!names.insert(f.name).second)
-      throw InputError(fmt::format("{}: {} appears twice in the field table", where, label));
+      throw InputError(fmt::format("{}: {}: data ({} bytes at offset {}) runs past the end of the file ({} bytes)", where, label,
+                                   total, f.offset, bytes.size()));
+    if (!names.insert(f.name).second) throw InputError(fmt::format("{}: {} appears twice in the field table", where, label));
     f.bytes.assign(bytes.begin() + ptrdiff_t(f.offset), bytes.begin() + ptrdiff_t(f.offset + total));
     t.fields.push_back(std::move(f));
   }

@@ -77,8 +77,7 @@ AlbedoEstimate albedo_importance(const MaterialT<T>& m, const Vec3T<T>& wo, int6
   return acc.result();
 }
 
-template <typename T>
-AlbedoEstimate albedo_uniform(const MaterialT<T>& m, const Vec3T<T>& wo, int64_t samples, uint64_t seed) {
+template <typename T> AlbedoEstimate albedo_uniform(const MaterialT<T>& m, const Vec3T<T>& wo, int64_t samples, uint64_t seed) {
   Accumulator acc;
   batch::DirectionArray<T> wis, wos;
   batch::ColorArray<T> f;

@@ -12,8 +12,10 @@ class Rng {
   explicit Rng(uint64_t seed = 1) : engine_(seed) {}
   double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
   template <typename T> T uniform_as() {
-    if constexpr (sizeof(T) == sizeof(float)) return static_cast<float>(engine_() >> 40) * 0x1.0p-24f;
-    else return static_cast<T>(uniform());
+    if constexpr (sizeof(T) == sizeof(float))
+      return static_cast<float>(engine_() >> 40) * 0x1.0p-24f;
+    else
+      return static_cast<T>(uniform());
   }
 
  private:

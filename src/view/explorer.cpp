@@ -50,7 +50,8 @@ std::vector<std::string> split_key(std::string_view key) {
 }
 
 bool all_digits(const std::string& s) {
-  return !s.empty() && s.size() < 4 && std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  return !s.empty() && s.size() < 4 &&
+         std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
 }
 
 // The paths ("lobe.alpha_x", "lobes[1].n") of the objects nested in `j` that hold `key`.
@@ -91,10 +92,12 @@ void set_key(MaterialSlot& slot, std::string_view key, const json& value) {
       node = &(*node)[std::stoul(p)];
     } else if (node->is_object()) {
       if (!node->contains(p))
-        throw InputError(fmt::format("{}: key \"{}\": the material has no object \"{}\"", slot.source, text_escape(key), text_escape(p)));
+        throw InputError(
+            fmt::format("{}: key \"{}\": the material has no object \"{}\"", slot.source, text_escape(key), text_escape(p)));
       node = &(*node)[p];
     } else {
-      throw InputError(fmt::format("{}: key \"{}\": \"{}\" is not an object or a list", slot.source, text_escape(key), text_escape(p)));
+      throw InputError(
+          fmt::format("{}: key \"{}\": \"{}\" is not an object or a list", slot.source, text_escape(key), text_escape(p)));
     }
   }
   if (!node->is_object())
@@ -117,7 +120,8 @@ void set_key(MaterialSlot& slot, std::string_view key, const json& value) {
   } catch (const InputError& e) {
     // A key of a nested object given at the top level (alpha_x on a metal, whose alpha_x is the
     // lobe's): name the nested keys it could mean.
-    const std::vector<std::string> near = parts.size() == 1 ? nested_key_paths(slot.edit, parts[0], "") : std::vector<std::string>{};
+    const std::vector<std::string> near =
+        parts.size() == 1 ? nested_key_paths(slot.edit, parts[0], "") : std::vector<std::string>{};
     if (near.empty()) throw;
     std::string list;
     for (const std::string& n : near) list += fmt::format("{}{}", list.empty() ? "" : " or ", n);
@@ -245,7 +249,9 @@ Vec3T<double> LightDirection::local() const {
   return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
-std::vector<std::string> tangent_field_names() { return {"natural", "projected", "concentric", "radial", "swirl", "noise", "uv"}; }
+std::vector<std::string> tangent_field_names() {
+  return {"natural", "projected", "concentric", "radial", "swirl", "noise", "uv"};
+}
 
 json TangentControls::to_json() const {
   json t = json::object();
@@ -256,17 +262,23 @@ json TangentControls::to_json() const {
     return t;
   }
   auto vec = [](const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); };
-  if (field == "projected") t["field"] = "projected", t["direction"] = vec(direction);
-  else if (field == "concentric" || field == "radial") t["field"] = field, t["axis"] = vec(axis);
-  else if (field == "swirl") t["field"] = "swirl", t["axis"] = vec(axis), t["swirl_deg"] = swirl_deg;
-  else if (field == "noise") t["field"] = "noise", t["scale"] = noise_scale, t["strength"] = noise_strength;
-  else if (field == "uv") t["field"] = "uv";
+  if (field == "projected")
+    t["field"] = "projected", t["direction"] = vec(direction);
+  else if (field == "concentric" || field == "radial")
+    t["field"] = field, t["axis"] = vec(axis);
+  else if (field == "swirl")
+    t["field"] = "swirl", t["axis"] = vec(axis), t["swirl_deg"] = swirl_deg;
+  else if (field == "noise")
+    t["field"] = "noise", t["scale"] = noise_scale, t["strength"] = noise_strength;
+  else if (field == "uv")
+    t["field"] = "uv";
   return t;
 }
 
 json OrbitCamera::to_json() const {
   const double yaw = glm::radians(yaw_deg), pitch = glm::radians(pitch_deg);
-  const json pos = {distance * std::sin(yaw) * std::cos(pitch), distance * std::sin(pitch), distance * std::cos(yaw) * std::cos(pitch)};
+  const json pos = {distance * std::sin(yaw) * std::cos(pitch), distance * std::sin(pitch),
+                    distance * std::cos(yaw) * std::cos(pitch)};
   return {{"position", pos}, {"look_at", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fov_deg", fov_deg}};
 }
 
@@ -311,9 +323,7 @@ json Explorer::preview_document(ObjectKind kind, int width, int height) const {
   return doc;
 }
 
-render::Scene parse_view_scene(const json& doc, const std::string& what) {
-  return render::parse_scene(doc, what, {});
-}
+render::Scene parse_view_scene(const json& doc, const std::string& what) { return render::parse_scene(doc, what, {}); }
 
 namespace {
 
@@ -344,7 +354,8 @@ std::shared_ptr<const render::Scene> Explorer::preview_scene(ObjectKind kind, in
 
 void Explorer::refresh() {
   // Small films: the lit views set their own size; the scenes carry geometry, light and tangents.
-  auto sphere = std::make_shared<const render::Scene>(parse_view_scene(scene_document(ObjectKind::Sphere, a, 64, 64), "sphere view"));
+  auto sphere =
+      std::make_shared<const render::Scene>(parse_view_scene(scene_document(ObjectKind::Sphere, a, 64, 64), "sphere view"));
   auto object = std::make_shared<const render::Scene>(
       parse_view_scene(scene_document(ObjectKind::Object, a, 64, 64), obj_path.empty() ? std::string("object view") : obj_path));
   // The bounding sphere of a mesh (the box's centre and half diagonal), or of the generated torus.
@@ -366,7 +377,8 @@ render::Camera Explorer::camera_value(ObjectKind kind) const {
   if (kind == ObjectKind::Object) {
     // The same orbit about the object's centre, scaled to its size (a mesh rarely fills its bounding
     // sphere: 0.8 of its radius frames the example meshes).
-    c.position = Vec3(object_center + (glm::dvec3(c.position) - glm::dvec3(c.look_at)) * (obj_path.empty() ? object_radius : 0.8 * object_radius));
+    c.position = Vec3(object_center + (glm::dvec3(c.position) - glm::dvec3(c.look_at)) *
+                                          (obj_path.empty() ? object_radius : 0.8 * object_radius));
     c.look_at = Vec3(object_center);
   }
   return c;
@@ -380,8 +392,11 @@ render::Light Explorer::light_value() const {
 
 TangentFieldT<float> Explorer::tangent_field() const {
   json doc = {{"camera", camera.to_json()},
-              {"objects", json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", {{"model", "lambert"}}},
-                                         {"tangent", tangent.to_json()}}})}};
+              {"objects", json::array({{{"shape", "sphere"},
+                                        {"center", {0, 0, 0}},
+                                        {"radius", 1.0},
+                                        {"material", {{"model", "lambert"}}},
+                                        {"tangent", tangent.to_json()}}})}};
   if (structural_tangent()) doc["objects"][0].erase("tangent");
   return parse_view_scene(doc, "tangent controls").objects.at(0).tangent.field;
 }

@@ -26,8 +26,8 @@ namespace aniso::view {
 // A material being edited: as loaded (desc) and as the JSON the sliders edit (every key of its
 // table, shorthands expanded: resolved_json), with its double-precision kernel for the plots.
 struct MaterialSlot {
-  std::string source;  // what it was loaded from: a preset name, a file, "inline material"
-  bool edited = false; // changed since (set_key: a slider, --set)
+  std::string source;   // what it was loaded from: a preset name, a file, "inline material"
+  bool edited = false;  // changed since (set_key: a slider, --set)
   std::string label() const { return edited ? source + " (edited)" : source; }
   MaterialDesc desc;
   nlohmann::json edit;
@@ -52,7 +52,7 @@ nlohmann::json parse_value_text(std::string_view text);
 // One slider of the material's table: what the window draws, generated from the parameter table
 // (io/params.h: its range, default and doc), at a key of set_key().
 struct SliderSpec {
-  std::string key;             // "lobe.alpha_x"
+  std::string key;  // "lobe.alpha_x"
   // The key split at its last '.': the nested object it belongs to ("" at the top level, "lobe",
   // "directional_diffuse", "lobes[0]") and its name there ("alpha_x"). The window draws one tree
   // node per group and labels each slider by its name, so that the five keys of a metal's
@@ -92,14 +92,14 @@ struct LightDirection {
 // The tangent controls: an angle, a procedural field with its parameters, or a tangent map.
 struct TangentControls {
   double angle_deg = 0.0;
-  std::string field = "natural";  // natural | projected | concentric | radial | swirl | noise | uv
+  std::string field = "natural";        // natural | projected | concentric | radial | swirl | noise | uv
   glm::dvec3 direction{1.0, 0.0, 0.0};  // projected
   glm::dvec3 axis{0.0, 1.0, 0.0};       // concentric, radial, swirl (through the object's centre)
   double swirl_deg = 45.0;
   double noise_scale = 1.0, noise_strength = 0.5;
-  std::string map_path;                 // set: a tangent map replaces the field
-  std::string map_encoding = "angle";   // angle | xy
-  nlohmann::json to_json() const;       // the scene's "tangent" object (docs/scenes.md)
+  std::string map_path;                // set: a tangent map replaces the field
+  std::string map_encoding = "angle";  // angle | xy
+  nlohmann::json to_json() const;      // the scene's "tangent" object (docs/scenes.md)
 };
 std::vector<std::string> tangent_field_names();
 

@@ -20,8 +20,8 @@ inline double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.
 struct PolarSample {
   double theta_deg = 0.0;  // signed, in the slice
   Vec3T<double> wo{0.0};
-  glm::dvec3 f{0.0};       // the BRDF, no cosine
-  double value = 0.0;      // luminance(f), times cos(theta_o) when asked
+  glm::dvec3 f{0.0};   // the BRDF, no cosine
+  double value = 0.0;  // luminance(f), times cos(theta_o) when asked
 };
 std::vector<PolarSample> polar_slice(const MaterialT<double>& m, const Vec3T<double>& wi, double plane_phi_deg, int samples,
                                      bool times_cos);

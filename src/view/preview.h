@@ -46,7 +46,7 @@ class ProgressivePreview {
   bool stop_ = false;
   std::atomic<bool> cancel_{false};
   std::atomic<bool> busy_{false};
-  bool working_ = false;  // under mutex_: a scene is being rendered and has not reached max_spp_
+  bool working_ = false;   // under mutex_: a scene is being rendered and has not reached max_spp_
   render::Image average_;  // under mutex_
   int spp_ = 0;            // under mutex_
   uint64_t generation_ = 0;

@@ -45,8 +45,10 @@ struct Stat {
       return;
     }
     const double diff = std::fabs(double(gpu) - double(cpu)), scale = std::fmax(std::fabs(double(cpu)), 1e-30);
-    if (diff <= 1e-4 * scale || diff <= 1e-6) ++within;
-    else worst = std::fmax(worst, diff / scale);
+    if (diff <= 1e-4 * scale || diff <= 1e-6)
+      ++within;
+    else
+      worst = std::fmax(worst, diff / scale);
   }
 };
 

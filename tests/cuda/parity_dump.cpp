@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
       Query q;
       q.wo = (i % 4 == 3) ? grazing(i % 8 == 3 ? 1e-4 : 0.02) : test::random_upper<float>(rng);
       switch (i % 5) {
-        case 0: q.wi = reflect_about_normal(q.wo); break;                             // h = n
+        case 0: q.wi = reflect_about_normal(q.wo); break;  // h = n
         case 1: q.wi = glm::normalize(reflect_about_normal(q.wo) + 0.05f * test::random_upper<float>(rng)); break;
         case 2: q.wi = grazing(0.05); break;
         default: q.wi = test::random_upper<float>(rng); break;
@@ -59,7 +59,8 @@ int main(int argc, char** argv) {
   h.pairs_per_material = kPairs;
   FILE* f = std::fopen(argv[1], "wb");
   if (!f) return 1;
-  const bool ok = std::fwrite(&h, sizeof h, 1, f) == 1 && std::fwrite(mats.data(), sizeof(mats[0]), mats.size(), f) == mats.size() &&
+  const bool ok = std::fwrite(&h, sizeof h, 1, f) == 1 &&
+                  std::fwrite(mats.data(), sizeof(mats[0]), mats.size(), f) == mats.size() &&
                   std::fwrite(queries.data(), sizeof(Query), queries.size(), f) == queries.size() &&
                   std::fwrite(results.data(), sizeof(Result), results.size(), f) == results.size();
   if (std::fclose(f) != 0 || !ok) return 1;

@@ -98,10 +98,8 @@ inline double ward_exponential(double ax, double ay, WardForm form, const V3& wi
 inline double ward_normalization(double ax, double ay, WardNorm norm, const V3& wi, const V3& wo) {
   const double ci = wi.z, co = wo.z;
   switch (norm) {
-    case WardNorm::Ward1992:
-      return 1.0 / (4.0 * kPi * ax * ay * std::sqrt(ci * co));
-    case WardNorm::Duer:
-      return 1.0 / (4.0 * kPi * ax * ay * ci * co);
+    case WardNorm::Ward1992: return 1.0 / (4.0 * kPi * ax * ay * std::sqrt(ci * co));
+    case WardNorm::Duer: return 1.0 / (4.0 * kPi * ax * ay * ci * co);
     case WardNorm::Balanced: {
       const V3 h = add(wi, wo);  // unnormalised
       const double hn = h.z;
@@ -117,8 +115,7 @@ inline double ward_lobe(double ax, double ay, WardForm form, WardNorm norm, cons
   return ward_normalization(ax, ay, norm, wi, wo) * ward_exponential(ax, ay, form, wi, wo);
 }
 
-inline C3 ward(const C3& kd, const C3& ks, double ax, double ay, WardForm form, WardNorm norm, const V3& wi,
-               const V3& wo) {
+inline C3 ward(const C3& kd, const C3& ks, double ax, double ay, WardForm form, WardNorm norm, const V3& wi, const V3& wo) {
   if (!valid(wi, wo)) return grey(0.0);
   const double s = ward_lobe(ax, ay, form, norm, wi, wo);
   C3 out;
@@ -154,8 +151,8 @@ inline double as_lobe(double nu, double nv, const V3& wi, const V3& wo) {
          (dot(a.h, wi) * std::max(wi.z, wo.z));
 }
 
-inline C3 ashikhmin_shirley(const C3& rd, const C3& rs, double nu, double nv, const C3& kd, const C3& ks_scale,
-                            const V3& wi, const V3& wo) {
+inline C3 ashikhmin_shirley(const C3& rd, const C3& rs, double nu, double nv, const C3& kd, const C3& ks_scale, const V3& wi,
+                            const V3& wo) {
   if (!valid(wi, wo)) return grey(0.0);
   const HalfAngles a = half_angles(wi, wo);
   const double lobe = as_lobe(nu, nv, wi, wo);
@@ -174,8 +171,7 @@ inline C3 ashikhmin_shirley(const C3& rd, const C3& rs, double nu, double nv, co
 inline double as_pdf(double nu, double nv, const V3& wi, const V3& wo) {
   if (!valid(wi, wo)) return 0.0;
   const HalfAngles a = half_angles(wi, wo);
-  const double ph =
-      std::sqrt((nu + 1.0) * (nv + 1.0)) / (2.0 * kPi) * std::pow(std::cos(a.theta), as_exponent(nu, nv, a.phi));
+  const double ph = std::sqrt((nu + 1.0) * (nv + 1.0)) / (2.0 * kPi) * std::pow(std::cos(a.theta), as_exponent(nu, nv, a.phi));
   return ph / (4.0 * dot(wo, a.h));
 }
 
@@ -201,11 +197,10 @@ inline C3 lafortune(const C3& rho_d, const std::vector<LafortuneLobe>& lobes, co
 
 // The lecture's matte steel (three lobes, C_xy, C_z, s per channel), typed in from models-spec.md.
 inline std::vector<LafortuneLobe> matte_steel_lobes() {
-  const double t[3][3][3] = {
-      // [lobe][channel] = {C_xy, C_z, s}
-      {{-1.11954, 1.01272, 15.8708}, {-1.11845, 1.01469, 15.6489}, {-1.11999, 1.01942, 15.4571}},
-      {{-1.05334, 0.69541, 111.267}, {-1.06409, 0.662178, 88.9222}, {-1.08378, 0.626672, 65.2179}},
-      {{-1.01684, 1.00132, 180.181}, {-1.01635, 1.00112, 184.152}, {-1.01529, 1.00108, 195.773}}};
+  const double t[3][3][3] = {// [lobe][channel] = {C_xy, C_z, s}
+                             {{-1.11954, 1.01272, 15.8708}, {-1.11845, 1.01469, 15.6489}, {-1.11999, 1.01942, 15.4571}},
+                             {{-1.05334, 0.69541, 111.267}, {-1.06409, 0.662178, 88.9222}, {-1.08378, 0.626672, 65.2179}},
+                             {{-1.01684, 1.00132, 180.181}, {-1.01635, 1.00112, 184.152}, {-1.01529, 1.00108, 195.773}}};
   std::vector<LafortuneLobe> lobes(3);
   for (int l = 0; l < 3; ++l)
     for (int c = 0; c < 3; ++c) {
@@ -302,15 +297,9 @@ inline C3 metal(const MetalParams& p, const V3& wi, const V3& wo) {
   const HalfAngles a = half_angles(wi, wo);
   double lobe = 0.0;
   switch (p.lobe) {
-    case MetalLobe::Ward:
-      lobe = ward_lobe(p.ax, p.ay, p.form, p.norm, wi, wo);
-      break;
-    case MetalLobe::AS:
-      lobe = as_lobe(p.nu, p.nv, wi, wo);
-      break;
-    case MetalLobe::GGX:
-      lobe = ggx_lobe(p.ax, p.ay, wi, wo);
-      break;
+    case MetalLobe::Ward: lobe = ward_lobe(p.ax, p.ay, p.form, p.norm, wi, wo); break;
+    case MetalLobe::AS: lobe = as_lobe(p.nu, p.nv, wi, wo); break;
+    case MetalLobe::GGX: lobe = ggx_lobe(p.ax, p.ay, wi, wo); break;
   }
   const double c = dot(wi, a.h);
   C3 out;

@@ -67,20 +67,18 @@ template <typename T> struct Samples {
 };
 
 // f[i] = m.f(wi[i], wo[i]) for i < n.
-template <typename T>
-void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f,
-              Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
-              NonFinite non_finite = NonFinite::AsComputed);
+template <typename T> void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f,
+                                    Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
+                                    NonFinite non_finite = NonFinite::AsComputed);
 
 // pdf[i] = m.pdf(wi[i], wo[i]).
-template <typename T>
-void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* pdf, Threads threads = Threads::All,
-         Kernels kernels = Kernels::Simd, NonFinite non_finite = NonFinite::AsComputed);
+template <typename T> void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* pdf,
+                               Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
+                               NonFinite non_finite = NonFinite::AsComputed);
 
 // out[i] = m.sample(wo[i], uc[i], (u0[i], u1[i])).
-template <typename T>
-void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n, Samples<T> out,
-            Threads threads = Threads::All);
+template <typename T> void sample(const MaterialT<T>& m, Directions<T> wo, const T* uc, const T* u0, const T* u1, size_t n,
+                                  Samples<T> out, Threads threads = Threads::All);
 
 // Interleaved rows: n directions as (x, y, z) triples, the layout of a C-ordered (N, 3) array and
 // of std::vector<Vec3T<T>>. stride 3: element i at xyz[3 i], xyz[3 i + 1], xyz[3 i + 2]; stride 0:
@@ -94,16 +92,14 @@ template <typename T> struct Interleaved {
 // SIMD kernels load and store the rows themselves (Highway's LoadInterleaved3 / StoreInterleaved3),
 // so this is the same arithmetic as evaluate() on the same elements, bit for bit (tests/test_batch.cpp),
 // with no transposition pass before or after.
-template <typename T>
-void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* f_rgb,
-                          Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
-                          NonFinite non_finite = NonFinite::AsComputed);
+template <typename T> void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* f_rgb,
+                                                Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
+                                                NonFinite non_finite = NonFinite::AsComputed);
 
 // pdf() on interleaved rows: pdf[i] = m.pdf(wi[i], wo[i]), pdf contiguous.
-template <typename T>
-void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* pdf,
-                     Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
-                     NonFinite non_finite = NonFinite::AsComputed);
+template <typename T> void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* pdf,
+                                           Threads threads = Threads::All, Kernels kernels = Kernels::Simd,
+                                           NonFinite non_finite = NonFinite::AsComputed);
 
 // The Highway target the dispatcher picked on this machine ("AVX3", "AVX2", ...). The environment
 // variable ANISO_SIMD (avx2, sse4, baseline) caps it, for measurements and tests; read at the
@@ -151,8 +147,7 @@ template <typename T> struct SampleArray {
     return s;
   }
   Samples<T> view() {
-    return {wi.x.data(), wi.y.data(), wi.z.data(), weight.r.data(), weight.g.data(), weight.b.data(),
-            pdf.data(), valid.data()};
+    return {wi.x.data(), wi.y.data(), wi.z.data(), weight.r.data(), weight.g.data(), weight.b.data(), pdf.data(), valid.data()};
   }
 };
 

@@ -36,14 +36,14 @@ template <typename T> ANISO_INLINE T AS_Specular(T HoT, T HoB, T HoN, T HoL, T N
   using std::sqrt;
   if (!(HoL > T(0))) return T(0);
   const T e = AS_Exponent(HoT, HoB, nu, nv);
-  return sqrt((nu + T(1)) * (nv + T(1))) / (T(8) * kPi<T>) * pow(HoN, e) / (HoL * (NoL > NoV ? NoL : NoV));
+  return sqrt((nu + T(1)) * (nv + T(1))) / (T(8) * kPi<T>)*pow(HoN, e) / (HoL * (NoL > NoV ? NoL : NoV));
 }
 
 // Eq. 5 without the colour: 28 / (23 pi) (1 - (1 - n.wi / 2)^5) (1 - (1 - n.wo / 2)^5).
 template <typename T> ANISO_INLINE T AS_Diffuse(T NoL, T NoV) {
   const T a = T(1) - NoL * T(0.5), b = T(1) - NoV * T(0.5);
   const T a5 = a * a * a * a * a, b5 = b * b * b * b * b;
-  return T(28) / (T(23) * kPi<T>) * (T(1) - a5) * (T(1) - b5);
+  return T(28) / (T(23) * kPi<T>)*(T(1) - a5) * (T(1) - b5);
 }
 
 // Density of the unit half vector (Sec. 5): sqrt((nu + 1)(nv + 1)) / (2 pi) (n.h)^e.
@@ -99,9 +99,7 @@ template <typename T> struct AshikhminShirleyLobeT {
     if (!(WoH > T(0))) return T(0);
     return AS_PdfHalf(h, n_u, n_v) / (T(4) * WoH);
   }
-  ANISO_HD Vec3T<T> sample(const Vec3T<T>& wo, const Vec2T<T>& u) const {
-    return reflect_about(wo, AS_SampleHalf(u, n_u, n_v));
-  }
+  ANISO_HD Vec3T<T> sample(const Vec3T<T>& wo, const Vec2T<T>& u) const { return reflect_about(wo, AS_SampleHalf(u, n_u, n_v)); }
 };
 
 template <typename T> struct AshikhminShirleyT {

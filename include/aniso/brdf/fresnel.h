@@ -49,8 +49,7 @@ template <typename T> ANISO_INLINE T F_Conductor(T cos_theta, T eta, T k) {
 }
 
 template <typename T> ANISO_INLINE RGBT<T> F_Conductor(T cos_theta, const RGBT<T>& eta, const RGBT<T>& k) {
-  return RGBT<T>(F_Conductor(cos_theta, eta.x, k.x), F_Conductor(cos_theta, eta.y, k.y),
-                 F_Conductor(cos_theta, eta.z, k.z));
+  return RGBT<T>(F_Conductor(cos_theta, eta.x, k.x), F_Conductor(cos_theta, eta.y, k.y), F_Conductor(cos_theta, eta.z, k.z));
 }
 
 }  // namespace aniso

@@ -66,8 +66,7 @@ template <typename T> struct GGXLobeT {
   ANISO_HD T eval(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     const Vec3T<T> h = glm::normalize(wi + wo);
     const T D = D_GGX_Aniso(h.x, h.y, h.z, alpha_x, alpha_y);
-    const T G2 = G2_SmithGGX_HeightCorrelated(Lambda_GGX_Aniso(wi, alpha_x, alpha_y),
-                                               Lambda_GGX_Aniso(wo, alpha_x, alpha_y));
+    const T G2 = G2_SmithGGX_HeightCorrelated(Lambda_GGX_Aniso(wi, alpha_x, alpha_y), Lambda_GGX_Aniso(wo, alpha_x, alpha_y));
     return D * G2 / (T(4) * wi.z * wo.z);
   }
   // Visible-normal density: D_wo(h) = G1(wo) max(wo.h, 0) D(h) / wo.z; pdf(wi) = D_wo(h) / (4 wo.h)
@@ -94,9 +93,7 @@ template <typename T> struct GGXT {
     return F_Schlick(f0, glm::dot(wi, h)) * lobe.eval(wi, wo) + kd * kInvPi<T>;
   }
   // Specular weight: Schlick's Fresnel at the view angle (the lobe's albedo is <= that).
-  ANISO_HD T specular_probability(const Vec3T<T>& wo) const {
-    return specular_share(average(kd), average(F_Schlick(f0, wo.z)));
-  }
+  ANISO_HD T specular_probability(const Vec3T<T>& wo) const { return specular_share(average(kd), average(F_Schlick(f0, wo.z))); }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     return pdf_diffuse_specular(specular_probability(wo), lobe, wi, wo);
   }

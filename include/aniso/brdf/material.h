@@ -93,9 +93,7 @@ template <typename T> struct MaterialT {
 
 // Calls fn(ModelType<Type<T>>{}) for the kernel type of kind k: dispatch on a kind before a model
 // exists (the builders of src/io/materials.cpp, the GLSL builders). Generated like visit.
-template <typename M> struct ModelType {
-  using type = M;
-};
+template <typename M> struct ModelType { using type = M; };
 template <typename T, typename Fn> auto visit_kind(ModelKind k, Fn&& fn) {
   switch (k) {
 #define ANISO_X(Tag, Type, member, name, batch, glsl) \

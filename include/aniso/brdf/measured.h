@@ -98,8 +98,10 @@ template <typename T> ANISO_INLINE int sample_cdf(const double* cdf, int n, T u,
   const double x = double(u);
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
-    if (cdf[mid] <= x) lo = mid;
-    else hi = mid;
+    if (cdf[mid] <= x)
+      lo = mid;
+    else
+      hi = mid;
   }
   const double w = cdf[lo + 1] - cdf[lo];
   const double r = w > 0.0 ? (x - cdf[lo]) / w : 0.0;

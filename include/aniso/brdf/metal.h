@@ -102,7 +102,10 @@ template <typename T> struct MetalT {
       T target = (uc - ps) / (T(1) - ps) * wsum;
       int chosen = 2;
       for (int c = 0; c < 3; ++c) {
-        if (ws[c] > T(0) && target < ws[c]) { chosen = c; break; }
+        if (ws[c] > T(0) && target < ws[c]) {
+          chosen = c;
+          break;
+        }
         target -= ws[c];
       }
       while (chosen > 0 && !(ws[chosen] > T(0))) --chosen;

@@ -34,9 +34,7 @@
 namespace aniso {
 
 // GLSL's mix(a, b, t) = a (1 - t) + b t (the .brdf file's operator).
-template <typename A, typename T> ANISO_INLINE A Principled_Mix(const A& a, const A& b, T t) {
-  return a * (T(1) - t) + b * t;
-}
+template <typename A, typename T> ANISO_INLINE A Principled_Mix(const A& a, const A& b, T t) { return a * (T(1) - t) + b * t; }
 
 // SchlickFresnel(u) = (1 - u)^5 with 1 - u clamped to [0, 1] (lines 42-47).
 template <typename T> ANISO_INLINE T Principled_SchlickWeight(T u) {
@@ -125,8 +123,8 @@ template <typename T> struct PrincipledT {
     const T Ds = D_GGX_Aniso(h.x, h.y, h.z, lobe.alpha_x, lobe.alpha_y);
     const T FH = Principled_SchlickWeight(LoH);
     const RGBT<T> Fs = Principled_Mix(specular_f0(), RGBT<T>(T(1)), FH);
-    const T Gs = Principled_SmithG_GGX_Aniso(wi, lobe.alpha_x, lobe.alpha_y) *
-                 Principled_SmithG_GGX_Aniso(wo, lobe.alpha_x, lobe.alpha_y);
+    const T Gs =
+        Principled_SmithG_GGX_Aniso(wi, lobe.alpha_x, lobe.alpha_y) * Principled_SmithG_GGX_Aniso(wo, lobe.alpha_x, lobe.alpha_y);
     // Sheen (line 129) and clearcoat (lines 131-134).
     const RGBT<T> Fsheen = FH * sheen * Csheen;
     const T Dr = D_GTR1(h, clearcoat_alpha());
@@ -178,8 +176,8 @@ template <typename T> struct PrincipledT {
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     if (!above_horizon(wo)) return {};
     const Vec2T<T> p = lobe_probabilities(wo);
-    const Vec3T<T> wi = uc < p.x ? specular_lobe().sample(wo, u)
-                                 : (uc < p.x + p.y ? clearcoat_sample(wo, u) : sample_cosine_hemisphere(u));
+    const Vec3T<T> wi =
+        uc < p.x ? specular_lobe().sample(wo, u) : (uc < p.x + p.y ? clearcoat_sample(wo, u) : sample_cosine_hemisphere(u));
     if (!above_horizon(wi)) return {};
     return make_sample(wi, f(wi, wo), pdf(wi, wo));
   }

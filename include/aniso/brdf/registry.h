@@ -35,16 +35,16 @@
 #include "aniso/brdf/rgl.h"
 #include "aniso/brdf/ward.h"
 
-#define ANISO_MODELS(X)                                                                         \
-  X(Lambert, LambertT, lambert, "lambert", Simd, Glsl)                                          \
-  X(Phong, PhongT, phong, "phong", Simd, Glsl)                                                  \
-  X(Ward, WardT, ward, "ward", Simd, Glsl)                                                      \
-  X(AshikhminShirley, AshikhminShirleyT, ashikhmin_shirley, "ashikhmin-shirley", Simd, Glsl)    \
-  X(Lafortune, LafortuneT, lafortune, "lafortune", Simd, Glsl)                                  \
-  X(GGX, GGXT, ggx, "ggx", Simd, Glsl)                                                          \
-  X(Metal, MetalT, metal, "metal", Simd, Glsl)                                                  \
-  X(Principled, PrincipledT, principled, "principled", Scalar, Glsl)                            \
-  X(Measured, MeasuredT, measured, "measured", Scalar, NoGlsl)                                  \
+#define ANISO_MODELS(X)                                                                      \
+  X(Lambert, LambertT, lambert, "lambert", Simd, Glsl)                                       \
+  X(Phong, PhongT, phong, "phong", Simd, Glsl)                                               \
+  X(Ward, WardT, ward, "ward", Simd, Glsl)                                                   \
+  X(AshikhminShirley, AshikhminShirleyT, ashikhmin_shirley, "ashikhmin-shirley", Simd, Glsl) \
+  X(Lafortune, LafortuneT, lafortune, "lafortune", Simd, Glsl)                               \
+  X(GGX, GGXT, ggx, "ggx", Simd, Glsl)                                                       \
+  X(Metal, MetalT, metal, "metal", Simd, Glsl)                                               \
+  X(Principled, PrincipledT, principled, "principled", Scalar, Glsl)                         \
+  X(Measured, MeasuredT, measured, "measured", Scalar, NoGlsl)                               \
   X(Rgl, RglT, rgl, "rgl", Scalar, NoGlsl)
 
 namespace aniso {

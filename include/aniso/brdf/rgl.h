@@ -43,14 +43,14 @@ template <typename Pred> ANISO_INLINE int pl2d_find_interval(int size, const Pre
 }
 
 struct PL2D {
-  int size_x = 0, size_y = 0;   // grid resolution (>= 2 each)
-  int dim = 0;                  // number of conditioning parameters, 0 to 3
+  int size_x = 0, size_y = 0;  // grid resolution (>= 2 each)
+  int dim = 0;                 // number of conditioning parameters, 0 to 3
   int param_size[3] = {1, 1, 1};
   int param_stride[3] = {0, 0, 0};  // in slices; 0 where param_size is 1 (sampling.h:1368)
   const float* param_values[3] = {nullptr, nullptr, nullptr};
-  const float* data = nullptr;            // slices x size_y x size_x, normalised per slice
-  const float* marginal_cdf = nullptr;    // slices x size_y (Sample / Invert only)
-  const float* conditional_cdf = nullptr; // slices x size_y x size_x
+  const float* data = nullptr;             // slices x size_y x size_x, normalised per slice
+  const float* marginal_cdf = nullptr;     // slices x size_y (Sample / Invert only)
+  const float* conditional_cdf = nullptr;  // slices x size_y x size_x
 
   ANISO_HD float inv_patch_x() const { return float(size_x - 1); }
   ANISO_HD float inv_patch_y() const { return float(size_y - 1); }
@@ -100,7 +100,8 @@ struct PL2D {
     const unsigned slice_offset = param_lookup(param, w);
     unsigned offset = dim ? slice_offset * unsigned(size_y) : 0u;
     const unsigned ysz = unsigned(size_y);
-    const int row = pl2d_find_interval(size_y, [&](int idx) { return lookup(marginal_cdf, offset + unsigned(idx), ysz, w) < sy; });
+    const int row =
+        pl2d_find_interval(size_y, [&](int idx) { return lookup(marginal_cdf, offset + unsigned(idx), ysz, w) < sy; });
     sy -= lookup(marginal_cdf, offset + unsigned(row), ysz, w);
     const unsigned slice_size = unsigned(size_x * size_y);
     offset = unsigned(row * size_x);

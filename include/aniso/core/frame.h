@@ -14,9 +14,7 @@ template <typename T> struct FrameT {
   Vec3T<T> b{T(0), T(1), T(0)};
   Vec3T<T> n{T(0), T(0), T(1)};
 
-  ANISO_HD Vec3T<T> to_local(const Vec3T<T>& w) const {
-    return Vec3T<T>(glm::dot(w, t), glm::dot(w, b), glm::dot(w, n));
-  }
+  ANISO_HD Vec3T<T> to_local(const Vec3T<T>& w) const { return Vec3T<T>(glm::dot(w, t), glm::dot(w, b), glm::dot(w, n)); }
   ANISO_HD Vec3T<T> to_world(const Vec3T<T>& w) const { return w.x * t + w.y * b + w.z * n; }
 
   // Any frame around n (Duff et al. 2017, "Building an Orthonormal Basis, Revisited", JCGT 6(1)).

@@ -17,8 +17,8 @@ ANISO_INLINE T pdf_diffuse_specular(T p_spec, const Lobe& lobe, const Vec3T<T>& 
 
 // Model: f(wi, wo) and pdf(wi, wo) of the whole model.
 template <typename T, typename Model, typename Lobe>
-ANISO_INLINE BSDFSampleT<T> sample_diffuse_specular(const Model& model, const Lobe& lobe, T p_spec,
-                                                    const Vec3T<T>& wo, T uc, const Vec2T<T>& u) {
+ANISO_INLINE BSDFSampleT<T> sample_diffuse_specular(const Model& model, const Lobe& lobe, T p_spec, const Vec3T<T>& wo, T uc,
+                                                    const Vec2T<T>& u) {
   if (!above_horizon(wo)) return {};
   const Vec3T<T> wi = uc < p_spec ? lobe.sample(wo, u) : sample_cosine_hemisphere(u);
   if (!above_horizon(wi)) return {};

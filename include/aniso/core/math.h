@@ -53,12 +53,8 @@ template <typename T> ANISO_INLINE T cos_theta(const Vec3T<T>& w) { return w.z; 
 // The solid angle lost is about 2 pi HorizonCos sr (6e-6 sr in float), an energy change far below
 // any test's tolerance. tests/test_horizon.cpp sweeps every model and preset down to the smallest
 // subnormal cosine.
-template <typename T> struct HorizonCos {
-  static constexpr double value = 1e-12;
-};
-template <> struct HorizonCos<float> {
-  static constexpr double value = 1e-6;
-};
+template <typename T> struct HorizonCos { static constexpr double value = 1e-12; };
+template <> struct HorizonCos<float> { static constexpr double value = 1e-6; };
 template <typename T> ANISO_INLINE T horizon_cos() { return T(HorizonCos<T>::value); }
 
 // w strictly above the horizon (see HorizonCos).
@@ -75,8 +71,6 @@ template <typename T> ANISO_INLINE Vec3T<T> reflect_about(const Vec3T<T>& w, con
 }
 
 // Mirror about the normal in the local frame: the Householder matrix M = diag(-1, -1, 1).
-template <typename T> ANISO_INLINE Vec3T<T> reflect_about_normal(const Vec3T<T>& w) {
-  return Vec3T<T>(-w.x, -w.y, w.z);
-}
+template <typename T> ANISO_INLINE Vec3T<T> reflect_about_normal(const Vec3T<T>& w) { return Vec3T<T>(-w.x, -w.y, w.z); }
 
 }  // namespace aniso

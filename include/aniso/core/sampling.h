@@ -17,8 +17,7 @@ template <typename T> struct BSDFSampleT {
 
 // Builds the sample record for a sampled wi from the model's own f and pdf; any wi the model
 // cannot use becomes "no sample". Keeps weight == f cos / pdf true by construction.
-template <typename T>
-ANISO_INLINE BSDFSampleT<T> make_sample(const Vec3T<T>& wi, const RGBT<T>& f, T pdf) {
+template <typename T> ANISO_INLINE BSDFSampleT<T> make_sample(const Vec3T<T>& wi, const RGBT<T>& f, T pdf) {
   BSDFSampleT<T> s;
   if (!above_horizon(wi) || !(pdf > T(0))) return s;
   s.wi = wi;

@@ -56,15 +56,15 @@ struct GgxSource {
   glm::dvec3 eta{1.0}, k{0.0};   // conductor
   std::string metal, symbol;     // aniso's metal name and its chemical symbol, when named
   bool exact = true;
-  std::string origin;            // how it was obtained, one line
-  FitErrors source_fit;          // of the aniso GGX fit against the source samples (fitted only)
+  std::string origin;    // how it was obtained, one line
+  FitErrors source_fit;  // of the aniso GGX fit against the source samples (fitted only)
 };
 
 struct ExportOptions {
-  std::string target;          // a TargetInfo::name
-  std::string name;            // material name in the file ("" = from the source)
+  std::string target;  // a TargetInfo::name
+  std::string name;    // material name in the file ("" = from the source)
   FitMetric metric = FitMetric::L2Cos;
-  int starts = 4;              // fitted path: starts of the fit
+  int starts = 4;  // fitted path: starts of the fit
   uint64_t seed = 1;
   int threads = 0;
   // The source sampling grid: theta_h x phi_h x theta_d x phi_d = 4 n x 4 n x 2 n x 2 n pairs (n = 6:
@@ -101,7 +101,7 @@ struct ExportFile {
 struct ExportResult {
   std::vector<ExportFile> files;  // files[0] is the main file
   ExportReport report;
-  TargetBrdf model;               // the target model of the written parameters
+  TargetBrdf model;  // the target model of the written parameters
   GgxSource ggx;
 };
 

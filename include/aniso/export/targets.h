@@ -57,10 +57,10 @@ struct TargetLobe {
   double alpha_x = 0.1, alpha_y = 0.1;  // GGX roughness along the tangent and the bitangent
   Masking masking = Masking::HeightCorrelated;
   FresnelModel fresnel = FresnelModel::Schlick;
-  glm::dvec3 f0{0.04};     // Schlick, F82Tint
-  glm::dvec3 f82_b{0.0};   // F82Tint's b (cycles_f82tint_b)
+  glm::dvec3 f0{0.04};          // Schlick, F82Tint
+  glm::dvec3 f82_b{0.0};        // F82Tint's b (cycles_f82tint_b)
   glm::dvec3 eta{1.5}, k{0.0};  // Conductor; Dielectric uses eta.x
-  glm::dvec3 weight{1.0};  // a colour or mix weight the lobe is multiplied by
+  glm::dvec3 weight{1.0};       // a colour or mix weight the lobe is multiplied by
 };
 
 // The target's BRDF for the written parameters: weight F D G / (4 cos_i cos_o) + diffuse / pi,
@@ -180,8 +180,7 @@ inline void materialx_artistic_ior(const glm::dvec3& reflectivity, const glm::dv
 }
 // Its inverse (Gulbrandsen 2014, Eq. 10): g = (n_max - n) / (n_max - n_min), r = F(0; n, k),
 // clamped to [0, 1] (an n outside [n_min, n_max] has no edge colour in this model).
-inline void materialx_artistic_from_ior(const glm::dvec3& n, const glm::dvec3& k, glm::dvec3& reflectivity,
-                                        glm::dvec3& edge) {
+inline void materialx_artistic_from_ior(const glm::dvec3& n, const glm::dvec3& k, glm::dvec3& reflectivity, glm::dvec3& edge) {
   reflectivity = glm::clamp(((n - 1.0) * (n - 1.0) + k * k) / ((n + 1.0) * (n + 1.0) + k * k), 0.0, 0.99);
   const glm::dvec3 r = reflectivity, rs = glm::sqrt(r);
   const glm::dvec3 n_min = (glm::dvec3(1.0) - r) / (glm::dvec3(1.0) + r);
@@ -229,9 +228,7 @@ inline glm::dvec3 TargetBrdf::f(const Vec3d& wi_in, const Vec3d& wo_in) const {
     case Masking::HeightCorrelated:
       G = G2_SmithGGX_HeightCorrelated(Lambda_GGX_Aniso(wi, ax, ay), Lambda_GGX_Aniso(wo, ax, ay));
       break;
-    case Masking::Separable:
-      G = G1_SmithGGX(Lambda_GGX_Aniso(wi, ax, ay)) * G1_SmithGGX(Lambda_GGX_Aniso(wo, ax, ay));
-      break;
+    case Masking::Separable: G = G1_SmithGGX(Lambda_GGX_Aniso(wi, ax, ay)) * G1_SmithGGX(Lambda_GGX_Aniso(wo, ax, ay)); break;
     case Masking::HeightCorrelatedMeanAlpha: {
       const double a = std::sqrt(ax * ay);
       G = G2_SmithGGX_HeightCorrelated(Lambda_GGX_Aniso(wi, a, a), Lambda_GGX_Aniso(wo, a, a));

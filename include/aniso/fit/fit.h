@@ -40,28 +40,28 @@ inline constexpr double kAutoAnisotropicGain = 0.10;
 struct FitProgress {
   std::string stage;  // "start 3/8 (random)", "refining the best start"
   int iteration = 0;
-  double cost = 0.0;      // the solver's cost, 1/2 sum r^2
+  double cost = 0.0;  // the solver's cost, 1/2 sum r^2
   double elapsed_s = 0.0;
   double remaining_s = 0.0;  // an estimate from the iterations done so far
 };
 
 struct FitOptions {
-  std::string model = "lafortune";  // a row of fittable_models()
-  int lobes = 1;                    // Lafortune: 1 to 8
+  std::string model = "lafortune";           // a row of fittable_models()
+  int lobes = 1;                             // Lafortune: 1 to 8
   Anisotropy anisotropy = Anisotropy::Auto;  // Cx != Cy, alpha_x != alpha_y, n_u != n_v, and rotation_deg
   // Off: every fitted material's directional albedo stays <= 1 (docs/fitting.md, "Energy"); on:
   // the fit may gain energy (data that do), and says so.
   bool allow_energy_gain = false;
-  bool shared_exponents = false;    // Lafortune: one n per lobe for all channels
+  bool shared_exponents = false;       // Lafortune: one n per lobe for all channels
   std::string normalization = "ward";  // Ward: ward | duer | balanced
-  std::string metal;                // metal: a named metal (fixed eta, k); empty fits eta and k
-  std::string metal_lobe = "ggx";   // metal: ggx | ward | ashikhmin-shirley
+  std::string metal;                   // metal: a named metal (fixed eta, k); empty fits eta and k
+  std::string metal_lobe = "ggx";      // metal: ggx | ward | ashikhmin-shirley
   FitMetric metric = FitMetric::L2Cos;
-  std::string loss = "none";        // robust loss per sample: none | huber | cauchy | soft_l1
-  double loss_scale = 0.0;          // its scale in residual units; 0 = from the data (docs/fitting.md)
+  std::string loss = "none";  // robust loss per sample: none | huber | cauchy | soft_l1
+  double loss_scale = 0.0;    // its scale in residual units; 0 = from the data (docs/fitting.md)
   int starts = 6;
   uint64_t seed = 1;
-  int threads = 0;                  // 0: all cores
+  int threads = 0;  // 0: all cores
   int max_iterations = 200;
   // Ceres' convergence test: stop when an iteration lowers the cost by less than this fraction.
   double function_tolerance = 1e-9;
@@ -108,8 +108,8 @@ struct FitResult {
   std::vector<std::string> parameter_names;
   std::vector<double> parameters;
   FitErrors errors;
-  std::string best_start;   // "moments", "ngan2005 <material>", "random 3"
-  int iterations = 0;       // of the best start, both phases
+  std::string best_start;  // "moments", "ngan2005 <material>", "random 3"
+  int iterations = 0;      // of the best start, both phases
   double seconds = 0.0;
   size_t samples_total = 0, samples_used = 0;
   std::string termination;  // Ceres' message for the final refinement

@@ -22,15 +22,14 @@
 
 namespace aniso {
 
-
 enum class ParamKind {
   Scalar,  // a number in [min, max]
   Color,   // a number or an [r, g, b] array, each in [min, max]
   Bool,
-  Choice,  // one of `choices`
-  String,  // free text (for example a metal name, checked by the builder)
-  Object,  // a nested object validated against `sub`
-  List,    // an array of objects, each validated against `sub`
+  Choice,        // one of `choices`
+  String,        // free text (for example a metal name, checked by the builder)
+  Object,        // a nested object validated against `sub`
+  List,          // an array of objects, each validated against `sub`
   TaggedObject,  // an object whose "model" key (one of `choices`) selects its table: metal_lobe_spec()
 };
 
@@ -47,8 +46,8 @@ struct ParamSpec {
   double default_value = 0.0;
   bool required = false;
   std::span<const std::string_view> choices = {};  // Choice; choices[0] is the default
-  const ModelSpec* sub = nullptr;                   // Object, List
-  int max_items = 0;                                // List
+  const ModelSpec* sub = nullptr;                  // Object, List
+  int max_items = 0;                               // List
   // Anisotropic pairs (alpha_x / alpha_y, n_u / n_v, cx / cy): the other half. Giving one half
   // without the other is an error naming the partner (docs/conventions.md, "Anisotropic pairs").
   std::string_view partner = {};
@@ -73,8 +72,7 @@ struct ModelSpec {
 
 // Values read from JSON and validated; defaults filled in for every optional key that has one.
 struct ParamValues;
-using ParamValue = std::variant<double, glm::dvec3, bool, std::string, std::shared_ptr<ParamValues>,
-                                std::vector<ParamValues>>;
+using ParamValue = std::variant<double, glm::dvec3, bool, std::string, std::shared_ptr<ParamValues>, std::vector<ParamValues>>;
 
 struct ParamValues {
   std::string where;  // "material.json: lobe" etc., for errors raised after validation

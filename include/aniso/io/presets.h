@@ -11,9 +11,9 @@
 namespace aniso {
 
 struct PresetInfo {
-  std::string name;    // "ngan/ward/nickel"
-  std::string source;  // where the numbers come from
-  nlohmann::json json; // the material object
+  std::string name;     // "ngan/ward/nickel"
+  std::string source;   // where the numbers come from
+  nlohmann::json json;  // the material object
 };
 
 // All presets, in listing order: the lecture's matte steel, pbrt-v1's Lafortune fits, the metals,

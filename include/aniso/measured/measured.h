@@ -24,7 +24,7 @@ struct MeasuredData {
   std::string sha256;     // of the file (lower-case hex); empty for tables made in memory
   std::string merl_name;  // the MERL database material with this sha256 ("gold-metallic-paint"), or empty
   MerlBrdf brdf;
-  size_t missing = 0;     // missing bins (any channel negative)
+  size_t missing = 0;  // missing bins (any channel negative)
 
   // Sampling tables (aniso/brdf/measured.h, docs/measured.md "Sampling").
   int theta_o_bins = 0, phi_h_bins = 0;

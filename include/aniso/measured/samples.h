@@ -26,8 +26,8 @@ struct MeasuredSample {
 };
 
 struct SampleSet {
-  std::string source;   // the path it was read from, or a name ("tabulated ward")
-  std::string format;   // "csv", "cornell", "merl", "rgl", "synthetic"
+  std::string source;  // the path it was read from, or a name ("tabulated ward")
+  std::string format;  // "csv", "cornell", "merl", "rgl", "synthetic"
   // What the samples are, where they are not the file's own records: a table sampled on a grid
   // says which grid (empty for CSV, Cornell and MERL files, whose samples are their rows or bins).
   std::string description;

@@ -60,17 +60,17 @@ class Distribution2D {
 };
 
 struct SkyParams {
-  Vec3 sun_to{0.3f, 0.8f, 0.5f};                 // direction towards the sun (normalised by the reader)
-  RGB sun_radiance{0.0f};                         // radiance of the sun's disc; 0 = no sun
-  float sun_radius_deg = 0.5f;                    // angular radius of the disc
-  RGB zenith{0.25f, 0.45f, 0.9f};                 // sky radiance straight up
-  RGB horizon{0.9f, 0.95f, 1.0f};                 // sky radiance at the horizon
-  RGB ground{0.25f, 0.22f, 0.2f};                 // radiance below the horizon
-  int resolution = 1024;                          // width of the tabulated lat-long grid (height = width / 2)
+  Vec3 sun_to{0.3f, 0.8f, 0.5f};   // direction towards the sun (normalised by the reader)
+  RGB sun_radiance{0.0f};          // radiance of the sun's disc; 0 = no sun
+  float sun_radius_deg = 0.5f;     // angular radius of the disc
+  RGB zenith{0.25f, 0.45f, 0.9f};  // sky radiance straight up
+  RGB horizon{0.9f, 0.95f, 1.0f};  // sky radiance at the horizon
+  RGB ground{0.25f, 0.22f, 0.2f};  // radiance below the horizon
+  int resolution = 1024;           // width of the tabulated lat-long grid (height = width / 2)
 };
 
 struct EnvSample {
-  Vec3 w{0.0f};     // direction towards the environment (unit)
+  Vec3 w{0.0f};  // direction towards the environment (unit)
   RGB radiance{0.0f};
   float pdf = 0.0f;  // solid-angle density; 0 = no sample
 };
@@ -99,8 +99,8 @@ class Environment {
   // the integrator does not light-sample such an environment (integrator.h, "Environment").
   static constexpr float kNearlyConstant = 0.02f;
   bool nearly_constant() const { return kind_ != Kind::None && variation_ <= kNearlyConstant; }
-  RGB eval(const Vec3& w) const;      // radiance arriving from direction w
-  float pdf(const Vec3& w) const;     // density of sample() producing w (solid angle)
+  RGB eval(const Vec3& w) const;   // radiance arriving from direction w
+  float pdf(const Vec3& w) const;  // density of sample() producing w (solid angle)
   // radiance == eval(w) and pdf == pdf(w) exactly. pdf = 0 means no sample: always for black
   // environments, otherwise only when rounding puts w on a pole or into a black neighbour texel.
   EnvSample sample(const Vec2& u) const;

@@ -18,11 +18,11 @@ const nlohmann::json& gallery_document();
 nlohmann::json gallery_cell_scene(size_t cell);
 
 struct GalleryOptions {
-  int width = 1024;        // the whole figure; cells are laid out in gallery_document()'s columns
-  int height = 0;          // 0: from the width (square cells plus label strips)
-  int spp = 0;             // 0: the document's film.spp
-  std::string sampler;     // empty: the document's integrator.sampler; else "sobol" or "independent"
-  RenderOptions render;    // threads, seed, cancel, progress (fraction of the whole gallery)
+  int width = 1024;      // the whole figure; cells are laid out in gallery_document()'s columns
+  int height = 0;        // 0: from the width (square cells plus label strips)
+  int spp = 0;           // 0: the document's film.spp
+  std::string sampler;   // empty: the document's integrator.sampler; else "sobol" or "independent"
+  RenderOptions render;  // threads, seed, cancel, progress (fraction of the whole gallery)
   ToneMapOptions tonemap;
 };
 

@@ -30,8 +30,8 @@ struct SurfaceHit {
   Vec3 ng{0.0f, 0.0f, 1.0f};  // geometric normal, facing the ray's origin
   Frame frame;                // shading frame (n = shading normal, facing like ng; t from the tangent source)
   Vec2 uv{0.0f};
-  int object = -1;            // index into Scene::objects, or -1
-  int light = -1;             // index into Scene::lights (a sphere light), or -1
+  int object = -1;  // index into Scene::objects, or -1
+  int light = -1;   // index into Scene::lights (a sphere light), or -1
 };
 
 class SceneGeometry {

@@ -76,9 +76,9 @@ struct PassReport {
 };
 
 struct RenderOptions {
-  int threads = 0;        // 0 = all cores
+  int threads = 0;  // 0 = all cores
   uint64_t seed = 1;
-  int spp = -1;           // -1: the scene's film.spp
+  int spp = -1;                               // -1: the scene's film.spp
   const std::atomic<bool>* cancel = nullptr;  // set (e.g. by SIGINT) to stop early
   // Called now and then (from one thread at a time) with the fraction done, for progress bars.
   std::function<void(double fraction)> progress;
@@ -88,16 +88,16 @@ struct RenderOptions {
 
 struct RenderStats {
   double seconds = 0.0;
-  uint64_t paths = 0;          // camera samples traced
-  uint64_t rays = 0;           // closest-hit and shadow rays cast into the BVH
-  uint64_t nonfinite = 0;      // samples dropped for a NaN or Inf (a bug if ever > 0)
-  int spp_done = 0;            // samples per pixel of the passes completed over the whole image (0:
-                               // not even the first pass finished; the image is then not whole)
-  int passes = 0;              // passes completed
-  double mean_spp = 0.0;       // samples per pixel on average (below spp_done with adaptive sampling)
+  uint64_t paths = 0;      // camera samples traced
+  uint64_t rays = 0;       // closest-hit and shadow rays cast into the BVH
+  uint64_t nonfinite = 0;  // samples dropped for a NaN or Inf (a bug if ever > 0)
+  int spp_done = 0;        // samples per pixel of the passes completed over the whole image (0:
+                           // not even the first pass finished; the image is then not whole)
+  int passes = 0;          // passes completed
+  double mean_spp = 0.0;   // samples per pixel on average (below spp_done with adaptive sampling)
   bool cancelled = false;
-  bool converged = false;      // adaptive sampling stopped every pixel before film.spp
-  bool out_of_time = false;    // film.time_s ended the render before film.spp
+  bool converged = false;    // adaptive sampling stopped every pixel before film.spp
+  bool out_of_time = false;  // film.time_s ended the render before film.spp
 };
 
 // Radiance arriving through the camera at each pixel: the average over the pixel's footprint

@@ -61,10 +61,10 @@ enum class LightKind { Point, Directional, Sphere };
 
 struct Light {
   LightKind kind = LightKind::Point;
-  Vec3 position{0.0f};    // Point: where; Sphere: centre
+  Vec3 position{0.0f};              // Point: where; Sphere: centre
   Vec3 to_light{0.0f, 1.0f, 0.0f};  // Directional: unit direction towards the light
-  RGB power{0.0f};        // Point: intensity I (W/sr); Directional: irradiance E; Sphere: radiance L
-  float radius = 0.0f;    // Sphere
+  RGB power{0.0f};                  // Point: intensity I (W/sr); Directional: irradiance E; Sphere: radiance L
+  float radius = 0.0f;              // Sphere
 };
 
 // A tangent map: doubled-angle direction vectors (TangentMap_ToDoubled) per texel in the shape's
@@ -72,7 +72,7 @@ struct Light {
 // is v = 1, as OBJ and OpenGL expect), with wrap-around.
 struct TangentMap {
   int width = 0, height = 0;
-  std::vector<Vec2> doubled;  // width * height
+  std::vector<Vec2> doubled;          // width * height
   Vec2 lookup(const Vec2& uv) const;  // unit direction in the (dp/du, dp/dv) basis, or 0
 };
 
@@ -90,8 +90,8 @@ struct Mesh {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;
   std::vector<Vec2> uvs;
-  std::vector<Vec3> tangents;       // smooth per-vertex UV tangents (MikkTSpace-style accumulation)
-  std::vector<uint32_t> indices;    // 3 per triangle
+  std::vector<Vec3> tangents;     // smooth per-vertex UV tangents (MikkTSpace-style accumulation)
+  std::vector<uint32_t> indices;  // 3 per triangle
 };
 
 struct Object {

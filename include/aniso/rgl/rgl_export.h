@@ -23,7 +23,6 @@ struct ExportOptions {
   int phi_i = 17;        // incident azimuths over [-pi, pi] (anisotropic materials only)
   int ndf = 64;          // ndf, sigma and vndf grid, n x n over (u_theta, u_phi)
   int power_iterations = 8;
-
 };
 
 struct BrdfSource {
@@ -39,8 +38,8 @@ struct BrdfSource {
 
 struct ExportReport {
   bool isotropic = true;
-  std::string d_method;     // "exact GGX" or "power iteration (N steps)"
-  double seconds = 0.0;     // CPU time of the export
+  std::string d_method;  // "exact GGX" or "power iteration (N steps)"
+  double seconds = 0.0;  // CPU time of the export
 };
 
 // The source material as a BrdfSource (exact D for GGX and GGX metal lobes); `description` is

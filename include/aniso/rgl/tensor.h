@@ -25,9 +25,7 @@
 
 namespace aniso::rgl {
 
-enum class Dtype : uint8_t {
-  Invalid = 0, UInt8, Int8, UInt16, Int16, UInt32, Int32, UInt64, Int64, Float16, Float32, Float64
-};
+enum class Dtype : uint8_t { Invalid = 0, UInt8, Int8, UInt16, Int16, UInt32, Int32, UInt64, Int64, Float16, Float32, Float64 };
 const char* dtype_name(Dtype t);
 size_t dtype_size(Dtype t);  // 0 for Invalid
 
@@ -35,10 +33,10 @@ struct TensorField {
   std::string name;
   Dtype dtype = Dtype::Invalid;
   std::vector<uint64_t> shape;
-  uint64_t offset = 0;          // where the data was (reading) or will be (writing)
-  std::vector<uint8_t> bytes;   // dtype_size * product(shape) bytes, little-endian
+  uint64_t offset = 0;         // where the data was (reading) or will be (writing)
+  std::vector<uint8_t> bytes;  // dtype_size * product(shape) bytes, little-endian
 
-  uint64_t count() const;       // product of the shape (1 for ndim 0)
+  uint64_t count() const;  // product of the shape (1 for ndim 0)
   // float32 data as floats (the caller has checked dtype == Float32).
   std::vector<float> floats() const;
   std::string shape_string() const;  // "[1, 16, 3, 32, 32]"
@@ -48,8 +46,8 @@ TensorField make_field(std::string name, std::vector<uint64_t> shape, std::span<
 TensorField make_field(std::string name, std::vector<uint64_t> shape, std::span<const uint8_t> data);
 
 struct TensorFile {
-  std::string source;  // the file name, for messages
-  uint64_t size = 0;   // bytes
+  std::string source;               // the file name, for messages
+  uint64_t size = 0;                // bytes
   std::vector<TensorField> fields;  // in the order of the field table
   const TensorField* find(std::string_view name) const;
 };

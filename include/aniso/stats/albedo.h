@@ -16,11 +16,9 @@ struct AlbedoEstimate {
 
 // Importance-sampled: mean of sample().weight over `samples` stratified draws (invalid samples
 // count as 0).
-template <typename T>
-AlbedoEstimate albedo_importance(const MaterialT<T>& m, const Vec3T<T>& wo, int64_t samples, uint64_t seed);
+template <typename T> AlbedoEstimate albedo_importance(const MaterialT<T>& m, const Vec3T<T>& wo, int64_t samples, uint64_t seed);
 
 // Uniform hemisphere: mean of f(wi, wo) cos(theta_i) 2 pi.
-template <typename T>
-AlbedoEstimate albedo_uniform(const MaterialT<T>& m, const Vec3T<T>& wo, int64_t samples, uint64_t seed);
+template <typename T> AlbedoEstimate albedo_uniform(const MaterialT<T>& m, const Vec3T<T>& wo, int64_t samples, uint64_t seed);
 
 }  // namespace aniso

@@ -50,15 +50,13 @@ template <typename T> struct TangentFieldT {
 };
 
 // Radial direction at p: p - c with its component along the axis removed.
-template <typename T>
-ANISO_INLINE Vec3T<T> Tangent_Radial(const Vec3T<T>& p, const Vec3T<T>& center, const Vec3T<T>& axis) {
+template <typename T> ANISO_INLINE Vec3T<T> Tangent_Radial(const Vec3T<T>& p, const Vec3T<T>& center, const Vec3T<T>& axis) {
   const Vec3T<T> d = p - center;
   return d - glm::dot(d, axis) * axis;
 }
 
 // Concentric direction at p: axis x (p - c), tangent to the circle through p about the axis.
-template <typename T>
-ANISO_INLINE Vec3T<T> Tangent_Concentric(const Vec3T<T>& p, const Vec3T<T>& center, const Vec3T<T>& axis) {
+template <typename T> ANISO_INLINE Vec3T<T> Tangent_Concentric(const Vec3T<T>& p, const Vec3T<T>& center, const Vec3T<T>& axis) {
   return glm::cross(axis, p - center);
 }
 
@@ -105,9 +103,7 @@ template <typename T> ANISO_INLINE Vec2T<T> TangentMap_DecodeAngle(T v) {
   using std::sin;
   return Vec2T<T>(cos(kPi<T> * v), sin(kPi<T> * v));
 }
-template <typename T> ANISO_INLINE Vec2T<T> TangentMap_DecodeXY(T r, T g) {
-  return Vec2T<T>(T(2) * r - T(1), T(2) * g - T(1));
-}
+template <typename T> ANISO_INLINE Vec2T<T> TangentMap_DecodeXY(T r, T g) { return Vec2T<T>(T(2) * r - T(1), T(2) * g - T(1)); }
 
 // Tangent-map directions are filtered as doubled-angle vectors (a, b) -> (a^2 - b^2, 2ab) / |.|:
 // t and -t map to the same point, so interpolating between neighbouring texels that hold nearly

@@ -46,13 +46,14 @@ template <typename T> struct ASLobeK {
     const V<D> q = hn::Mul(K(d, T(4)), u0);
     const M<D> q1 = hn::Lt(q, one), q2 = hn::Lt(q, two), q3 = hn::Lt(q, K(d, 3));
     // The argument of tan(pi / 2 x) in each quarter: q, 2 - q, q - 2, 4 - q.
-    const V<D> x = hn::IfThenElse(q1, q, hn::IfThenElse(q2, hn::Sub(two, q), hn::IfThenElse(q3, hn::Sub(q, two), hn::Sub(K(d, 4), q))));
+    const V<D> x =
+        hn::IfThenElse(q1, q, hn::IfThenElse(q2, hn::Sub(two, q), hn::IfThenElse(q3, hn::Sub(q, two), hn::Sub(K(d, 4), q))));
     const V<D> arg = hn::Mul(K(d, kPiOver2<T>), x);
     const V<D> base = hn::Atan(d, hn::Mul(ratio, hn::Div(SinNaN(d, arg), CosNaN(d, arg))));
-    const V<D> phi = hn::IfThenElse(
-        q1, base,
-        hn::IfThenElse(q2, hn::Sub(K(d, kPi<T>), base),
-                       hn::IfThenElse(q3, hn::Add(K(d, kPi<T>), base), hn::Sub(K(d, T(2) * kPi<T>), base))));
+    const V<D> phi =
+        hn::IfThenElse(q1, base,
+                       hn::IfThenElse(q2, hn::Sub(K(d, kPi<T>), base),
+                                      hn::IfThenElse(q3, hn::Add(K(d, kPi<T>), base), hn::Sub(K(d, T(2) * kPi<T>), base))));
     const V<D> c = CosNaN(d, phi), s = SinNaN(d, phi);
     const V<D> e = hn::Add(hn::Mul(hn::Mul(K(d, nu), c), c), hn::Mul(hn::Mul(K(d, nv), s), s));
     const V<D> cos_t = PowPositive(d, hn::Sub(one, u1), hn::Div(one, hn::Add(e, one)));
@@ -99,9 +100,9 @@ template <typename T> struct AshikhminShirleyK {
     const V<D> diff = AS_Diffuse(d, wi.z, wo.z);
     RGBV<D> out;
     for (int c = 0; c < 3; ++c) {
-      const V<D> f = hn::Add(hn::Add(hn::Mul(hn::Mul(K(d, ks[c]), F_Schlick(d, rs[c], woh_i)), spec),
-                                     hn::Mul(K(d, diffuse[c]), diff)),
-                             K(d, kd_pi[c]));
+      const V<D> f =
+          hn::Add(hn::Add(hn::Mul(hn::Mul(K(d, ks[c]), F_Schlick(d, rs[c], woh_i)), spec), hn::Mul(K(d, diffuse[c]), diff)),
+                  K(d, kd_pi[c]));
       out.c[c] = hn::IfThenElseZero(upper, f);
     }
     return out;
@@ -118,9 +119,7 @@ template <typename T> struct AshikhminShirleyK {
   }
 };
 
-template <typename T> struct SimdTwin<AshikhminShirleyT<T>> {
-  using type = AshikhminShirleyK<T>;
-};
+template <typename T> struct SimdTwin<AshikhminShirleyT<T>> { using type = AshikhminShirleyK<T>; };
 
 }  // namespace aniso::batch::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

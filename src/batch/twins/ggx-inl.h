@@ -58,8 +58,8 @@ template <typename T> struct GGXLobeK {
     const V3<D> nh{hn::Add(hn::Add(hn::Mul(p1, t1.x), hn::Mul(p2, t2.x)), hn::Mul(q, vh.x)),
                    hn::Add(hn::Add(hn::Mul(p1, t1.y), hn::Mul(p2, t2.y)), hn::Mul(q, vh.y)),
                    hn::Add(hn::Add(hn::Mul(p1, t1.z), hn::Mul(p2, t2.z)), hn::Mul(q, vh.z))};
-    const V3<D> h = Normalize(d, V3<D>{hn::Mul(K(d, ax), nh.x), hn::Mul(K(d, ay), nh.y),
-                                       hn::IfThenElseZero(hn::Gt(nh.z, hn::Zero(d)), nh.z)});
+    const V3<D> h = Normalize(
+        d, V3<D>{hn::Mul(K(d, ax), nh.x), hn::Mul(K(d, ay), nh.y), hn::IfThenElseZero(hn::Gt(nh.z, hn::Zero(d)), nh.z)});
     return ReflectAbout(d, wo, h);
   }
   template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
@@ -97,9 +97,7 @@ template <typename T> struct GGXK {
   }
 };
 
-template <typename T> struct SimdTwin<GGXT<T>> {
-  using type = GGXK<T>;
-};
+template <typename T> struct SimdTwin<GGXT<T>> { using type = GGXK<T>; };
 
 }  // namespace aniso::batch::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

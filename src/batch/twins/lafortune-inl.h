@@ -84,15 +84,13 @@ template <typename T> struct LafortuneK {
   }
   // LafortuneT::sample's direction: walk the cumulative weights with uc (cosine first, then each
   // (lobe, channel) of positive weight while the target is not negative), per lane with masks.
-  template <class D>
-  HWY_INLINE V3<D> SampleDirection(D d, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1, M<D>& /*ok*/) const {
+  template <class D> HWY_INLINE V3<D> SampleDirection(D d, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1, M<D>& /*ok*/) const {
     V<D> w[kLafortuneMaxLobes][3];
     V<D> total = hn::Zero(d);
     for (int i = 0; i < lobe_count; ++i)
       for (int c = 0; c < 3; ++c) total = hn::Add(total, w[i][c] = lobes[i].ChannelWeight(d, wo, c));
     const V<D> cos_w = hn::Add(K(d, rho_avg), hn::Mul(K(d, T(LafortuneT<T>::kDefensiveShare)), total));
-    const V<D> cosine =
-        hn::IfThenElse(hn::Or(hn::Gt(cos_w, hn::Zero(d)), hn::Gt(total, hn::Zero(d))), cos_w, K(d, 1));
+    const V<D> cosine = hn::IfThenElse(hn::Or(hn::Gt(cos_w, hn::Zero(d)), hn::Gt(total, hn::Zero(d))), cos_w, K(d, 1));
     V<D> target = hn::Sub(hn::Mul(uc, hn::Add(cosine, total)), cosine);
     M<D> chosen = hn::Lt(K(d, 1), hn::Zero(d));  // all false
     V3<D> axis{hn::Zero(d), hn::Zero(d), K(d, 1)};
@@ -119,8 +117,7 @@ template <typename T> struct LafortuneK {
     for (int i = 0; i < lobe_count; ++i)
       for (int c = 0; c < 3; ++c) total = hn::Add(total, w[i][c] = lobes[i].ChannelWeight(d, wo, c));
     const V<D> cos_w = hn::Add(K(d, rho_avg), hn::Mul(K(d, T(LafortuneT<T>::kDefensiveShare)), total));
-    const V<D> cosine =
-        hn::IfThenElse(hn::Or(hn::Gt(cos_w, hn::Zero(d)), hn::Gt(total, hn::Zero(d))), cos_w, K(d, 1));
+    const V<D> cosine = hn::IfThenElse(hn::Or(hn::Gt(cos_w, hn::Zero(d)), hn::Gt(total, hn::Zero(d))), cos_w, K(d, 1));
     V<D> p = hn::Mul(cosine, CosineHemispherePdf(d, wi.z));
     for (int i = 0; i < lobe_count; ++i)
       for (int c = 0; c < 3; ++c)
@@ -129,9 +126,7 @@ template <typename T> struct LafortuneK {
   }
 };
 
-template <typename T> struct SimdTwin<LafortuneT<T>> {
-  using type = LafortuneK<T>;
-};
+template <typename T> struct SimdTwin<LafortuneT<T>> { using type = LafortuneK<T>; };
 
 }  // namespace aniso::batch::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

@@ -30,9 +30,7 @@ template <typename T> struct LambertK {
   }
 };
 
-template <typename T> struct SimdTwin<LambertT<T>> {
-  using type = LambertK<T>;
-};
+template <typename T> struct SimdTwin<LambertT<T>> { using type = LambertK<T>; };
 
 }  // namespace aniso::batch::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

@@ -29,7 +29,11 @@ template <typename T> struct MetalK {
   bool has_dd;
   LafortuneLobeK<T> dd;
   explicit MetalK(const MetalT<T>& m)
-      : kind(m.lobe_kind), ward(m.ward), as(m.ashikhmin_shirley), ggx(m.ggx), has_dd(m.has_directional_diffuse),
+      : kind(m.lobe_kind),
+        ward(m.ward),
+        as(m.ashikhmin_shirley),
+        ggx(m.ggx),
+        has_dd(m.has_directional_diffuse),
         dd(m.directional_diffuse) {
     for (int c = 0; c < 3; ++c) eta[c] = m.eta[c], k[c] = m.k[c], specular_weight[c] = m.specular_weight[c];
   }
@@ -69,8 +73,7 @@ template <typename T> struct MetalK {
   // MetalT::sample's direction: the specular lobe with probability ps, else a channel of the
   // directional-diffuse lobe picked by weight with uc rescaled (first c with target < ws[c], else
   // the last positive one); no weight at all is "no sample".
-  template <class D>
-  HWY_INLINE V3<D> SampleDirection(D d, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1, M<D>& ok) const {
+  template <class D> HWY_INLINE V3<D> SampleDirection(D d, const V3<D>& wo, V<D> uc, V<D> u0, V<D> u1, M<D>& ok) const {
     V<D> ws[3];
     const V<D> ps = SpecularProbability(d, wo, ws);
     const M<D> spec = hn::Lt(uc, ps);
@@ -90,8 +93,8 @@ template <typename T> struct MetalK {
       target = hn::IfThenElse(found, target, hn::Sub(target, ws[c]));
     }
     // while (chosen > 0 && !(ws[chosen] > 0)) --chosen, for the lanes that found nothing.
-    const V<D> last_positive = hn::IfThenElse(hn::Gt(ws[2], hn::Zero(d)), K(d, 2),
-                                              hn::IfThenElse(hn::Gt(ws[1], hn::Zero(d)), K(d, 1), hn::Zero(d)));
+    const V<D> last_positive =
+        hn::IfThenElse(hn::Gt(ws[2], hn::Zero(d)), K(d, 2), hn::IfThenElse(hn::Gt(ws[1], hn::Zero(d)), K(d, 1), hn::Zero(d)));
     chosen = hn::IfThenElse(found, chosen, last_positive);
     V3<D> axis{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
     V<D> n = hn::Zero(d);
@@ -148,9 +151,7 @@ template <typename T> struct MetalK {
   }
 };
 
-template <typename T> struct SimdTwin<MetalT<T>> {
-  using type = MetalK<T>;
-};
+template <typename T> struct SimdTwin<MetalT<T>> { using type = MetalK<T>; };
 
 }  // namespace aniso::batch::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

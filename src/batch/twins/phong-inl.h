@@ -39,9 +39,7 @@ template <typename T> struct PhongLobeK {
   }
 };
 
-template <typename T> struct SimdTwin<PhongT<T>> {
-  using type = LambertPlusLobeK<T, PhongLobeK<T>>;
-};
+template <typename T> struct SimdTwin<PhongT<T>> { using type = LambertPlusLobeK<T, PhongLobeK<T>>; };
 
 }  // namespace aniso::batch::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();

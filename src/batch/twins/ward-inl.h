@@ -48,19 +48,16 @@ template <typename T> struct WardLobeK {
         const V<D> cos_phi = hn::IfThenElse(has_dir, hn::Div(hn_.x, proj_len), K(d, 1));
         const V<D> sin_phi = hn::IfThenElseZero(has_dir, hn::Div(hn_.y, proj_len));
         const V<D> tan_t = hn::Div(SinNaN(d, theta), CosNaN(d, theta));
-        e = Ward_Exp(d, hn::Mul(hn::Neg(Sqr<D>(tan_t)),
-                               hn::Add(Sqr<D>(hn::Div(cos_phi, vax)), Sqr<D>(hn::Div(sin_phi, vay)))));
+        e = Ward_Exp(d, hn::Mul(hn::Neg(Sqr<D>(tan_t)), hn::Add(Sqr<D>(hn::Div(cos_phi, vax)), Sqr<D>(hn::Div(sin_phi, vay)))));
         break;
       }
       case WardForm::Approx: {
         const V3<D> hn_ = Normalize(d, h);  // E_Ward_Approx
         e = Ward_Exp(d, hn::Div(hn::Mul(K(d, T(-2)), hn::Add(Sqr<D>(hn::Div(hn_.x, vax)), Sqr<D>(hn::Div(hn_.y, vay)))),
-                               hn::Add(K(d, 1), hn_.z)));
+                                hn::Add(K(d, 1), hn_.z)));
         break;
       }
-      default:
-        e = E_Ward_Vector(d, h.x, h.y, h.z, vax, vay);
-        break;
+      default: e = E_Ward_Vector(d, h.x, h.y, h.z, vax, vay); break;
     }
     V<D> norm;
     switch (normalization) {
@@ -87,8 +84,8 @@ template <typename T> struct WardLobeK {
     const V<D> px = hn::Mul(K(d, ax), CosNaN(d, two_pi_u)), py = hn::Mul(K(d, ay), SinNaN(d, two_pi_u));
     const V<D> len = hn::Sqrt(hn::Add(hn::Mul(px, px), hn::Mul(py, py)));
     const V<D> c = hn::Div(px, len), s = hn::Div(py, len);
-    const V<D> t2 = hn::Div(hn::Neg(hn::Log(d, hn::Sub(K(d, 1), u0))),
-                            hn::Add(Sqr<D>(hn::Div(c, K(d, ax))), Sqr<D>(hn::Div(s, K(d, ay)))));
+    const V<D> t2 =
+        hn::Div(hn::Neg(hn::Log(d, hn::Sub(K(d, 1), u0))), hn::Add(Sqr<D>(hn::Div(c, K(d, ax))), Sqr<D>(hn::Div(s, K(d, ay)))));
     const V<D> inv = hn::Div(K(d, 1), hn::Sqrt(hn::Add(K(d, 1), t2)));
     const V<D> st = hn::Mul(hn::Sqrt(t2), inv);
     return ReflectAbout(d, wo, V3<D>{hn::Mul(st, c), hn::Mul(st, s), inv});
@@ -105,9 +102,7 @@ template <typename T> struct WardLobeK {
   }
 };
 
-template <typename T> struct SimdTwin<WardT<T>> {
-  using type = LambertPlusLobeK<T, WardLobeK<T>>;
-};
+template <typename T> struct SimdTwin<WardT<T>> { using type = LambertPlusLobeK<T, WardLobeK<T>>; };
 
 }  // namespace aniso::batch::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
