@@ -49,6 +49,7 @@ if [[ $render_only == 0 ]]; then packages+=(
   # The sanitizer build and the fuzz targets (make test-sanitize, make fuzz; docs/testing.md).
   clang               # clang++ 14: the sanitize build, so the fuzz targets can link libFuzzer
   libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes for clang (only "recommended" by clang)
+  clang-format        # make format / make format-check (.clang-format; .ci/run checks it first)
   # The browser explorer's tests (web/, tests/web, docs/web.md): headless Chromium (software WebGL2
   # through SwiftShader) driven by playwright-core from npm. About 2 minutes and 393 MB (chromium and the
   # 22 libraries it adds to the rest of this list); the npm package adds 14 MB and a few seconds.
