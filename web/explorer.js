@@ -225,21 +225,17 @@ void main() {
   aniso_sample(wo, u, weight, pdf);
   o_value = vec4(pdf > 0.0 ? weight : vec3(0.0), 1.0);
 }`;
-  // Display: exposure, Narkowicz 2015's ACES fit and the sRGB encoding, as render::tonemap
-  // (src/render/image.cpp); A | B split or |A - B| x gain.
-  const DISPLAY_FS = `${PREAMBLE}
+  // Display: the one tone map, ToneMap_apply of aniso/render/tonemap.glsl (the twin of
+  // render::tonemap, delivered by `aniso web-data` as D.glsl.tonemap): exposure, Narkowicz 2015's
+  // ACES fit with its cap, NaN and negative radiance black, the sRGB encoding; A | B split or
+  // |A - B| x gain.
+  const DISPLAY_FS = `${PREAMBLE}${D.glsl.tonemap}
 in vec2 v_xy;
 uniform sampler2D u_a, u_b;
 uniform int u_mode;  // 0 A, 1 split, 2 difference
 uniform float u_gain, u_diff_gain;
 out vec4 o_color;
-float srgb(float v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055; }
-vec3 tonemap(vec3 c) {
-  vec3 v = min(max(c * u_gain, 0.0), 1e4);
-  v = v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14);
-  v = clamp(v, 0.0, 1.0);
-  return vec3(srgb(v.r), srgb(v.g), srgb(v.b));
-}
+vec3 tonemap(vec3 c) { return ToneMap_apply(c, u_gain, true); }
 void main() {
   vec2 t = v_xy * 0.5 + 0.5;
   vec4 a = texture(u_a, t), b = texture(u_b, t);
@@ -498,6 +494,41 @@ void main() {
     gl.readPixels(0, 0, targets.w, targets.h, gl.RGBA, gl.FLOAT, px);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     return { w: targets.w, h: targets.h, data: Array.from(px) };
+  }
+
+  // The display pass (mode A) on a row of w RGBA float texels (radiance, alpha 1) at `exposure`
+  // stops: the encoded values it writes, 4 w floats, read from a float target. What the tone-map
+  // parity check compares with the CPU (tests/web/explorer.test.mjs, "tonemap").
+  function toneMapProbe(texels, w, exposure) {
+    const texture = (data) => {
+      const t = gl.createTexture();
+      gl.bindTexture(gl.TEXTURE_2D, t);
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, 1, 0, gl.RGBA, gl.FLOAT, data);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+      return t;
+    };
+    const src = texture(new Float32Array(texels)), dst = texture(null);
+    const fb = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, dst, 0);
+    gl.viewport(0, 0, w, 1);
+    gl.useProgram(displayProgram);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, src);
+    gl.uniform1i(loc(displayProgram, "u_a"), 0);
+    gl.uniform1i(loc(displayProgram, "u_b"), 0);
+    gl.uniform1i(loc(displayProgram, "u_mode"), 0);
+    gl.uniform1f(loc(displayProgram, "u_gain"), Math.pow(2, exposure));
+    gl.bindVertexArray(quad);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    const out = new Float32Array(w * 4);
+    gl.readPixels(0, 0, w, 1, gl.RGBA, gl.FLOAT, out);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.deleteFramebuffer(fb);
+    gl.deleteTexture(src);
+    gl.deleteTexture(dst);
+    return Array.from(out);
   }
 
   // Evaluates f and pdf of `mat` for the light at the directions `dirs` (w x h unit vectors).
@@ -1348,7 +1379,7 @@ void main() {
 
   // What the tests (tests/web) and the curious read: state, the plots' numbers, exports, links.
   window.anisoExplorer = {
-    state, results, readSphere, linkHash, applyHash, exportGlsl, exportBrdf, materialText,
+    state, results, readSphere, toneMapProbe, linkHash, applyHash, exportGlsl, exportBrdf, materialText,
     setMaterial: (text, where) => setMaterial(state.edit, text, where),
     material: (which) => V.resolvedJson(state[which || "A"].desc),
     error: () => state.lastError,

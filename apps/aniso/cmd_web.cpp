@@ -2,7 +2,7 @@
 //   aniso web-data -o FILE   the data the page is built from, generated from the sources of truth:
 //                            the parameter tables (src/io/params.cpp) with their range texts, the
 //                            presets, the metals, the GLSL library (the files export-glsl
-//                            assembles) and, per material shape, the GLSL builder of
+//                            assembles), the GLSL tone map (render::tonemap's twin) and, per material shape, the GLSL builder of
 //                            gl::glsl_material() with uniforms; written as one JavaScript
 //                            assignment so that the page also works opened from file://.
 //   aniso serve [--port P]   a static server for the built page on 127.0.0.1.
@@ -183,7 +183,10 @@ json web_data() {
   data["presets"] = json::array();
   for (const PresetInfo& p : presets()) data["presets"].push_back({{"name", p.name}, {"source", p.source}, {"material", p.json}});
   const std::string lib = gl::glsl_library_source();
-  data["glsl"] = {{"library", lib}, {"library_prefixed", gl::glsl_prefix_names(lib, "aniso_")}};
+  // The tone map (the twin of render::tonemap) beside the library, for the page's display pass.
+  data["glsl"] = {{"library", lib},
+                  {"library_prefixed", gl::glsl_prefix_names(lib, "aniso_")},
+                  {"tonemap", std::string(gl::glsl_tonemap_source())}};
   // One GLSL builder per shape, with uniforms named u_<slot> (the page sets them from its material).
   json shapes = json::object();
   std::vector<std::string> no_glsl;

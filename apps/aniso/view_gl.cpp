@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "aniso/gl/glsl_library.h"
 #include "gl/gl_shader.h"
 
 namespace aniso::viewgl {
@@ -30,9 +31,11 @@ void main() {
 }
 )";
 
-// The tone curve of render/image.h's tonemap(), ToneMap::Aces: exposure, Narkowicz 2015's fit,
-// the sRGB OETF (IEC 61966-2-1). The window's framebuffer is not sRGB: the shader encodes.
-constexpr const char* kDisplayFS = R"(#version 330 core
+// The display pass: the one tone map, ToneMap_apply of aniso/render/tonemap.glsl (the twin of
+// render::tonemap, ToneMap::Aces: exposure, Narkowicz 2015's fit with its cap, NaN and negative
+// radiance black, the sRGB OETF), which comes before this in the program. The window's
+// framebuffer is not sRGB: the shader encodes.
+constexpr const char* kDisplayFS = R"(
 in vec2 uv;
 out vec4 color;
 uniform sampler2D radiance_a;
@@ -41,8 +44,6 @@ uniform int difference;
 uniform float exposure;
 uniform float gain;
 uniform vec3 background;
-float aces(float v) { v = max(v, 0.0); return clamp(v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14), 0.0, 1.0); }
-float srgb(float l) { return l <= 0.0031308 ? 12.92 * l : 1.055 * pow(l, 1.0 / 2.4) - 0.055; }
 void main() {
   vec4 a = texture(radiance_a, uv);
   vec3 c = a.rgb;
@@ -52,8 +53,7 @@ void main() {
     c = abs(a.rgb - b.rgb) * gain;
     coverage = max(a.a, b.a);
   }
-  c *= exposure;
-  vec3 mapped = vec3(srgb(aces(c.r)), srgb(aces(c.g)), srgb(aces(c.b)));
+  vec3 mapped = ToneMap_apply(c, exposure, true);
   color = vec4(mix(background, mapped, clamp(coverage, 0.0, 1.0)), 1.0);
 }
 )";
@@ -128,7 +128,8 @@ void RenderTarget::bind() const {
 }
 
 DisplayPass::DisplayPass() {
-  program_ = link(kFullScreenVS, kDisplayFS);
+  const std::string fs = gl::glsl_preamble(gl::GlslDialect::Core330) + std::string(gl::glsl_tonemap_source()) + kDisplayFS;
+  program_ = link(kFullScreenVS, fs.c_str());
   glGenVertexArrays(1, &vao_);
 }
 

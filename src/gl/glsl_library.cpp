@@ -12,7 +12,7 @@
 
 namespace aniso::embedded {
 extern const std::string_view glsl_core_platform, glsl_core_math, glsl_core_frame, glsl_core_sampling, glsl_core_lobe_mixture,
-    glsl_brdf_fresnel, glsl_tangent_fields;
+    glsl_brdf_fresnel, glsl_tangent_fields, glsl_render_tonemap;
 // The twin of each registry row that says Glsl: include/aniso/brdf/<member>.glsl (CMakeLists.txt
 // embeds every brdf/*.glsl; a row whose file is missing does not link).
 #define ANISO_GLSL_EXTERN_Glsl(member) extern const std::string_view glsl_brdf_##member;
@@ -115,6 +115,8 @@ std::string glsl_library_source() {
   }
   return out;
 }
+
+std::string_view glsl_tonemap_source() { return embedded::glsl_render_tonemap; }
 
 namespace {
 

@@ -5,17 +5,21 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <unordered_map>
+#include <string>
+#include <tuple>
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
 
-#include "aniso/core/sampling.h"
 #include "aniso/gl/gl_context.h"
 #include "aniso/gl/glsl_library.h"
 #include "aniso/gl/glsl_material.h"
-#include "aniso/render/geometry.h"
-#include "gl/gl_shader.h"
+#include "gl/gl_objects.h"
+#include "gl/raster_geometry.h"
+#include "gl/scene_checks.h"
+#include "gl/shader_sources.h"
+#include "gl/shadow_atlas.h"
+#include "gl/tonemap_pass.h"
 
 namespace aniso::gl {
 namespace {
@@ -25,564 +29,6 @@ using render::ShapeKind;
 
 // Lights per pass: the uniform arrays of the fragment shader. More lights take more passes.
 constexpr int kMaxLightsPerPass = 32;
-// The proxies of analytic shapes are this much larger than the shape, so that coverage is decided
-// by the fragment's exact ray test alone and never by the rasteriser's edge rule at the rim.
-constexpr float kProxyGrowth = 1.02f;
-constexpr const char* kMaterialPrefix = "mat_";
-
-const char* kVertexShader = R"(
-layout(location = 0) in vec3 a_p;
-layout(location = 1) in vec3 a_n;
-layout(location = 2) in vec2 a_uv;
-layout(location = 3) in vec3 a_dpdu;
-layout(location = 4) in vec3 a_ng;
-uniform mat4 u_clip_from_world;
-out vec3 v_p;
-out vec3 v_n;
-out vec2 v_uv;
-out vec3 v_dpdu;
-out vec3 v_ng;
-void main() {
-  v_p = a_p;
-  v_n = a_n;
-  v_uv = a_uv;
-  v_dpdu = a_dpdu;
-  v_ng = a_ng;
-  gl_Position = u_clip_from_world * vec4(a_p, 1.0);
-}
-)";
-
-// The scene part of the fragment shader; the library and the material's code come before it.
-const char* kFragmentShader = R"(
-in vec3 v_p;
-in vec3 v_n;
-in vec2 v_uv;
-in vec3 v_dpdu;
-in vec3 v_ng;
-layout(location = 0) out vec4 o_color;
-
-// Camera (render/integrator.cpp, PathTracer::camera_ray) and this pass's sub-pixel position.
-uniform vec3 u_cam_pos;
-uniform vec3 u_cam_fwd;
-uniform vec3 u_cam_right;
-uniform vec3 u_cam_up;
-uniform float u_tan_half;
-uniform float u_aspect;
-uniform vec2 u_film;  // width, height in pixels
-uniform vec2 u_sub;   // sub-pixel position in [0, 1)^2, from the pixel's top-left corner
-uniform float u_far;  // gl_FragDepth = distance / u_far
-uniform float u_alpha;  // written to alpha (1 in a pixel's first light batch: coverage)
-
-// The object.
-const int Shape_Sphere = 0;
-const int Shape_Disc = 1;
-const int Shape_Rectangle = 2;
-const int Shape_Mesh = 3;
-uniform int u_shape;
-uniform vec3 u_center;
-uniform vec3 u_normal;  // disc, rectangle
-uniform vec3 u_u_axis;  // rectangle
-uniform float u_radius;
-uniform vec2 u_size;
-uniform bool u_has_normals;  // mesh
-uniform bool u_has_uvs;      // mesh
-
-// Its tangent source (render/scene.h TangentSource).
-uniform int u_tf_kind;
-uniform vec3 u_tf_direction;
-uniform vec3 u_tf_center;
-uniform vec3 u_tf_axis;
-uniform float u_tf_swirl;
-uniform float u_tf_scale;
-uniform float u_tf_strength;
-uniform float u_tf_angle;
-uniform bool u_has_map;
-uniform sampler2D u_map;  // RG32F doubled-angle texels, row 0 = the image's top row (v = 1)
-uniform ivec2 u_map_size;
-
-// Lights of this pass: xyz the position (point, w = 0) or the unit direction towards the light
-// (directional, w = 1); power the intensity I or the irradiance E.
-const int kMaxLights = %MAX_LIGHTS%;
-uniform int u_light_count;
-uniform vec4 u_light_pos[kMaxLights];
-uniform vec3 u_light_power[kMaxLights];
-
-// Occluders: one row of 4 RGBA32F texels each: (kind, radius, size.x, size.y), center, normal, u axis.
-uniform int u_occluder_count;
-uniform sampler2D u_occluders;
-
-// Shadow maps of the meshes (meshes cannot be ray-tested per fragment): one R32F atlas of square
-// tiles, u_shadow_tile texels each, u_shadow_cols to a row. Per light: x = its first tile (-1:
-// none); a point light has 6 (cube faces), a directional light 1 (orthographic over the scene's
-// bounding sphere u_shadow_center, u_shadow_radius). A texel holds the distance from the light to
-// the nearest mesh surface (point) or the height towards the light above the plane through the
-// centre (directional).
-uniform vec4 u_light_shadow[kMaxLights];
-uniform sampler2D u_shadow_atlas;
-uniform int u_shadow_tile;
-uniform int u_shadow_cols;
-uniform vec3 u_shadow_center;
-uniform float u_shadow_radius;
-
-// The cube face of direction r (from the light) and the position on it in [-1, 1]^2: the face of
-// r's largest component (index a, sign s), (u, v) = (r[b], r[c]) / |r[a]| with (b, c) the other
-// two axes in order. The shadow pass (kShadowVertex) projects with the same rule.
-int cube_face(vec3 r, out vec2 uv) {
-  vec3 m = abs(r);
-  int a = m.x >= m.y && m.x >= m.z ? 0 : (m.y >= m.z ? 1 : 2);
-  int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
-  float s = r[a] < 0.0 ? -1.0 : 1.0;
-  uv = vec2(r[b], r[c]) / (s * r[a]);
-  return 2 * a + (s < 0.0 ? 1 : 0);
-}
-
-float shadow_texel(int tile, vec2 uv) {
-  ivec2 t = clamp(ivec2(floor((0.5 * uv + 0.5) * float(u_shadow_tile))), ivec2(0), ivec2(u_shadow_tile - 1));
-  ivec2 origin = ivec2(tile - (tile / u_shadow_cols) * u_shadow_cols, tile / u_shadow_cols) * u_shadow_tile;
-  return texelFetch(u_shadow_atlas, origin + t, 0).r;
-}
-
-// Is p, on a surface with geometric normal ng, hidden from light i by a mesh? The bias covers what
-// a texel's footprint hides: 3 texels' width at p over the cosine to the light (a slope makes one
-// texel span more depth), plus 1e-3 of the distance (the CPU's shadow rays also stop 1e-3 short).
-bool mesh_shadowed(int i, vec3 p, vec3 ng, vec3 wi_world) {
-  int first = int(u_light_shadow[i].x);
-  if (first < 0) return false;
-  float slope = 1.0 / max(dot(ng, wi_world), 0.15);
-  if (u_light_pos[i].w == 0.0) {
-    vec3 r = p - u_light_pos[i].xyz;
-    vec2 uv;
-    int face = cube_face(r, uv);
-    float dist = length(r);
-    float texel = dist * 2.0 / float(u_shadow_tile);
-    return shadow_texel(first + face, uv) < dist - (3.0 * texel * slope + 1e-3 * dist);
-  }
-  Frame f = Frame_from_normal(u_light_pos[i].xyz);
-  vec3 q = p - u_shadow_center;
-  vec2 uv = vec2(dot(q, f.t), dot(q, f.b)) / u_shadow_radius;
-  float height = u_shadow_radius - dot(q, f.n);  // distance below the plane facing the light
-  float texel = 2.0 * u_shadow_radius / float(u_shadow_tile);
-  return shadow_texel(first, uv) < height - (3.0 * texel * slope + 1e-3 * u_shadow_radius);
-}
-
-const float kNoHit = -1.0;
-
-// The smallest t > 0 at which o + t d (d unit) meets the sphere, or kNoHit. The discriminant is
-// r^2 - |f - (f.d) d|^2 and the roots come from q = -(b + sign(b) sqrt(disc)) (Haines et al.,
-// "Precision Improvements for Ray/Sphere Intersection", Ray Tracing Gems, 2019, Ch. 7), which keep
-// their precision when the sphere is small and far away.
-float intersect_sphere(vec3 o, vec3 d, vec3 c, float r) {
-  vec3 f = o - c;
-  float b = dot(f, d);
-  vec3 l = f - b * d;
-  float disc = r * r - dot(l, l);
-  if (disc < 0.0) return kNoHit;
-  float q = -(b + (b < 0.0 ? -1.0 : 1.0) * sqrt(disc));
-  if (q == 0.0) return kNoHit;  // a grazing ray through the centre of a zero-size sphere
-  float t0 = (dot(f, f) - r * r) / q, t1 = q;
-  float tn = min(t0, t1), tf = max(t0, t1);
-  return tn > 0.0 ? tn : (tf > 0.0 ? tf : kNoHit);
-}
-
-// Ray and plane through c with normal n; kNoHit when parallel or behind.
-float intersect_plane(vec3 o, vec3 d, vec3 c, vec3 n) {
-  float denom = dot(d, n);
-  if (denom == 0.0) return kNoHit;
-  float t = dot(c - o, n) / denom;
-  return t > 0.0 ? t : kNoHit;
-}
-
-float intersect_disc(vec3 o, vec3 d, vec3 c, vec3 n, float r) {
-  float t = intersect_plane(o, d, c, n);
-  if (t == kNoHit) return kNoHit;
-  vec3 q = o + t * d - c;
-  return dot(q, q) <= r * r ? t : kNoHit;
-}
-
-float intersect_rectangle(vec3 o, vec3 d, vec3 c, vec3 n, vec3 u, vec2 size) {
-  float t = intersect_plane(o, d, c, n);
-  if (t == kNoHit) return kNoHit;
-  vec3 q = o + t * d - c;
-  return abs(dot(q, u)) <= 0.5 * size.x && abs(dot(q, cross(n, u))) <= 0.5 * size.y ? t : kNoHit;
-}
-
-// Anything in (0, tmax) along o + t d? (SceneGeometry::occluded, for the analytic shapes.)
-bool occluded(vec3 o, vec3 d, float tmax) {
-  for (int i = 0; i < u_occluder_count; ++i) {
-    vec4 a = texelFetch(u_occluders, ivec2(0, i), 0);
-    vec3 c = texelFetch(u_occluders, ivec2(1, i), 0).xyz;
-    vec3 n = texelFetch(u_occluders, ivec2(2, i), 0).xyz;
-    vec3 u = texelFetch(u_occluders, ivec2(3, i), 0).xyz;
-    int kind = int(a.x + 0.5);
-    float t = kNoHit;
-    if (kind == Shape_Sphere) t = intersect_sphere(o, d, c, a.y);
-    else if (kind == Shape_Disc) t = intersect_disc(o, d, c, n, a.y);
-    else t = intersect_rectangle(o, d, c, n, u, a.zw);
-    if (t > 0.0 && t < tmax) return true;
-  }
-  return false;
-}
-
-// SceneGeometry::offset_origin: off the surface along ng by 1e-4 of the coordinates' magnitude
-// (plus 1e-4 absolute), towards the side d leaves on.
-vec3 offset_origin(vec3 p, vec3 ng, vec3 d) {
-  float scale = 1e-4 * (1.0 + max(abs(p.x), max(abs(p.y), abs(p.z))));
-  return p + (dot(d, ng) >= 0.0 ? scale : -scale) * ng;
-}
-
-// The disc's u axis (render/geometry.cpp disc_u_axis): world x projected onto the disc, or world z
-// when the normal is within ~2.6 degrees of x.
-vec3 disc_u_axis(vec3 n) {
-  vec3 ref = abs(n.x) > 0.999 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
-  return normalize(ref - dot(ref, n) * n);
-}
-
-int wrap_texel(float i, float n) {
-  float m = i - n * floor(i / n);
-  if (m >= n) m -= n;  // i / n rounded up to a whole number
-  if (m < 0.0) m += n;
-  return int(m);
-}
-
-// TangentMap::lookup (render/scene.cpp): texel centres at (i + 0.5) / width, v up (row 0 at v = 1),
-// wrap-around, bilinear on the doubled-angle vectors, then back to a unit direction.
-vec2 tangent_map_lookup(vec2 uv) {
-  float w = float(u_map_size.x), h = float(u_map_size.y);
-  float fx = uv.x * w - 0.5, fy = (1.0 - uv.y) * h - 0.5;
-  float x0f = floor(fx), y0f = floor(fy);
-  float tx = fx - x0f, ty = fy - y0f;
-  int x0 = wrap_texel(x0f, w), y0 = wrap_texel(y0f, h);
-  int x1 = x0 + 1 == u_map_size.x ? 0 : x0 + 1, y1 = y0 + 1 == u_map_size.y ? 0 : y0 + 1;
-  vec2 a00 = texelFetch(u_map, ivec2(x0, y0), 0).xy, a10 = texelFetch(u_map, ivec2(x1, y0), 0).xy;
-  vec2 a01 = texelFetch(u_map, ivec2(x0, y1), 0).xy, a11 = texelFetch(u_map, ivec2(x1, y1), 0).xy;
-  vec2 q = (1.0 - ty) * ((1.0 - tx) * a00 + tx * a10) + ty * ((1.0 - tx) * a01 + tx * a11);
-  return TangentMap_FromDoubled(q);
-}
-
-void main() {
-  // The primary ray through this fragment's sub-sample, as PathTracer::camera_ray builds it.
-  float px = gl_FragCoord.x - 0.5 + u_sub.x;
-  float py = u_film.y - gl_FragCoord.y - 0.5 + u_sub.y;
-  float sx = (2.0 * px / u_film.x - 1.0) * u_tan_half * u_aspect;
-  float sy = (1.0 - 2.0 * py / u_film.y) * u_tan_half;
-  vec3 d = normalize(u_cam_fwd + sx * u_cam_right + sy * u_cam_up);
-
-  // The hit and its shading data (SceneGeometry::shade).
-  float t;
-  vec3 p, ng, ns, dpdu = vec3(0.0);
-  vec2 uv = vec2(0.0);
-  if (u_shape == Shape_Sphere) {
-    t = intersect_sphere(u_cam_pos, d, u_center, u_radius);
-    if (t == kNoHit) discard;
-    ng = normalize(u_cam_pos + t * d - u_center);
-    p = u_center + u_radius * ng;
-    ns = ng;
-    dpdu = vec3(ng.z, 0.0, -ng.x);
-    float phi = atan(ng.x, ng.z);
-    // theta = acos(n.y), written with atan: llvmpipe's acos is a coarse polynomial (docs/glsl.md).
-    float theta = atan(length(ng.xz), ng.y);
-    uv = vec2((phi < 0.0 ? phi + 2.0 * kPi : phi) * kInv2Pi, 1.0 - theta * kInvPi);
-  } else if (u_shape == Shape_Disc || u_shape == Shape_Rectangle) {
-    t = u_shape == Shape_Disc ? intersect_disc(u_cam_pos, d, u_center, u_normal, u_radius)
-                              : intersect_rectangle(u_cam_pos, d, u_center, u_normal, u_u_axis, u_size);
-    if (t == kNoHit) discard;
-    p = u_cam_pos + t * d;
-    ng = ns = u_normal;
-    vec3 q = p - u_center;
-    if (u_shape == Shape_Disc) {
-      vec3 eu = disc_u_axis(u_normal), ev = cross(u_normal, eu);
-      dpdu = eu;
-      uv = vec2(0.5 + dot(q, eu) / (2.0 * u_radius), 0.5 + dot(q, ev) / (2.0 * u_radius));
-    } else {
-      vec3 ev = cross(u_normal, u_u_axis);
-      dpdu = u_u_axis;
-      uv = vec2(0.5 + dot(q, u_u_axis) / u_size.x, 0.5 + dot(q, ev) / u_size.y);
-    }
-  } else {
-    p = v_p;
-    t = dot(p - u_cam_pos, d);
-    ng = v_ng;  // the triangle's normal (the same at its three vertices)
-    ns = ng;
-    if (u_has_normals) {
-      float nl = length(v_n);
-      if (nl > 1e-12) ns = v_n / nl;
-      if (dot(ns, ng) < 0.0) ng = -ng;  // the winding decides nothing: the vertex normals do
-    }
-    if (u_has_uvs) uv = v_uv;
-    dpdu = v_dpdu;
-  }
-  // Two-sided surfaces: the normals face the side the ray came from.
-  if (dot(ng, d) > 0.0) {
-    ng = -ng;
-    ns = -ns;
-  }
-  if (dot(ns, ng) < 0.0) ns = ng;
-  gl_FragDepth = clamp(t / u_far, 0.0, 1.0);
-
-  SurfacePoint sp = SurfacePoint(p, ns, dpdu, uv);
-  TangentField field = TangentField(u_tf_kind, u_tf_direction, u_tf_center, u_tf_axis, u_tf_swirl, u_tf_scale,
-                                    u_tf_strength, u_tf_angle);
-  if (u_has_map) {
-    // The map's direction (a, b) is in the (t, b) frame of the natural tangent.
-    Frame natural = Frame_from_normal_tangent(ns, dpdu);
-    vec2 dm = tangent_map_lookup(uv);
-    sp.dpdu = dm.x * natural.t + dm.y * natural.b;
-    field.kind = TangentFieldKind_Natural;
-  }
-  Frame frame = tangent_frame(field, sp);
-
-  // Direct light from every light of the pass (integrator.cpp, add_direct with a delta light).
-  vec3 L = vec3(0.0);
-  vec3 wo = Frame_to_local(frame, -d);
-  if (wo.z > 0.0) {
-    for (int i = 0; i < u_light_count; ++i) {
-      vec3 wi_world, li;
-      float tmax;
-      if (u_light_pos[i].w == 0.0) {
-        vec3 dl = u_light_pos[i].xyz - p;
-        float d2 = dot(dl, dl);
-        if (!(d2 > 0.0)) continue;
-        float dist = sqrt(d2);
-        wi_world = dl / dist;
-        li = u_light_power[i] / d2;
-        tmax = dist * (1.0 - 1e-3);  // as the CPU: stop short of the light by 1e-3 relative
-      } else {
-        wi_world = u_light_pos[i].xyz;
-        li = u_light_power[i];
-        tmax = 3.0e38;  // float's infinity: every hit counts
-      }
-      if (!(dot(wi_world, ng) > 0.0)) continue;  // light through the surface is blocked
-      vec3 wi = Frame_to_local(frame, wi_world);
-      if (!(wi.z > 0.0)) continue;
-      vec3 fr = aniso_f(wi, wo);
-      if (fr == vec3(0.0)) continue;
-      if (occluded(offset_origin(p, ng, wi_world), wi_world, tmax)) continue;
-      if (mesh_shadowed(i, p, ng, wi_world)) continue;
-      L += fr * li * wi.z;
-    }
-  }
-  // The CPU drops a non-finite sample (a bug if ever seen); so does this.
-  if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);
-  o_color = vec4(L, u_alpha);
-}
-)";
-
-// The shadow pass: a mesh's triangles into one tile of the atlas, the nearest surface kept by
-// GL_MIN blending. Point light: the cube face (u_axes = a, b, c; u_sign) as a 90-degree perspective
-// with x = r[b], y = r[c], w = s r[a] (z = 0: the clipper keeps w >= 0, the side the face looks at).
-// Directional: orthographic over the bounding sphere, x, y along Frame_from_normal(to_light).
-const char* kShadowVertex = R"(
-layout(location = 0) in vec3 a_p;
-uniform int u_mode;  // 0 point, 1 directional
-uniform vec3 u_light;  // position, or the unit direction towards the light
-uniform ivec3 u_axes;
-uniform float u_sign;
-uniform vec3 u_center;
-uniform float u_radius;
-out vec3 v_p;
-void main() {
-  v_p = a_p;
-  if (u_mode == 0) {
-    vec3 r = a_p - u_light;
-    gl_Position = vec4(r[u_axes.y], r[u_axes.z], 0.0, u_sign * r[u_axes.x]);
-  } else {
-    Frame f = Frame_from_normal(u_light);
-    vec3 q = a_p - u_center;
-    gl_Position = vec4(dot(q, f.t) / u_radius, dot(q, f.b) / u_radius, 0.0, 1.0);
-  }
-}
-)";
-const char* kShadowFragment = R"(
-in vec3 v_p;
-uniform int u_mode;
-uniform vec3 u_light;
-uniform vec3 u_center;
-uniform float u_radius;
-layout(location = 0) out vec4 o_value;
-void main() {
-  float v = u_mode == 0 ? length(v_p - u_light) : u_radius - dot(v_p - u_center, u_light);
-  o_value = vec4(v, 0.0, 0.0, 0.0);
-}
-)";
-
-const char* kFullscreenVertex = R"(
-// One triangle over the whole viewport (no vertex buffer: gl_VertexID).
-void main() {
-  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-  gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
-}
-)";
-const char* kAccumulateFragment = R"(
-uniform sampler2D u_src;
-uniform float u_weight;
-layout(location = 0) out vec4 o_color;
-void main() { o_color = u_weight * texelFetch(u_src, ivec2(gl_FragCoord.xy), 0); }
-)";
-
-// render::tonemap in GLSL (src/render/image.cpp): exposure, Narkowicz 2015's ACES fit or a clamp,
-// the sRGB transfer function (IEC 61966-2-1).
-const char* kTonemapFragment = R"(
-uniform sampler2D u_src;
-uniform float u_scale;  // 2^exposure
-uniform bool u_aces;
-uniform vec2 u_viewport_origin;
-uniform vec2 u_viewport_size;
-layout(location = 0) out vec4 o_color;
-float srgb_encode(float x) {
-  if (!(x > 0.0)) return 0.0;
-  if (x >= 1.0) return 1.0;
-  return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055;
-}
-void main() {
-  vec2 uv = (gl_FragCoord.xy - u_viewport_origin) / u_viewport_size;
-  vec3 c = texture(u_src, uv).rgb;
-  vec3 o;
-  for (int k = 0; k < 3; ++k) {
-    float v = c[k] * u_scale;
-    if (!(v > 0.0)) v = 0.0;
-    if (u_aces) {
-      v = min(v, 1e4);  // the curve reaches 1 near 7.24; far above, v * v would overflow
-      v = v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14);
-    }
-    o[k] = srgb_encode(clamp(v, 0.0, 1.0));
-  }
-  o_color = vec4(o, 1.0);
-}
-)";
-
-// A linked vertex + fragment program with its uniform locations looked up once each.
-class Program {
- public:
-  Program(const std::string& vertex, const std::string& fragment, const std::string& what)
-      : id_(vertex_fragment_program(vertex, fragment, what)) {}
-  ~Program() {
-    if (id_) glDeleteProgram(id_);
-  }
-  Program(const Program&) = delete;
-  Program& operator=(const Program&) = delete;
-
-  GLuint id() const { return id_; }
-  // -1 for a name the program does not use (optimised away): glUniform* ignores location -1.
-  GLint loc(const std::string& name) {
-    const auto it = locations_.find(name);
-    if (it != locations_.end()) return it->second;
-    const GLint l = glGetUniformLocation(id_, name.c_str());
-    locations_.emplace(name, l);
-    return l;
-  }
-  // Setters for the bound program (glUseProgram(id()) first).
-  void set(const std::string& name, float v) { glUniform1f(loc(name), v); }
-  void set(const std::string& name, int v) { glUniform1i(loc(name), v); }
-  void set(const std::string& name, const glm::vec2& v) { glUniform2f(loc(name), v.x, v.y); }
-  void set(const std::string& name, const glm::vec3& v) { glUniform3f(loc(name), v.x, v.y, v.z); }
-  void set(const std::string& name, const glm::ivec2& v) { glUniform2i(loc(name), v.x, v.y); }
-
- private:
-  GLuint id_ = 0;
-  std::unordered_map<std::string, GLint> locations_;
-};
-
-// Puts back the caller's framebuffer bindings and viewport when a public call ends (the explorer
-// draws its window between our calls).
-struct FramebufferRestore {
-  GLint draw = 0, read = 0, viewport[4] = {0, 0, 0, 0};
-  FramebufferRestore() {
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw);
-    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read);
-    glGetIntegerv(GL_VIEWPORT, viewport);
-  }
-  ~FramebufferRestore() {
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw));
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read));
-    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-  }
-  FramebufferRestore(const FramebufferRestore&) = delete;
-  FramebufferRestore& operator=(const FramebufferRestore&) = delete;
-};
-
-// One vertex of the vertex buffer (the attributes of kVertexShader, in order).
-struct Vertex {
-  glm::vec3 p{0.0f}, n{0.0f};
-  glm::vec2 uv{0.0f};
-  glm::vec3 dpdu{0.0f}, ng{0.0f};
-};
-
-void push_quad(std::vector<Vertex>& out, const Vec3& c, const Vec3& a, const Vec3& b) {
-  const Vec3 q[4] = {c - a - b, c + a - b, c + a + b, c - a + b};
-  for (int i : {0, 1, 2, 0, 2, 3}) {
-    Vertex v;
-    v.p = q[i];
-    out.push_back(v);
-  }
-}
-
-// Triangles that cover the object's projection: a proxy for the analytic shapes (the fragment
-// intersects the exact shape), the triangles themselves for a mesh, with their shading attributes.
-std::vector<Vertex> object_vertices(const render::Object& o) {
-  std::vector<Vertex> out;
-  switch (o.shape) {
-    case ShapeKind::Sphere: {
-      const float h = o.radius * kProxyGrowth;
-      const Vec3 x(h, 0, 0), y(0, h, 0), z(0, 0, h);
-      // Each face counter-clockwise seen from outside (a x b points out), so that back faces can be
-      // culled when the camera is outside the cube (draw_pass).
-      push_quad(out, o.center + x, y, z);
-      push_quad(out, o.center - x, z, y);
-      push_quad(out, o.center + y, z, x);
-      push_quad(out, o.center - y, x, z);
-      push_quad(out, o.center + z, x, y);
-      push_quad(out, o.center - z, y, x);
-      break;
-    }
-    case ShapeKind::Disc: {
-      Vec3 a, b;
-      orthonormal_basis(o.normal, a, b);
-      push_quad(out, o.center, a * (o.radius * kProxyGrowth), b * (o.radius * kProxyGrowth));
-      break;
-    }
-    case ShapeKind::Rectangle: {
-      const Vec3 b = glm::cross(o.normal, o.u_axis);
-      push_quad(out, o.center, o.u_axis * (0.5f * o.size.x * kProxyGrowth), b * (0.5f * o.size.y * kProxyGrowth));
-      break;
-    }
-    case ShapeKind::Mesh: {
-      const render::Mesh& m = *o.mesh;
-      out.reserve(m.indices.size());
-      for (size_t f = 0; f + 2 < m.indices.size(); f += 3) {
-        const uint32_t i[3] = {m.indices[f], m.indices[f + 1], m.indices[f + 2]};
-        // The triangle's normal and, without per-vertex tangents, its dp/du from the UVs: the
-        // arithmetic of SceneGeometry::shade (render/geometry.cpp).
-        const Vec3 e1 = m.positions[i[1]] - m.positions[i[0]], e2 = m.positions[i[2]] - m.positions[i[0]];
-        const Vec3 ng = render::SceneGeometry::triangle_normal(e1, e2);
-        Vec3 face_dpdu(0.0f);
-        if (m.tangents.empty() && !m.uvs.empty()) {
-          const Vec2 d1 = m.uvs[i[1]] - m.uvs[i[0]], d2 = m.uvs[i[2]] - m.uvs[i[0]];
-          const float det = d1.x * d2.y - d2.x * d1.y;
-          if (std::fabs(det) > 0.0f) face_dpdu = (e1 * d2.y - e2 * d1.y) / det;
-        }
-        for (uint32_t k : i) {
-          Vertex v;
-          v.p = m.positions[k];
-          if (!m.normals.empty()) v.n = m.normals[k];
-          if (!m.uvs.empty()) v.uv = m.uvs[k];
-          v.dpdu = m.tangents.empty() ? face_dpdu : m.tangents[k];
-          v.ng = ng;
-          out.push_back(v);
-        }
-      }
-      break;
-    }
-  }
-  return out;
-}
-
-// Centre and radius of a sphere around the object's triangles (for the far plane).
-std::pair<Vec3, float> bounding_sphere(const std::vector<Vertex>& vs) {
-  Vec3 lo(INFINITY), hi(-INFINITY);
-  for (const Vertex& v : vs) lo = glm::min(lo, v.p), hi = glm::max(hi, v.p);
-  if (vs.empty()) return {Vec3(0.0f), 0.0f};
-  return {0.5f * (lo + hi), 0.5f * glm::length(hi - lo)};
-}
 
 }  // namespace
 
@@ -598,30 +44,10 @@ glm::vec2 subsample_position(int s, int k) {
 }
 
 namespace {
-GlslMaterial object_glsl(const render::Scene& scene, size_t i, const MaterialDesc& desc) {
-  const render::Object& o = scene.objects[i];
-  try {
-    return glsl_material(desc, GlslStorage::Uniform, kMaterialPrefix);
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: objects[{}] (material \"{}\"): the GL backend cannot shade it: {}", scene.source, i,
-                                 o.material_name, e.what()));
-  }
-}
-}  // namespace
-
-void check_gl_materials(const render::Scene& scene) {
-  for (size_t i = 0; i < scene.objects.size(); ++i) {
-    if (!scene.objects[i].material_desc)
-      throw InputError(fmt::format("{}: objects[{}]: no material description (render::Object::material_desc)", scene.source, i));
-    object_glsl(scene, i, *scene.objects[i].material_desc);
-  }
-}
-
-namespace {
 RasterShaderSources sources_for(const GlslMaterial& m) {
-  std::string scene_part = kFragmentShader;
+  std::string scene_part(embedded::gl_shader_raster_frag);
   scene_part.replace(scene_part.find("%MAX_LIGHTS%"), 12, std::to_string(kMaxLightsPerPass));
-  return {glsl_preamble(GlslDialect::Core330) + kVertexShader,
+  return {glsl_preamble(GlslDialect::Core330) + std::string(embedded::gl_shader_raster_vert),
           glsl_preamble(GlslDialect::Core330) + glsl_library_source() + m.declarations + m.code + scene_part};
 }
 }  // namespace
@@ -631,40 +57,6 @@ RasterShaderSources raster_shader_sources(const MaterialDesc& material) {
 }
 
 int subsamples_for_spp(int spp) { return std::clamp(int(std::lround(std::sqrt(double(std::max(spp, 1))))), 1, 8); }
-
-bool gl_has_lights(const render::Scene& scene) {
-  for (const render::Light& l : scene.lights)
-    if (l.kind != LightKind::Sphere && (l.power.x > 0.0f || l.power.y > 0.0f || l.power.z > 0.0f)) return true;
-  return false;
-}
-
-std::vector<std::string> gl_unsupported(const render::Scene& scene) {
-  std::vector<std::string> out;
-  size_t spheres = 0;
-  for (const render::Light& l : scene.lights) spheres += l.kind == LightKind::Sphere ? 1 : 0;
-  if (spheres > 0)
-    out.push_back(
-        fmt::format("{} sphere light{} not rendered (the GL backend draws point and directional lights only; "
-                    "sphere lights still cast shadows)",
-                    spheres, spheres == 1 ? " is" : "s are"));
-  if (!scene.environment.is_black()) out.push_back("the environment is not rendered (neither seen nor lighting the scene)");
-  if (scene.integrator.max_depth > 1)
-    out.push_back(
-        fmt::format("indirect light is not rendered (integrator.max_depth {}: the GL backend renders direct "
-                    "light only, as max_depth 1)",
-                    scene.integrator.max_depth));
-  bool mesh = false;
-  for (const render::Object& o : scene.objects) mesh = mesh || o.shape == ShapeKind::Mesh;
-  size_t tiles = 0, lights = 0;
-  for (const render::Light& l : scene.lights)
-    if (l.kind != LightKind::Sphere) tiles += l.kind == LightKind::Point ? 6 : 1, ++lights;
-  if (mesh && tiles > 256)
-    out.push_back(
-        fmt::format("meshes cast shadows from the first lights only: the shadow maps hold 256 tiles "
-                    "(a point light takes 6, a directional light 1) and the {} lights need {}",
-                    lights, tiles));
-  return out;
-}
 
 struct SceneRasterizer::Impl {
   struct ObjectGpu {
@@ -699,106 +91,29 @@ struct SceneRasterizer::Impl {
   RasterSettings settings;
   int width = 0, height = 0;
   std::map<std::string, std::unique_ptr<Program>> programs;  // by the material's GLSL (structure)
-  std::unique_ptr<Program> accumulate, tonemap;
+  std::unique_ptr<Program> accumulate;
+  std::unique_ptr<TonemapPass> tonemap;
   std::vector<ObjectGpu> objects;
   std::vector<render::Light> lights;  // point and directional
   GLuint occluders = 0, dummy = 0, empty_vao = 0;
   int occluder_count = 0;
   std::vector<glm::vec4> analytic_occluders;  // the objects' rows (sphere lights added per set_lights)
   GLuint scene_fbo = 0, scene_color = 0, scene_depth = 0, accum_fbo = 0, accum_color = 0;
-  // Mesh shadow maps (see kShadowVertex): rebuilt by render() after the lights changed.
-  std::unique_ptr<Program> shadow;
-  GLuint shadow_atlas = 0, shadow_fbo = 0;
-  int shadow_tile = 0, shadow_cols = 1;
-  glm::ivec2 shadow_atlas_size{0};
-  std::vector<int> shadow_first;  // per light in `lights`: first tile, or -1
-  Vec3 shadow_center{0.0f};
-  float shadow_radius = 1.0f;
+  // Mesh shadow maps: redrawn by render() after the lights moved.
+  std::unique_ptr<ShadowAtlas> shadow;
   bool shadows_dirty = true;
-  size_t shadowless_lights = 0;  // lights beyond the atlas's budget: meshes cast no shadow from them
 
-  bool has_meshes() const {
-    for (const render::Object& o : scene.objects)
-      if (o.shape == ShapeKind::Mesh) return true;
-    return false;
-  }
-
-  // The atlas: tiles of 1024 texels, halved until every light's tiles fit in 4096 x 4096 (64 MB of
-  // R32F), down to 256; lights beyond 256 tiles get none (said by gl_unsupported's caller).
+  // The meshes into the shadow atlas; the directional maps cover every object's bounds.
   void build_shadow_maps() {
     shadows_dirty = false;
-    shadow_first.assign(lights.size(), -1);
-    shadowless_lights = 0;
-    if (!has_meshes() || lights.empty()) return;
-    constexpr int kAtlas = 4096;
-    int tiles = 0;
-    for (const render::Light& l : lights) tiles += l.kind == LightKind::Point ? 6 : 1;
-    shadow_tile = 1024;
-    while (shadow_tile > 256 && tiles > (kAtlas / shadow_tile) * (kAtlas / shadow_tile)) shadow_tile /= 2;
-    shadow_cols = kAtlas / shadow_tile;
-    const int capacity = shadow_cols * shadow_cols;
-    int next = 0;
-    for (size_t i = 0; i < lights.size(); ++i) {
-      const int need = lights[i].kind == LightKind::Point ? 6 : 1;
-      if (next + need > capacity) {
-        ++shadowless_lights;
-        continue;
-      }
-      shadow_first[i] = next;
-      next += need;
-    }
-    const int rows = (next + shadow_cols - 1) / shadow_cols, cols_used = std::min(next, shadow_cols);
-    // The bounding sphere of everything (the directional maps cover it).
+    std::vector<ShadowCaster> casters;
     Vec3 lo(INFINITY), hi(-INFINITY);
-    for (const ObjectGpu& o : objects)
+    for (size_t k = 0; k < objects.size(); ++k) {
+      const ObjectGpu& o = objects[k];
+      if (scene.objects[k].shape == ShapeKind::Mesh) casters.push_back({o.vao, o.count});
       lo = glm::min(lo, o.bound_center - o.bound_radius), hi = glm::max(hi, o.bound_center + o.bound_radius);
-    shadow_center = 0.5f * (lo + hi);
-    shadow_radius = std::max(0.5f * glm::length(hi - lo), 1e-6f) * 1.01f;
-    if (!shadow_atlas) glGenTextures(1, &shadow_atlas);
-    glBindTexture(GL_TEXTURE_2D, shadow_atlas);
-    const glm::ivec2 size(cols_used * shadow_tile, rows * shadow_tile);
-    if (size != shadow_atlas_size) {  // the same lights moving (a dragged light) keep the texture
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, size.x, size.y, 0, GL_RED, GL_FLOAT, nullptr);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-      shadow_atlas_size = size;
     }
-    if (!shadow_fbo) glGenFramebuffers(1, &shadow_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, shadow_atlas, 0);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      throw GlError("the shadow-map atlas framebuffer is incomplete");
-    const float far_value[4] = {3.0e38f, 0, 0, 0};  // nothing in the way
-    glClearBufferfv(GL_COLOR, 0, far_value);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendEquation(GL_MIN);
-    glBlendFunc(GL_ONE, GL_ONE);
-    glUseProgram(shadow->id());
-    shadow->set("u_center", shadow_center);
-    shadow->set("u_radius", shadow_radius);
-    for (size_t i = 0; i < lights.size(); ++i) {
-      if (shadow_first[i] < 0) continue;
-      const render::Light& l = lights[i];
-      const bool point = l.kind == LightKind::Point;
-      shadow->set("u_mode", point ? 0 : 1);
-      shadow->set("u_light", point ? l.position : l.to_light);
-      for (int face = 0; face < (point ? 6 : 1); ++face) {
-        const int a = face / 2, b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
-        glUniform3i(shadow->loc("u_axes"), a, b, c);
-        shadow->set("u_sign", face % 2 == 0 ? 1.0f : -1.0f);
-        const int tile = shadow_first[i] + face;
-        glViewport((tile % shadow_cols) * shadow_tile, (tile / shadow_cols) * shadow_tile, shadow_tile, shadow_tile);
-        for (size_t k = 0; k < objects.size(); ++k) {
-          if (scene.objects[k].shape != ShapeKind::Mesh) continue;
-          glBindVertexArray(objects[k].vao);
-          glDrawArrays(GL_TRIANGLES, 0, objects[k].count);
-        }
-      }
-    }
-    glBlendEquation(GL_FUNC_ADD);
-    glDisable(GL_BLEND);
+    shadow->build(lights, casters, lo, hi);
   }
 
   Program& program_for(const GlslMaterial& m, const std::string& what) {
@@ -899,7 +214,7 @@ struct SceneRasterizer::Impl {
       const render::Light& l = lights[i];
       lpos.push_back(l.kind == LightKind::Point ? glm::vec4(l.position, 0.0f) : glm::vec4(l.to_light, 1.0f));
       lpow.push_back(l.power);
-      lshadow.push_back(glm::vec4(float(i < shadow_first.size() ? shadow_first[i] : -1), 0.0f, 0.0f, 0.0f));
+      lshadow.push_back(glm::vec4(float(shadow->first_tile(i)), 0.0f, 0.0f, 0.0f));
     }
     for (const ObjectGpu& og : objects) {
       const render::Object& o = scene.objects[size_t(&og - objects.data())];
@@ -949,17 +264,14 @@ struct SceneRasterizer::Impl {
         glUniform4fv(p.loc("u_light_shadow"), GLsizei(lshadow.size()), &lshadow[0][0]);
       }
       p.set("u_shadow_atlas", 2);
-      p.set("u_shadow_tile", std::max(shadow_tile, 1));
-      p.set("u_shadow_cols", shadow_cols);
-      p.set("u_shadow_center", shadow_center);
-      p.set("u_shadow_radius", shadow_radius);
+      shadow->set_uniforms(p);
       set_material_slots(p, og.material);
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, og.map ? og.map : dummy);
       glActiveTexture(GL_TEXTURE1);
       glBindTexture(GL_TEXTURE_2D, occluders);
       glActiveTexture(GL_TEXTURE2);
-      glBindTexture(GL_TEXTURE_2D, shadow_atlas ? shadow_atlas : dummy);
+      glBindTexture(GL_TEXTURE_2D, shadow->texture() ? shadow->texture() : dummy);
       // A sphere's proxy cube seen from outside: its back faces would only shade the same hits
       // again (the depth test then drops them), so they are culled. From inside (or nearly: 1 %
       // margin for the rounding of the comparison) every face is drawn: the far ones find the hits.
@@ -1068,12 +380,11 @@ SceneRasterizer::SceneRasterizer(const render::Scene& scene, RasterSettings sett
   }
   glBindVertexArray(0);
   m.upload_occluders();
-  m.accumulate = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + kFullscreenVertex,
-                                           glsl_preamble(GlslDialect::Core330) + kAccumulateFragment, "GL backend: accumulation");
-  m.shadow = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + glsl_library_source() + kShadowVertex,
-                                       glsl_preamble(GlslDialect::Core330) + kShadowFragment, "GL backend: shadow maps");
-  m.tonemap = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + kFullscreenVertex,
-                                        glsl_preamble(GlslDialect::Core330) + kTonemapFragment, "GL backend: tone mapping");
+  m.accumulate = std::make_unique<Program>(glsl_preamble(GlslDialect::Core330) + std::string(embedded::gl_shader_fullscreen_vert),
+                                           glsl_preamble(GlslDialect::Core330) + std::string(embedded::gl_shader_accumulate_frag),
+                                           "GL backend: accumulation");
+  m.shadow = std::make_unique<ShadowAtlas>();
+  m.tonemap = std::make_unique<TonemapPass>();
   m.allocate_targets();
   if (const GLenum err = glGetError(); err != GL_NO_ERROR) throw GlError(fmt::format("GL backend setup: GL error 0x{:x}", err));
 }
@@ -1089,9 +400,8 @@ SceneRasterizer::~SceneRasterizer() {
   glDeleteTextures(4, textures);
   if (m.empty_vao) glDeleteVertexArrays(1, &m.empty_vao);
   if (m.scene_depth) glDeleteRenderbuffers(1, &m.scene_depth);
-  const GLuint fbos[] = {m.scene_fbo, m.accum_fbo, m.shadow_fbo};
-  glDeleteFramebuffers(3, fbos);
-  if (m.shadow_atlas) glDeleteTextures(1, &m.shadow_atlas);
+  const GLuint fbos[] = {m.scene_fbo, m.accum_fbo};
+  glDeleteFramebuffers(2, fbos);
 }
 
 void SceneRasterizer::set_camera(const render::Camera& camera) { impl_->scene.camera = camera; }
@@ -1145,29 +455,7 @@ void SceneRasterizer::set_tangent(size_t object, const render::TangentSource& ta
 }
 
 void SceneRasterizer::draw_tonemapped(const render::ToneMapOptions& tm) const {
-  const Impl& m = *impl_;
-  GLint vp[4] = {0, 0, 0, 0};
-  glGetIntegerv(GL_VIEWPORT, vp);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
-  glUseProgram(m.tonemap->id());
-  m.tonemap->set("u_src", 0);
-  m.tonemap->set("u_scale", std::exp2(tm.exposure_stops));
-  m.tonemap->set("u_aces", int(tm.curve == render::ToneMap::Aces));
-  m.tonemap->set("u_viewport_origin", glm::vec2(float(vp[0]), float(vp[1])));
-  m.tonemap->set("u_viewport_size", glm::vec2(float(vp[2]), float(vp[3])));
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, m.accum_color);
-  // Bilinear when the viewport is not the image's size (the explorer's window); texel centres
-  // land on pixel centres when it is.
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glBindVertexArray(m.empty_vao);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
-  glUseProgram(0);
-  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
-    throw GlError(fmt::format("GL backend draw_tonemapped: GL error 0x{:x}", err));
+  impl_->tonemap->draw(impl_->accum_color, glm::ivec2(impl_->width, impl_->height), tm);
 }
 
 void SceneRasterizer::set_size(int width, int height) {
@@ -1245,22 +533,6 @@ int SceneRasterizer::width() const { return impl_->width; }
 int SceneRasterizer::height() const { return impl_->height; }
 const render::Scene& SceneRasterizer::scene() const { return impl_->scene; }
 size_t SceneRasterizer::program_count() const { return impl_->programs.size(); }
-
-namespace {
-std::vector<float> read_rgba(GLuint fbo, int w, int h) {
-  GLint old_read = 0;
-  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &old_read);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  std::vector<float> rgba(size_t(w) * size_t(h) * 4);
-  glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, rgba.data());
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(old_read));
-  if (const GLenum err = glGetError(); err != GL_NO_ERROR)
-    throw GlError(fmt::format("GL backend read-back: GL error 0x{:x}", err));
-  return rgba;
-}
-}  // namespace
 
 render::Image SceneRasterizer::read_back() const {
   const int w = impl_->width, h = impl_->height;

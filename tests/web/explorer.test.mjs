@@ -365,6 +365,37 @@ if (want("sphere")) {
   await page.context().close();
 }
 
+// The page's display pass against the CPU's tone map: the bytes of render::tonemap in
+// tests/reference/tonemap_cpu.json (held to the CPU by tests/test_tonemap_parity.cpp), its ACES
+// cases (the page has no clamp curve), every probe value in each channel, read back as floats.
+if (want("tonemap")) {
+  const page = await openPage();
+  const ref = JSON.parse(fs.readFileSync(path.join(path.dirname(fileURLToPath(import.meta.url)), "..", "reference", "tonemap_cpu.json"), "utf8"));
+  const radiance = ref.radiance.map(Number), n = radiance.length;
+  const texels = [];
+  for (let i = 0; i < n; ++i) texels.push(radiance[i], radiance[(i + 1) % n], radiance[(i + 2) % n], 1);
+  let worst = 0, cases = 0;
+  for (const c of ref.cases) {
+    if (c.curve !== "aces") continue;
+    ++cases;
+    const out = await page.evaluate(([t, w, e]) => window.anisoExplorer.toneMapProbe(t, w, e), [texels, n, c.exposure]);
+    for (let i = 0; i < n; ++i)
+      for (let k = 0; k < 3; ++k) {
+        const j = (i + k) % n, d = out[i * 4 + k], want = c.bytes[j];
+        const diff = Number.isFinite(d) ? Math.abs(255 * d - want) : Infinity;
+        worst = Math.max(worst, diff);
+        // As the GL backend's test: the CPU rounds 255 d to a byte; 0.05 of a step covers pow's last bits.
+        check(diff <= 0.55, `tonemap: radiance ${ref.radiance[j]}, exposure ${c.exposure}: page ${d} (x 255 = ${255 * d}), CPU byte ${want}`);
+      }
+  }
+  console.log(`tonemap: ${cases} exposures x ${n} values x 3 channels, worst ${worst.toFixed(4)} of an 8-bit step`);
+  check(cases >= 3, "tonemap: the reference has ACES cases");
+  // One curve: the page holds no copy of its own (the ACES fit's constants come only in the GLSL).
+  const js = await (await fetch(url + "explorer.js")).text();
+  check(!/2\.43/.test(js) && !/0\.0031308/.test(js), "tonemap: web/explorer.js carries its own copy of the curve");
+  await page.context().close();
+}
+
 await browser.close();
 console.log(`${checks - failures.length} of ${checks} checks passed in ${((Date.now() - t0) / 1000).toFixed(1)} s; screenshots in ${outDir}`);
 process.exit(failures.length ? 1 : 0);
