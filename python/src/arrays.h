@@ -3,7 +3,7 @@
 // NumPy users hold (N, 3) arrays, C-contiguous or not, float32 or float64. C-ordered rows (and
 // (3,) broadcasts) go to the batch API's interleaved entry points in place
 // (batch::evaluate_interleaved / pdf_interleaved), column-major arrays to its structure-of-arrays
-// functions in place (module.cpp). Any other layout takes the general path: each oneTBB task
+// functions in place (bind_batch.cpp). Any other layout takes the general path: each oneTBB task
 // takes a chunk of kChunk rows, copies them into SoA buffers of its own (strided gather, any
 // source dtype), calls the batch function with Threads::One on them, and writes the chunk's
 // results into the output. The chunk's buffers stay in the core's L2 (4096 rows x 15 doubles =
