@@ -76,7 +76,7 @@
       if (p.kind === "object") {
         parts.push(`${key}=${has ? 1 : 0}`);
         if (has) shapeParts(p.sub, pv[p.name], key + ".", parts);
-      } else if (p.kind === "tagged" && has) {
+      } else if (p.kind === "tagged-object" && has) {
         parts.push(`${key}=${pv[p.name].model}`);
         shapeParts(p.subs[pv[p.name].model], pv[p.name], key + ".", parts);
       } else if (p.kind === "list" && has) {
@@ -109,7 +109,7 @@
       let v = pv[name];
       if (m) v = v[Number(m[2])];
       if (p.kind === "object" || p.kind === "list") spec = p.sub;
-      else if (p.kind === "tagged") spec = p.subs[v.model];
+      else if (p.kind === "tagged-object") spec = p.subs[v.model];
       pv = v;
     }
     return { p, v: pv };
@@ -955,7 +955,7 @@ void main() {
           buildTable(box, p.sub, v, here, label + ".");
           container.appendChild(box);
         }
-      } else if (p.kind === "tagged") {
+      } else if (p.kind === "tagged-object") {
         const row = document.createElement("div");
         row.className = "param";
         row.title = p.doc;

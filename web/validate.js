@@ -266,7 +266,7 @@
       case "object":
         if (!isObject(v)) fail(where, p.name, expected());
         return readParams(v, p.sub, `${where}: ${p.name}`, undefined, data);
-      case "tagged": {
+      case "tagged-object": {
         if (!isObject(v)) fail(where, p.name, expected());
         if (!has(v, "model") || typeof v.model !== "string") fail(where, `${p.name}.model`, expected());
         if (!p.choices.includes(v.model)) fail(where, `${p.name}.model`, expected());

@@ -2,43 +2,14 @@
 // The material is read and built exactly as `aniso eval` reads it, so both reject the same
 // materials with the same InputError; the file is written atomically (io/atomic_file.h), so a
 // failure leaves no partial file.
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
-#include <stdexcept>
-
-#include <fmt/format.h>
+#include <memory>
+#include <string>
 
 #include "aniso/gl/glsl_export.h"
 #include "aniso/io/materials.h"
 #include "commands.h"
-#include "io/atomic_file.h"
 
 namespace aniso {
-
-// Writes all of `text` to an open stream and flushes it; a short write or a failed flush (a full
-// disk, a closed pipe) is an error, exit 1 (docs/cli.md, "Exit status"), never a silent exit 0.
-void write_all(std::FILE* f, const std::string& text, const std::string& what) {
-  if (std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fflush(f) != 0 || std::ferror(f))
-    throw std::runtime_error(fmt::format("{}: write error: {}", what, std::strerror(errno)));
-}
-
-// stdout for "" and "-"; a file otherwise, through the one atomic writer (io/atomic_file.h: a
-// temporary file renamed into place, modes and symbolic links kept, nothing left behind on
-// failure or on SIGTERM; a FIFO or a device written in place).
-void write_atomically(const std::string& path, const std::string& text) {
-  if (path.empty() || path == "-") {
-    write_all(stdout, text, "stdout");
-    return;
-  }
-  try {
-    io::write_file_atomically(path, text);
-  } catch (const io::FileWriteError& e) {
-    if (e.reason() == "is a directory") throw InputError(fmt::format("-o {}: is a directory", path));
-    if (!e.created()) throw InputError(fmt::format("-o {}: cannot open for writing: {}", path, e.reason()));
-    throw std::runtime_error(fmt::format("-o {}: write error: {}", path, e.reason()));
-  }
-}
 
 namespace {
 

@@ -9,23 +9,6 @@
 
 namespace aniso {
 
-namespace {
-
-// A finite number in [lo, hi] (CLI11's Range lets NaN through: every comparison with NaN is false).
-CLI::Validator finite_in(double lo, double hi) {
-  return CLI::Validator(
-      [lo, hi](std::string& text) -> std::string {
-        std::string why;
-        const auto v = parse_decimal(text, &why);
-        if (!v) return fmt::format("expected a finite decimal number in [{}, {}], got \"{}\" ({})", lo, hi, text, why);
-        if (*v < lo || *v > hi) return fmt::format("{} is not in [{}, {}]", text, lo, hi);
-        return {};
-      },
-      fmt::format("FLOAT in [{}, {}]", lo, hi));
-}
-
-}  // namespace
-
 void add_view_command(CLI::App& app) {
   auto o = std::make_shared<ViewOptions>();
   auto size_text = std::make_shared<std::string>("1280x720");
@@ -49,19 +32,19 @@ void add_view_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--screenshot", o->screenshot, "write the window to this PNG after the last frame (with --frames)");
   cmd->add_option("--light", o->light_theta_deg, "light theta in degrees from the normal")
-      ->check(finite_in(0.0, 89.0))
+      ->check(finite_range(0.0, 89.0))
       ->capture_default_str();
   cmd->add_option("--light-phi", o->light_phi_deg, "light phi in degrees from the tangent")
-      ->check(finite_in(-360.0, 360.0))
+      ->check(finite_range(-360.0, 360.0))
       ->capture_default_str();
   cmd->add_option("--yaw", o->camera_yaw_deg, "orbit camera: degrees about +y (0: looking along -z)")
-      ->check(finite_in(-360.0, 360.0))
+      ->check(finite_range(-360.0, 360.0))
       ->capture_default_str();
   cmd->add_option("--pitch", o->camera_pitch_deg, "orbit camera: degrees above the horizon")
-      ->check(finite_in(-85.0, 85.0))
+      ->check(finite_range(-85.0, 85.0))
       ->capture_default_str();
   cmd->add_option("--tangent-angle", o->tangent_angle_deg, "tangent rotation about the normal, degrees")
-      ->check(finite_in(-360.0, 360.0))
+      ->check(finite_range(-360.0, 360.0))
       ->capture_default_str();
   cmd->add_option("--tangent-field", o->tangent_field, "procedural tangent field")
       ->check(CLI::IsMember({"natural", "projected", "concentric", "radial", "swirl", "noise", "uv"}))
@@ -77,7 +60,7 @@ void add_view_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--interactive-scale", o->interactive_scale,
                   "lit views' resolution while something changes, relative to full (full again 0.3 s after the last change)")
-      ->check(finite_in(0.1, 1.0))
+      ->check(finite_range(0.1, 1.0))
       ->capture_default_str();
   cmd->add_option("--subsamples", o->subsamples, "rasteriser sub-pixel positions per axis (anti-aliasing)")
       ->check(CLI::Range(1, 8))

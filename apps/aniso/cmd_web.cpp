@@ -30,25 +30,12 @@
 #include "aniso/io/presets.h"
 #include "aniso/version.h"
 #include "commands.h"
+#include "io/enum_names.h"
 
 namespace aniso {
 namespace {
 
 using nlohmann::json;
-
-const char* kind_name(ParamKind k) {
-  switch (k) {
-    case ParamKind::Scalar: return "scalar";
-    case ParamKind::Color: return "color";
-    case ParamKind::Bool: return "bool";
-    case ParamKind::Choice: return "choice";
-    case ParamKind::String: return "string";
-    case ParamKind::Object: return "object";
-    case ParamKind::List: return "list";
-    case ParamKind::TaggedObject: return "tagged";
-  }
-  return "?";
-}
 
 // A number for JSON: NaN ("no default") is null.
 json number(double x) { return std::isnan(x) ? json(nullptr) : json(x); }
@@ -57,7 +44,7 @@ json table_json(const ModelSpec& spec) {
   json t = {{"name", spec.name}, {"title", spec.title}, {"citation", spec.citation}, {"params", json::array()}};
   for (const ParamSpec* p : spec.params()) {
     json j = {{"name", p->name},
-              {"kind", kind_name(p->kind)},
+              {"kind", std::string(enum_name(p->kind))},
               {"doc", p->doc},
               {"min", p->min},
               {"max", p->max},

@@ -2,35 +2,63 @@
 #pragma once
 
 #include <cstdio>
+#include <new>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
 #include "aniso/io/params.h"
+#include "cli_common.h"
 #include "io/text_input.h"
 
 namespace aniso {
 
-// Writes text to `path` with io::write_file_atomically (io/atomic_file.h); "" or "-" is stdout.
-// InputError for a directory or a path that cannot be created, exit 1 for a failed write.
-void write_atomically(const std::string& path, const std::string& text);
+// A command that ran to its end with an exit status other than 0 (130: `aniso render` stopped by
+// Ctrl-C after writing what it had): main() returns it once stdout is known to hold everything.
+struct CommandExit {
+  int status;
+};
 
-// Runs a command inside CLI11's callback with main()'s error conventions: InputError exits 2 with
-// "aniso: error: <message>"; success ends parsing with exit code 0 (CLI::Success).
+// Runs a command inside CLI11's callback with main()'s error conventions (docs/cli.md, "Exit
+// status"): InputError exits 2 with "aniso: error: <message>", out of memory and any other error
+// exit 1; success ends parsing with exit code 0 (CLI::Success). `fn` returns nothing or the
+// command's exit status (CommandExit when it is not 0).
 template <typename Fn> void run_command(Fn&& fn) {
+  int status = 0;
   try {
-    fn();
+    if constexpr (std::is_void_v<std::invoke_result_t<Fn&>>)
+      fn();
+    else
+      status = fn();
   } catch (const InputError& e) {
     fmt::print(stderr, "aniso: error: {}\n", e.what());
     throw CLI::RuntimeError(2);
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "aniso: error: out of memory\n");
+    throw CLI::RuntimeError(1);
   } catch (const std::exception& e) {
     fmt::print(stderr, "aniso: error: {}\n", e.what());
     throw CLI::RuntimeError(1);
   }
+  if (status != 0) throw CommandExit{status};
   throw CLI::Success();
 }
+
+// The scripting commands (exact formats; other tools and tests depend on them, docs/cli.md), each
+// in cmd_<name>.cpp: eval, sample, albedo, fresnel; metals, presets and models for discovery.
+void add_eval_command(CLI::App& app);
+void add_sample_command(CLI::App& app);
+void add_albedo_command(CLI::App& app);
+void add_fresnel_command(CLI::App& app);
+void add_metals_command(CLI::App& app);
+void add_presets_command(CLI::App& app);
+void add_models_command(CLI::App& app);
+
+// render: a scene file, a material's preview scene or the gallery (cmd_render.cpp, docs/scenes.md).
+void add_render_command(CLI::App& app);
 
 // fit and fit --compare (cmd_fit.cpp, docs/fitting.md).
 void add_fit_command(CLI::App& app);

@@ -3,7 +3,7 @@
 // NumPy users hold (N, 3) arrays, C-contiguous or not, float32 or float64. C-ordered rows (and
 // (3,) broadcasts) go to the batch API's interleaved entry points in place
 // (batch::evaluate_interleaved / pdf_interleaved), column-major arrays to its structure-of-arrays
-// functions in place (module.cpp). Any other layout takes the general path: each oneTBB task
+// functions in place (bind_batch.cpp). Any other layout takes the general path: each oneTBB task
 // takes a chunk of kChunk rows, copies them into SoA buffers of its own (strided gather, any
 // source dtype), calls the batch function with Threads::One on them, and writes the chunk's
 // results into the output. The chunk's buffers stay in the core's L2 (4096 rows x 15 doubles =
@@ -18,7 +18,9 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace aniso::python {
 
@@ -68,5 +70,14 @@ inline bool all_f32(std::initializer_list<const RowsView*> inputs) {
 
 // The shape description of an array for messages: "(4, 2)", "()".
 std::string shape_text(const py::array& a);
+
+// A new result array: (columns,) for one row, else (n, columns).
+template <typename T> py::array_t<T> rows_out(size_t n, bool single, int columns) {
+  if (single) return py::array_t<T>(std::vector<py::ssize_t>{columns});
+  return py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), columns});
+}
+
+// An undefined result: a row with a NaN or infinite input, a NaN cosine (docs/python.md).
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace aniso::python

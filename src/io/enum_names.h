@@ -1,7 +1,9 @@
 // io/enum_names.h: the one name table of each enumeration a user spells in JSON or on the command
-// line. The parameter tables' choices (params.cpp), the material builders (materials.cpp), the
-// fitter (src/fit) and the GLSL slots (the choice's index is the enumerator's value, which the
-// GLSL twins' constants repeat) all read these.
+// line, or reads in the exported parameter tables. The parameter tables' choices (params.cpp), the
+// material builders (materials.cpp), the fitter (src/fit) and the GLSL slots (the choice's index is
+// the enumerator's value, which the GLSL twins' constants repeat) all read these; the kinds of the
+// tables' keys are named here for `aniso web-data` (apps/aniso/cmd_web.cpp) and aniso.models()
+// (python/src/bind_tables.cpp).
 #pragma once
 
 #include <optional>
@@ -10,6 +12,7 @@
 
 #include "aniso/brdf/metal.h"
 #include "aniso/brdf/ward.h"
+#include "aniso/io/params.h"
 
 namespace aniso {
 
@@ -28,6 +31,13 @@ template <> struct EnumNames<WardNormalization> {
 template <> struct EnumNames<SpecularLobeKind> {
   static constexpr std::string_view kNames[] = {"ward", "ashikhmin-shirley", "ggx"};
   static_assert(int(SpecularLobeKind::GGX) + 1 == std::size(kNames));
+};
+
+// The kind of a parameter table's key, as the browser explorer (web/explorer.js, web/validate.js)
+// and aniso.models() (docs/python.md) read it.
+template <> struct EnumNames<ParamKind> {
+  static constexpr std::string_view kNames[] = {"scalar", "color", "bool", "choice", "string", "object", "list", "tagged-object"};
+  static_assert(int(ParamKind::TaggedObject) + 1 == std::size(kNames));
 };
 
 template <typename E> constexpr std::span<const std::string_view> enum_names() { return EnumNames<E>::kNames; }

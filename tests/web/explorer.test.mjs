@@ -114,7 +114,7 @@ if (want("sliders")) {
           if (p.kind === "scalar") out.push(prefix + p.name);
           if (p.kind === "color") for (let c = 0; c < 3; ++c) out.push(`${prefix}${p.name}[${c}]`);
           if (p.kind === "object") walk(p.sub, v[p.name], `${prefix}${p.name}.`);
-          if (p.kind === "tagged") walk(p.subs[v[p.name].model], v[p.name], `${prefix}${p.name}.`);
+          if (p.kind === "tagged-object") walk(p.subs[v[p.name].model], v[p.name], `${prefix}${p.name}.`);
           if (p.kind === "list") v[p.name].forEach((it, i) => walk(p.sub, it, `${prefix}${p.name}[${i}].`));
         }
       };

@@ -1,0 +1,105 @@
+// python/src/bind_export.cpp: the material in other programs' formats: aniso.export_glsl() and
+// aniso.export_brdf() (src/gl, docs/glsl.md), aniso.export() (src/export, docs/export.md), as the
+// CLI's export commands.
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "aniso/export/export.h"
+#include "aniso/fit/fit.h"
+#include "aniso/gl/glsl_export.h"
+#include "bindings.h"
+#include "convert.h"
+#include "io/atomic_file.h"
+
+namespace aniso::python {
+
+void bind_export(py::module_& m) {
+  m.def(
+      "export_glsl",
+      [](const py::object& x, bool full) {
+        const PyMaterial mat = as_material(x);
+        return gl::export_glsl(mat.desc, mat.what, full);
+      },
+      py::arg("material"), py::kw_only(), py::arg("full") = false,
+      "The material as one self-contained GLSL source, as `aniso export-glsl` (docs/glsl.md): the library\n"
+      "functions it uses, or with full=True the whole library (and aniso_material()), as `--full`.");
+  m.def(
+      "export_brdf",
+      [](const py::object& x) {
+        const PyMaterial mat = as_material(x);
+        return gl::export_brdf(mat.desc, mat.what);
+      },
+      py::arg("material"), "The material as a Disney BRDF Explorer .brdf file, as `aniso export-brdf`.");
+  m.def(
+      "export",
+      [](const py::object& x, const std::string& to, const py::object& path_in, const std::optional<std::string>& name,
+         const std::string& metric, int starts, uint64_t seed) {
+        const PyMaterial mat = as_material(x);
+        std::optional<std::string> path;
+        if (!path_in.is_none()) path = std::string(py::str(py::module_::import("os").attr("fspath")(path_in)));
+        exporter::ExportOptions o;
+        o.target = to;
+        if (name) o.name = *name;
+        FitOptionText metric_only;
+        metric_only.metric = metric;
+        o.metric = parse_fit_options(metric_only).metric;
+        if (starts < 1 || starts > 100) throw InputError(fmt::format("starts: expected 1 to 100, got {}", starts));
+        o.starts = starts;
+        o.seed = seed;
+        std::string bin_name;
+        if (path && to == "gltf") {
+          std::string stem = *path;
+          if (const size_t slash = stem.find_last_of('/'); slash != std::string::npos) stem = stem.substr(slash + 1);
+          if (const size_t dot = stem.find_last_of('.'); dot != std::string::npos && dot > 0) stem.resize(dot);
+          bin_name = stem + ".bin";
+        }
+        exporter::ExportResult r;
+        {
+          py::gil_scoped_release release;
+          r = exporter::export_material(mat.desc, mat.what, o, bin_name);
+        }
+        py::dict files;
+        for (const exporter::ExportFile& f : r.files) {
+          if (f.path.empty())
+            files[py::str("")] = py::str(f.content);
+          else
+            files[py::str(f.path)] = py::bytes(f.content);
+        }
+        if (path) {
+          // As the CLI: the .bin first, then the main file; a failed main file takes the .bin with it.
+          std::string dir = *path;
+          const size_t slash = dir.find_last_of('/');
+          dir = slash == std::string::npos ? std::string() : dir.substr(0, slash + 1);
+          std::vector<std::string> written;
+          try {
+            for (size_t i = r.files.size(); i-- > 0;) {
+              const std::string target = r.files[i].path.empty() ? *path : dir + r.files[i].path;
+              io::write_file_atomically(target, r.files[i].content);
+              written.push_back(target);
+            }
+          } catch (const io::FileWriteError& e) {
+            for (const std::string& w : written) std::remove(w.c_str());
+            PyErr_SetString(PyExc_OSError, e.what());
+            throw py::error_already_set();
+          }
+        }
+        py::dict out;
+        out["report"] = to_py(r.report.to_json());
+        out["text"] = r.report.text();
+        out["files"] = files;
+        return out;
+      },
+      py::arg("material"), py::kw_only(), py::arg("to"), py::arg("path") = py::none(), py::arg("name") = py::none(),
+      py::arg("metric") = "l2cos", py::arg("starts") = 4, py::arg("seed") = 1,
+      "The material in a renderer's own format, as `aniso export --to` (docs/export.md): to = \"blender\",\n"
+      "\"mitsuba3\", \"pbrt-v4\", \"materialx\" or \"gltf\". Returns {report, text, files}: the report (target\n"
+      "model, parameters, exact or fitted, errors, notes) as a dict and as text, and the files (\"\" the main\n"
+      "file's text, a glTF's .bin as bytes under its name). With path, writes them too (atomically; an\n"
+      "OSError leaves nothing). A bad material or target raises ValueError.");
+}
+
+}  // namespace aniso::python
