@@ -75,15 +75,15 @@ FIT_STARTS = [(0.2, 3.0), (0.5, 6.0), (1.0, 2.0), (1.5, 4.0), (3.0, 3.0),
               (0.1, 9.0), (2.0, 8.0), (5.0, 1.0)]
 
 # ---------------------------------------------------------------------------
-# Data-quality decisions (see data/README.md of the shared reference data and
-# docs/metals.md).  Werner et al. 2009 derived n, k from reflection electron
-# energy-loss spectra (REELS); for W and Pt they give a normal-incidence
-# reflectance well above handbook values.
+# Data-quality decisions (see data/ior/README.md, which quotes the reference
+# data set's README, and docs/metals.md).  Werner et al. 2009 derived n, k
+# from reflection electron energy-loss spectra (REELS); for W and Pt they give
+# a normal-incidence reflectance well above handbook values.
 # ---------------------------------------------------------------------------
 
 # Tungsten: Palik, "Handbook of Optical Constants of Solids" (1985), at 550 nm,
-# as quoted in the shared data README.  Used as a grey (wavelength-independent)
-# constant when Werner's F0 is "far above" Palik's.
+# as quoted in the reference data set's README (data/ior/README.md).  Used as a
+# grey (wavelength-independent) constant when Werner's F0 is "far above" Palik's.
 PALIK_W_ETA = 3.5
 PALIK_W_K = 2.73
 # "Far above": Werner's photopic (CIE Y) normal-incidence reflectance exceeds

@@ -1,7 +1,10 @@
 // tests/test_cli.cpp: the `aniso` command-line tool, run as a separate process (ANISO_CLI is the
 // path of the built executable). Checks the exact formats of eval, sample, albedo, fresnel,
 // presets and models (docs/cli.md), that they agree with the library called directly, and that
-// every bad input exits non-zero with a message on stderr naming the problem and nothing on stdout.
+// every bad input exits non-zero with a message on stderr naming the problem and nothing on stdout:
+// NaN and out-of-range options, integer options, read errors on stdin, write errors on stdout
+// (exit 1), and `-o` naming a FIFO or device written through rather than replaced.
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -14,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -184,8 +188,8 @@ TEST_F(CliEval, AshikhminShirleyNearlyOppositeGrazingPairIsNotNegative) {
   for (double x : v) EXPECT_TRUE(std::isfinite(x) && x >= 0.0) << r.out;
 }
 
-// A NUL byte is named with its line; the lines around it stay separate (fgets stopped at the NUL
-// and joined what followed to the next line: one result for two bad lines, exit 0).
+// A NUL byte is named with its line; the lines around it stay separate (a reader that stops at the
+// NUL, as fgets does, joins what follows to the next line: one result for two bad lines, exit 0).
 TEST_F(CliEval, NulByteIsAnErrorNamingItsLine) {
   expect_input_error(run({"eval", "--material", "clay"}, std::string("0 0 1 \0\n0 0 1\n", 14)),
                      {"stdin line 1: column 7: a NUL byte"});
@@ -220,6 +224,41 @@ TEST_F(CliEval, NonFiniteNumbersAreRejected) {
 TEST_F(CliEval, ZeroVectorIsRejected) {
   expect_input_error(run({"eval", "--material", "clay"}, "0 0 1 0 0 1\n0 0 0 0 0 1\n"), {"line 2", "wi", "non-zero"});
   expect_input_error(run({"eval", "--material", "clay"}, "0 0 1 0 0 0\n"), {"line 1", "wo", "non-zero"});
+}
+
+TEST_F(CliEval, ReadErrorOnStdinIsAnError) {
+  const Result r = run_redirected({"eval", "-m", "gold"}, "< " + shell_quote(dir_.string()));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(contains(r.err, "stdin: read error")) << r.err;
+}
+
+// Any finite phi in --angles: phi * pi / 180 overflows to inf above about 5.7e307 degrees, so phi is
+// reduced modulo 360 first and a huge phi is the direction of its remainder, never NaN.
+TEST_F(CliEval, AnglesHugePhiIsReducedNotNaN) {
+  const Result huge = run({"eval", "-m", "gold", "--angles"}, "30 1e300 30 -1e308\n");
+  EXPECT_EQ(huge.code, 0) << huge.err;
+  EXPECT_EQ(huge.out.find("nan"), std::string::npos) << huge.out;
+  const Result reduced = run({"eval", "-m", "gold", "--angles"},
+                             fmt::format("30 {:.17g} 30 {:.17g}\n", std::fmod(1e300, 360.0), std::fmod(-1e308, 360.0)));
+  EXPECT_EQ(huge.out, reduced.out);
+}
+
+TEST_F(CliEval, AnglesEqualVectors) {
+  const Result a = run({"eval", "-m", "brushed-gold", "--angles"}, "30 0 45 180\n");
+  const double t = M_PI / 6, o = M_PI / 4;
+  const Result v =
+      run({"eval", "-m", "brushed-gold"}, fmt::format("{:.17g} 0 {:.17g} {:.17g} {:.17g} {:.17g}\n", std::sin(t), std::cos(t),
+                                                      -std::sin(o), std::sin(o) * std::sin(M_PI), std::cos(o)));
+  EXPECT_EQ(a.code, 0) << a.err;
+  EXPECT_EQ(a.out, v.out);
+}
+
+TEST_F(CliEval, InlineMaterialJson) {
+  const Result r = run({"eval", "-m", R"({"model": "lambert", "kd": -0.0})"}, "0 0 1 0 0 1\n");
+  EXPECT_EQ(r.out, "0 0 0 0.318309886\n") << r.err;
+  const Result bad = run({"eval", "-m", R"({"model": "ward", "alpha_x": 0.1})"}, "0 0 1 0 0 1\n");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_TRUE(contains(bad.err, "inline material: key \"alpha_x\": given without its partner")) << bad.err;
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -321,6 +360,12 @@ TEST_F(CliSample, UnknownMaterialIsRejected) {
   expect_input_error(run({"sample", "--material", "no-such-preset", "--wo", "0", "0", "1"}), {"no-such-preset"});
 }
 
+TEST_F(CliSample, CountIsDecimal) {
+  const Result r = run({"sample", "-m", "gold", "--wo", "0", "0", "1", "--count", "010"});
+  EXPECT_EQ(r.code, 0);
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 10);
+}
+
 // ------------------------------------------------------------------------------------------------
 // albedo, fresnel
 // ------------------------------------------------------------------------------------------------
@@ -342,6 +387,12 @@ TEST_F(CliAlbedo, ThetaOutOfRangeIsRejected) {
   EXPECT_NE(r.code, 0);
   EXPECT_EQ(r.out, "");
   EXPECT_TRUE(contains(r.err, "--theta-deg")) << r.err;
+}
+
+TEST_F(CliAlbedo, ThetaNinetyIsTheHorizon) {
+  const Result r = run({"albedo", "-m", "ngan/wardduer/nickel", "--theta-deg", "90", "--samples", "1000"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, "0 0 0\n");
 }
 
 using CliFresnel = Cli;
@@ -373,6 +424,24 @@ TEST_F(CliFresnel, GrazingIsOne) {
 
 TEST_F(CliFresnel, UnknownMetalIsRejected) {
   expect_input_error(run({"fresnel", "--metal", "unobtainium", "--theta-deg", "0"}), {"unknown metal \"unobtainium\"", "gold"});
+}
+
+TEST_F(CliFresnel, EtaAndKOfAMetalEqualItsName) {
+  // --eta/--k with gold's own values equals --metal gold.
+  const MetalData* gold = find_metal("gold");
+  const auto fmt3 = [](const glm::dvec3& c) {
+    return std::vector<std::string>{fmt::format("{:.17g}", c.x), fmt::format("{:.17g}", c.y), fmt::format("{:.17g}", c.z)};
+  };
+  std::vector<std::string> args = {"fresnel", "--theta-deg", "60", "--eta"};
+  for (const auto& s : fmt3(gold->eta)) args.push_back(s);
+  args.push_back("--k");
+  for (const auto& s : fmt3(gold->k)) args.push_back(s);
+  const Result ek = run(args);
+  const Result named = run({"fresnel", "--theta-deg", "60", "--metal", "gold"});
+  EXPECT_EQ(ek.code, 0) << ek.err;
+  EXPECT_EQ(ek.out, named.out);
+  const Result wrong = run({"fresnel", "--metal", "gld"});
+  EXPECT_TRUE(contains(wrong.err, "did you mean \"gold\"")) << wrong.err;
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -423,6 +492,27 @@ TEST_F(CliPresets, ModelsListsEveryModelAndParameter) {
   }
 }
 
+TEST_F(CliPresets, ShowPrintsTheResolvedMaterialWhichIsValidInput) {
+  const Result r = run({"presets", "--show", "brushed-gold"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["lobe"].contains("alpha_x") && j["lobe"].contains("normalization")) << r.out;  // defaults filled in
+  const std::string file = write("resolved.json", r.out);
+  const Result e = run({"eval", "-m", file}, "0.3 0.1 0.9 -0.2 0.1 0.8\n");
+  const Result e2 = run({"eval", "-m", "brushed-gold"}, "0.3 0.1 0.9 -0.2 0.1 0.8\n");
+  EXPECT_EQ(e.code, 0) << e.err;
+  EXPECT_EQ(e.out, e2.out);
+}
+
+TEST_F(CliPresets, VersionAndMetals) {
+  const Result version = run({"--version"});
+  EXPECT_EQ(version.code, 0);
+  EXPECT_TRUE(contains(version.out, "aniso ")) << version.out;
+  const Result metals = run({"metals"});
+  EXPECT_EQ(metals.code, 0);
+  EXPECT_TRUE(contains(metals.out, "gold") && contains(metals.out, "Au")) << metals.out;
+}
+
 // ------------------------------------------------------------------------------------------------
 // bad material files and arguments
 // ------------------------------------------------------------------------------------------------
@@ -459,10 +549,9 @@ TEST_F(CliErrors, BadMaterialFiles) {
   }
 }
 
-// BUG (reported): 1e999 overflows a double; nlohmann::json throws out_of_range (406), which
-// load_material() does not catch (it catches parse_error only), and the tool aborts (SIGABRT,
-// exit 134, "terminate called after throwing ..."). Correct: exit 2 with a message naming the
-// file and the number.
+// A number that overflows a double (1e999) is bad input like any other: exit 2 with a message
+// naming the file and the number, never an abort (nlohmann::json throws out_of_range, 406, for it,
+// not parse_error).
 TEST_F(CliErrors, OverflowingNumberInFile) {
   const std::string path = write("overflow.json", R"({"model": "lambert", "kd": 1e999})");
   expect_input_error(run({"eval", "--material", path}, "0 0 1 0 0 1\n"), {"overflow.json", "1e999"});
@@ -484,9 +573,9 @@ TEST_F(CliErrors, MissingMaterial) {
   EXPECT_TRUE(contains(r.err, "--material")) << r.err;
 }
 
-// BUG (reported): command-line errors caught by CLI11 (missing or malformed options) exit with
-// CLI11's own codes (106 RequiredError, 105 ValidationError, ...), while every other input error
-// exits 2 (docs/cli.md: "2 for input errors"). Correct: 2 for all of them.
+// Command-line errors caught by CLI11 (missing or malformed options) exit 2 like every other input
+// error (docs/cli.md: "2 for input errors"), not with CLI11's own codes (106 RequiredError, 105
+// ValidationError, ...).
 TEST_F(CliErrors, CommandLineErrorsExitTwo) {
   EXPECT_EQ(run({"eval"}, "").code, 2);
   EXPECT_EQ(run({"albedo", "--material", "clay", "--theta-deg", "100"}).code, 2);
@@ -506,6 +595,79 @@ TEST_F(CliErrors, NoCommand) {
   EXPECT_NE(r.code, 0);
   EXPECT_EQ(r.out, "");
   EXPECT_FALSE(r.err.empty());
+}
+
+TEST_F(CliErrors, NanAndOutOfRangeOptionsExitTwo) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"albedo", "-m", "gold", "--theta-deg", "nan"},
+           {"albedo", "-m", "gold", "--theta-deg", "10", "--phi-deg", "nan"},
+           {"fresnel", "--metal", "gold", "--theta-deg", "nan"},
+           {"albedo", "-m", "gold", "--theta-deg", "90.5"},
+           {"render", "-m", "gold", "--exposure", "nan"},
+           {"sample", "-m", "gold", "--wo", "0", "0", "1", "--count", "1.5"},
+           {"sample", "-m", "gold", "--wo", "0", "0", "1", "--seed", "-1"},
+           {"sample", "-m", "gold", "--wo", "0", "0", "1", "--seed", "99999999999999999999999"},
+           {"presets", "--show", ""},
+           {"models", "--model", ""},
+       }) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 2) << args[0] << " " << args.back() << ": " << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+}
+
+TEST_F(CliErrors, WriteErrorsExitNonZero) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
+  const std::string line = write("in.txt", "0 0 1 0 0 1\n");
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"eval", "-m", "gold"},
+           {"sample", "-m", "gold", "--wo", "0", "0", "1", "--count", "10"},
+           {"albedo", "-m", "gold", "--theta-deg", "10", "--samples", "100"},
+           {"fresnel", "--metal", "gold"},
+           {"presets"},
+           {"models"},
+           {"metals"},
+           {"export-glsl", "-m", "gold"},
+           {"export-brdf", "-m", "gold"},
+       }) {
+    const Result r = run_redirected(args, "< " + shell_quote(line) + " > /dev/full");
+    EXPECT_EQ(r.code, 1) << args[0] << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, "aniso: error: stdout: write error")) << args[0] << ": " << r.err;
+  }
+}
+
+// `-o` naming a FIFO (or a device such as /dev/null or /dev/full) is written in place, never
+// replaced: renaming the temporary file over it would replace the node itself (as root, /dev/full
+// would become a regular file and a write error would go unseen).
+TEST_F(CliErrors, OutputToAFifoWritesThroughIt) {
+  const std::vector<std::vector<std::string>> commands = {
+      {"export-glsl", "-m", "gold"},
+      {"export-brdf", "-m", "gold"},
+      {"render", "-m", "gold", "--width", "16", "--height", "16", "--spp", "1"},
+  };
+  for (size_t i = 0; i < commands.size(); ++i) {
+    const fs::path fifo = dir_ / (i == 2 ? "fifo.pfm" : "fifo.out"), got = dir_ / "got";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::string args;
+    for (const std::string& a : commands[i]) args += fmt::format(" {}", shell_quote(a));
+    // A reader on the FIFO in the background, the command writing into it, then the command's status.
+    const std::string cmd =
+        fmt::format("cat {0} > {1} & {2}{3} -o {0} > /dev/null 2> {4}; rc=$?; wait; exit $rc", shell_quote(fifo.string()),
+                    shell_quote(got.string()), shell_quote(ANISO_CLI), args, shell_quote((dir_ / "err").string()));
+    const int status = std::system(fmt::format("sh -c {}", shell_quote(cmd)).c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << commands[i][0] << ": " << read_file(dir_ / "err");
+    struct stat st {};
+    ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+    EXPECT_TRUE(S_ISFIFO(st.st_mode)) << commands[i][0] << " replaced the FIFO";
+    const std::string text = read_file(got);
+    EXPECT_GT(text.size(), 40u) << commands[i][0];
+    if (i == 2) {
+      EXPECT_EQ(text.substr(0, 3), "PF\n");
+    }
+    fs::remove(fifo);
+    fs::remove(got);
+  }
 }
 
 }  // namespace

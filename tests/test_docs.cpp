@@ -1,11 +1,13 @@
 // tests/test_docs.cpp: the documentation quotes what the code says. Each model page
 // docs/models/<name>.md contains its parameter tables exactly as `aniso models --markdown` prints
 // them (markdown_table() in src/io/params.cpp), and README.md gives the two commands up front.
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -170,6 +172,56 @@ TEST(Docs, EveryRelativeLinkResolvesInsideTheRepository) {
     }
   }
   EXPECT_GT(checked, 20);
+}
+
+// The sources name docs pages in their comments and messages ("docs/cli.md", "docs/scenes.md#gl-backend"):
+// every page named exists, and a named #fragment is a heading of it. Markdown links are the test
+// above; this covers the code, which no Markdown renderer checks.
+TEST(Docs, EveryDocsPageTheSourcesNameExists) {
+  namespace fs = std::filesystem;
+  const fs::path root(ANISO_SOURCE_DIR);
+  const std::set<std::string> text_ext = {".h",   ".cpp",  ".cu",    ".glsl", ".inc", ".py", ".pyi",  ".js",
+                                          ".mjs", ".html", ".cmake", ".txt",  ".sh",  ".in", ".toml", ".json"};
+  std::vector<fs::path> files = {root / "CMakeLists.txt", root / "Makefile"};
+  for (const char* dir : {"include", "src", "apps", "python", "tests", "web", "scripts", "bench", "cmake", "examples"}) {
+    if (!fs::is_directory(root / dir)) continue;
+    for (auto it = fs::recursive_directory_iterator(root / dir); it != fs::recursive_directory_iterator(); ++it) {
+      const std::string name = it->path().filename().string();
+      if (it->is_directory() && (name == "node_modules" || name == "__pycache__" || name.rfind("build", 0) == 0)) {
+        it.disable_recursion_pending();
+        continue;
+      }
+      if (it->is_regular_file() && text_ext.count(it->path().extension().string())) files.push_back(it->path());
+    }
+  }
+  const auto page_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '/'; };
+  const auto anchor_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; };
+  int checked = 0;
+  for (const fs::path& f : files) {
+    bool ok = false;
+    const std::string text = read_text(f.string(), ok);
+    if (!ok) continue;
+    const std::string rel = fs::relative(f, root).string();
+    for (size_t at = text.find("docs/"); at != std::string::npos; at = text.find("docs/", at + 5)) {
+      if (at > 0 && (page_char(text[at - 1]) || text[at - 1] == '.')) continue;  // "../docs/", "mydocs/"
+      size_t end = at + 5;
+      while (end < text.size() && page_char(text[end])) ++end;
+      if (text.compare(end, 3, ".md") != 0) continue;
+      const std::string page = text.substr(at, end + 3 - at);
+      ++checked;
+      ASSERT_TRUE(fs::is_regular_file(root / page)) << rel << " names " << page << ", which does not exist";
+      if (end + 3 < text.size() && text[end + 3] == '#') {
+        size_t a = end + 4;
+        while (a < text.size() && anchor_char(text[a])) ++a;
+        const std::string fragment = text.substr(end + 4, a - end - 4);
+        bool ok2 = false;
+        const std::set<std::string> anchors = anchors_of(read_text((root / page).string(), ok2));
+        EXPECT_TRUE(fragment.empty() || anchors.count(fragment))
+            << rel << " names " << page << "#" << fragment << ": no such heading";
+      }
+    }
+  }
+  EXPECT_GT(checked, 100);
 }
 
 }  // namespace

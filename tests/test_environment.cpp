@@ -9,9 +9,9 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <boost/math/special_functions/gamma.hpp>
 
 #include "aniso/render/environment.h"
+#include "chi2.h"
 #include "stats/rng.h"
 
 namespace aniso::render {
@@ -19,20 +19,12 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Pearson's chi-square p-value of observed counts against expected ones (cells with expected
-// count 0 must be empty; they add no degree of freedom).
-double chi2_p_value(const std::vector<double>& observed, const std::vector<double>& expected) {
-  double chi2 = 0.0;
-  int dof = -1;  // the total is fixed
-  for (size_t i = 0; i < observed.size(); ++i) {
-    if (expected[i] == 0.0) {
-      EXPECT_EQ(observed[i], 0.0) << "samples in zero-probability cell " << i;
-      continue;
-    }
-    chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
-    ++dof;
-  }
-  return dof > 0 ? boost::math::gamma_q(dof / 2.0, chi2 / 2.0) : 1.0;
+// Pearson's chi-square of observed counts against expected ones (tests/chi2.h) passes at
+// significance 1e-3; a cell of expected count 0 must be empty.
+void expect_chi2_fits(const std::vector<double>& observed, const std::vector<double>& expected) {
+  const test::PearsonResult r = test::pearson_chi2(observed, expected);
+  EXPECT_TRUE(r.message.empty()) << r.message;
+  EXPECT_GT(r.p_value, 1e-3) << "chi2 " << r.chi2 << " dof " << r.dof;
 }
 
 // The documented lat-long mapping (environment.h), written out independently of environment.cpp:
@@ -89,7 +81,7 @@ TEST(Distribution1D, HistogramMatchesFunctionChiSquare) {
     ASSERT_FLOAT_EQ(pdf, f[size_t(offset)] / d.integral());
     observed[size_t(std::min(n * sub - 1, int(x * n * sub)))] += 1.0;
   }
-  EXPECT_GT(chi2_p_value(observed, expected), 1e-3);
+  expect_chi2_fits(observed, expected);
 }
 
 TEST(Distribution1D, PdfIntegratesToOne) {
@@ -154,7 +146,7 @@ TEST(Distribution2D, HistogramPdfConsistencyAndNormalisation) {
     ASSERT_NEAR(d.pdf(uv), pdf, 1e-5f * pdf);
     observed[size_t(int(uv.y * nv) * nu + int(uv.x * nu))] += 1.0;
   }
-  EXPECT_GT(chi2_p_value(observed, expected), 1e-3);
+  expect_chi2_fits(observed, expected);
 }
 
 TEST(Distribution2D, DefaultConstructedGivesNoSample) {

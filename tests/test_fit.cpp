@@ -699,7 +699,7 @@ double half_turn_distance(double a, double b) {
   return std::min(d, 180.0 - d);
 }
 
-// The recovery: 2% noise, default options (no --anisotropic): the auto rule fits
+// Recovery of a known anisotropic material: 2% noise, default options (no --anisotropic): the auto rule fits
 // anisotropic, parameters within 5%, rotation within 2 degrees; the same data turned by a half
 // turn give the same rotation.
 class FitOrientation : public Cli {};
@@ -788,9 +788,9 @@ double largest_albedo(const json& material) {
 }
 
 // Every Cornell paint with --anisotropic yes and 2 and 3 lobes, and with the defaults: the light
-// never leaves the plane y = 0, so the anisotropic entries are tied (reported), no weak entry is
-// left free, and the material's albedo stays <= 1.01 everywhere (before: C_y -1.45 to -2.30 and
-// albedos up to 4.8e20).
+// never leaves the plane y = 0, so the anisotropic entries are tied (and the tie reported), no weak
+// entry is left free, and the material's albedo stays <= 1.01 everywhere (left free, C_y drifts to
+// -1.45 .. -2.30 and the albedo reaches 4.8e20).
 TEST(FitIdentifiability, CornellPaintsTieWhatTheDataCannotSeeAndKeepAlbedoBelowOne) {
   for (const char* paint : {"acryl_blue", "cayman", "garnet_red", "krylon_blue"}) {
     const SampleSet data = read_cornell(kCornell + paint + std::string(".brdf"));

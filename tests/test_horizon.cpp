@@ -124,7 +124,9 @@ TEST(Horizon, NearlyOppositeGrazingPairsAreNonNegativeForEveryModelAndPreset) {
   }
 }
 
-// The pair: Ashikhmin-Shirley (the default parameters) gave f = -1.34e17 in double.
+// A nearly opposite grazing pair where h . wi < 0 by rounding alone: Ashikhmin-Shirley (default
+// parameters), alone and as a metal's lobe, stays finite and >= 0 there (its 1 / (h . wi) term,
+// unguarded, gives f = -1.34e17 in double).
 TEST(Horizon, AshikhminShirleyOppositeGrazingPairIsNotNegative) {
   const Vec3d wi(0.9519527964440391, -0.30624479316777603, 2.6982672065979276e-10);
   const Vec3d wo(-0.9519527964455237, 0.3062447931631613, 2.7586451918744186e-11);

@@ -2,16 +2,23 @@
 // evaluates to finite, non-negative values; the size of each preset family; how Ngan 2005's models
 // map onto ours; sampling efficiency and energy of the presets), the parameter tables (well-formed:
 // docs, ranges, defaults) and the reader (error messages name the key and the range; accepted
-// values evaluate to finite numbers; files that do not parse are InputErrors).
+// values evaluate to finite numbers; files that do not parse are InputErrors; anisotropic pairs
+// and their shorthand; the JSON rules of io/json_read.h: duplicate keys, nesting depth, escaped
+// keys, file kinds; inline materials, names and the resolved form).
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -22,6 +29,7 @@
 #include "aniso/io/params.h"
 #include "aniso/io/presets.h"
 #include "aniso/stats/albedo.h"
+#include "io/json_read.h"
 #include "test_util.h"
 
 namespace aniso {
@@ -42,6 +50,18 @@ std::string parse_error_of(const json& j) {
   }
   return "";
 }
+
+// The message of the InputError that `fn` raises ("(no error)" if it raises none).
+std::string error_of(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
 
 // A few directions in the upper hemisphere, including the mirror configuration (h = n), normal
 // incidence and grazing angles, plus random ones.
@@ -164,14 +184,13 @@ TEST(MaterialPresets, NganModelsMapOntoOurs) {
   EXPECT_FALSE(find_preset("ngan/he/nickel").has_value());
 }
 
-// BUG (reported): Lafortune lobes whose axis a = (Cx wo.x, Cy wo.y, Cz wo.z) points below the
-// horizon (Cz < 0, as in pbrt-v1's clay, felt and skin) keep the sampling weight
-// scale |a|^n 2 pi / (n + 1) although (nearly) all of their mass lies below the horizon (at wo = n
-// all of it: the lobe is 0 in the upper hemisphere). sample() then picks them almost always and
-// returns "no sample": clay at wo = n gives 0 valid samples in 10000, and its importance-sampled
-// albedo has a standard error 500 times that of uniform sampling. Sampling stays unbiased, but a
-// sampler that returns "no sample" for most draws of a material that reflects 28% of the light
-// is broken in practice. Correct: at least a quarter of the draws give a sample, for every preset.
+// Lafortune lobes whose axis a = (Cx wo.x, Cy wo.y, Cz wo.z) points below the horizon (Cz < 0, as
+// in pbrt-v1's clay, felt and skin) hold (nearly) all of their mass below the horizon (at wo = n
+// all of it: the lobe is 0 in the upper hemisphere). A sampler that weighted them by
+// scale |a|^n 2 pi / (n + 1) would pick them almost always and return "no sample" (clay at wo = n:
+// 0 valid samples in 10000, an importance-sampled albedo with 500 times the standard error of
+// uniform sampling): unbiased, but useless for a material that reflects 28% of the light. For
+// every preset at least a quarter of the draws give a sample.
 TEST(MaterialPresets, SamplingRarelyReturnsNoSample) {
   for (const PresetInfo& p : presets()) {
     const MaterialD m = build_material<double>(load_material(p.name));
@@ -190,10 +209,10 @@ TEST(MaterialPresets, SamplingRarelyReturnsNoSample) {
   }
 }
 
-// BUG (reported): the brushed-<metal> presets add a directional-diffuse lobe (albedo 0.1 x F0)
-// to a balanced Ward lobe whose albedo approaches F itself, with no energy coupling: brushed-silver
-// reflects 1.04 and brushed-gold (red) 1.046 of the incident light at normal incidence. A metal
-// preset must not reflect more than it receives: directional albedo <= 1 in every channel.
+// The brushed-<metal> presets add a directional-diffuse lobe (albedo 0.1 x F0) to a balanced Ward
+// lobe whose albedo approaches F itself: without energy coupling brushed-silver would reflect 1.04
+// and brushed-gold (red) 1.046 of the incident light at normal incidence. A metal preset must not
+// reflect more than it receives: directional albedo <= 1 in every channel.
 TEST(MaterialPresets, MetalPresetsDoNotGainEnergy) {
   for (const MetalData& md : metal_table()) {
     for (const std::string& name : {std::string(md.name), "brushed-" + std::string(md.name)}) {
@@ -405,11 +424,9 @@ TEST(MaterialErrors, EveryNumericKeyIsRangeChecked) {
   }
 }
 
-// BUG (reported): parameters with max = kHuge (1e6: exponents, scales) are described as
-// "[0, inf)" by describe_range(), yet the reader rejects values above 1e6, so the message reads
-// 'expected number in [0, inf), got the number 2000000.0', contradicting itself, and `aniso models`
-// advertises a range the reader does not accept. Whatever the fix (state the bound, or lift it),
-// a rejected finite value must not be told that the range is unbounded.
+// Parameters with max = kHuge (1e6: exponents, scales): a rejected finite value is never told that
+// the range is unbounded (a message 'expected number in [0, inf), got the number 2000000.0' would
+// contradict itself, and `aniso models` would advertise a range the reader does not accept).
 TEST(MaterialErrors, RejectedValueIsOutsideTheStatedRange) {
   for (const ModelSpec* m : model_specs()) {
     for (const ParamSpec* p : m->params()) {
@@ -425,12 +442,11 @@ TEST(MaterialErrors, RejectedValueIsOutsideTheStatedRange) {
   }
 }
 
-// BUG (reported): the tables accept values at which the kernels overflow, so an accepted material
-// can evaluate to Inf or NaN, against the convention that no model returns either
-// (docs/conventions.md): roughness 1e-200 is in (0, 1] but alpha_x alpha_y underflows to 0 and
-// the Ward / GGX normalisation becomes Inf (Inf at the peak, 0 * Inf = NaN beside it); a Lafortune
-// lobe with cz = 100 and n = 1000 is in range and gives 100^1000 = Inf. Correct: the reader rejects
-// what the kernels cannot evaluate (tighter bounds), or the kernels stay finite.
+// Every value the tables accept evaluates to finite numbers, as no model returns Inf or NaN
+// (docs/conventions.md), at both ends of every range: for example roughness 1e-200, where
+// alpha_x alpha_y would underflow to 0 and the Ward / GGX normalisation become Inf (Inf at the
+// peak, 0 * Inf = NaN beside it), and a Lafortune lobe with cz = 100 and n = 1000 (100^1000 = Inf).
+// The reader rejects what the kernels cannot evaluate, or the kernels stay finite.
 TEST(MaterialErrors, EveryAcceptedExtremeValueEvaluatesFinite) {
   std::vector<json> extremes;
   for (const ModelSpec* m : model_specs()) {
@@ -531,10 +547,9 @@ TEST_F(MaterialFiles, InvalidJsonNamesTheFile) {
   EXPECT_NE(msg.find("invalid JSON"), std::string::npos) << msg;
 }
 
-// BUG (reported): nlohmann::json throws out_of_range (406, "number overflow parsing '1e999'"),
-// not parse_error, for a number that overflows a double; load_material() catches only
-// parse_error, so the exception escapes as a non-InputError (the CLI aborts with SIGABRT instead
-// of exiting 2). The correct behaviour: an InputError naming the file and the offending number.
+// A number that overflows a double is an InputError naming the file and the number, like any other
+// bad JSON: nlohmann::json throws out_of_range (406, "number overflow parsing '1e999'") for it, not
+// parse_error, and no other exception may escape (the CLI would abort instead of exiting 2).
 TEST_F(MaterialFiles, OverflowingNumberIsAnInputError) {
   const std::string path = write("huge.json", R"({"model": "lambert", "kd": 1e999})");
   std::string msg;
@@ -548,6 +563,128 @@ TEST_F(MaterialFiles, OverflowingNumberIsAnInputError) {
   }
   EXPECT_NE(msg.find("huge.json"), std::string::npos) << msg;
   EXPECT_NE(msg.find("1e999"), std::string::npos) << msg;
+}
+
+// --- anisotropic pairs (docs/conventions.md, "Anisotropic pairs") -------------------------------
+
+TEST(AnisotropicPairs, HalfAPairNamesThePartner) {
+  // Half a pair is an error naming the missing half, never evaluated with the other half's default.
+  EXPECT_TRUE(contains(parse_error_of({{"model", "ashikhmin-shirley"}, {"rd", 0.1}, {"rs", 0.2}, {"n_u", 10}}),
+                       "key \"n_u\": given without its partner \"n_v\""));
+  EXPECT_TRUE(contains(parse_error_of({{"model", "ward"}, {"alpha_y", 0.2}}), "partner \"alpha_x\""));
+  EXPECT_TRUE(contains(parse_error_of({{"model", "ggx"}, {"alpha_x", 0.2}}), "partner \"alpha_y\""));
+  EXPECT_TRUE(
+      contains(parse_error_of({{"model", "lafortune"}, {"lobes", json::array({{{"cx", -1}, {"n", 5}}})}}), "partner \"cy\""));
+  EXPECT_TRUE(contains(parse_error_of({{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ggx"}, {"alpha_x", 0.1}}}}),
+                       "partner \"alpha_y\""));
+  EXPECT_TRUE(
+      contains(parse_error_of(
+                   {{"model", "metal"}, {"metal", "gold"}, {"lobe", {{"model", "ward"}}}, {"directional_diffuse", {{"cy", -1}}}}),
+               "partner \"cx\""));
+  // The message offers the shorthand.
+  EXPECT_TRUE(contains(parse_error_of({{"model", "ward"}, {"alpha_x", 0.2}}), "or \"alpha\" alone"));
+}
+
+TEST(AnisotropicPairs, ShorthandSetsBothAndExcludesThem) {
+  const MaterialDesc w = parse_material({{"model", "ward"}, {"alpha", 0.3}}, "m");
+  EXPECT_EQ(w.params.scalar("alpha_x"), 0.3);
+  EXPECT_EQ(w.params.scalar("alpha_y"), 0.3);
+  EXPECT_FALSE(w.params.has("alpha"));
+  const MaterialDesc a = parse_material({{"model", "ashikhmin-shirley"}, {"n", 40}}, "m");
+  EXPECT_EQ(a.params.scalar("n_u"), 40.0);
+  EXPECT_EQ(a.params.scalar("n_v"), 40.0);
+  EXPECT_TRUE(contains(parse_error_of({{"model", "ward"}, {"alpha", 0.3}, {"alpha_x", 0.2}}), "cannot be given together"));
+  // Both halves, or neither (both defaults), stay accepted.
+  EXPECT_NO_THROW(parse_material({{"model", "ward"}, {"alpha_x", 0.1}, {"alpha_y", 0.3}}, "m"));
+  EXPECT_NO_THROW(parse_material({{"model", "ward"}}, "m"));
+}
+
+// --- JSON documents -------------------------------------------------------------------------------
+
+TEST(JsonRead, DuplicateKeysAreErrorsNamingKeyAndPath) {
+  EXPECT_TRUE(contains(error_of([] { parse_json_text(R"({"alpha_x": 0.1, "alpha_x": 0.5})", "f.json"); }),
+                       "f.json: alpha_x: duplicate key \"alpha_x\""));
+  // An error whichever of the two values comes first (so neither is checked against the range alone).
+  EXPECT_TRUE(contains(error_of([] { parse_json_text(R"({"kd": 2, "kd": 0.5})", "f"); }), "duplicate key \"kd\""));
+  EXPECT_TRUE(
+      contains(error_of([] { parse_json_text(R"({"model": "ward", "model": "lambert"})", "f"); }), "duplicate key \"model\""));
+  EXPECT_TRUE(contains(error_of([] { parse_json_text(R"({"lobes": [{"n": 1}, {"n": 2, "n": 3}]})", "f"); }),
+                       "lobes[1].n: duplicate key"));
+  // The same key in different objects is fine.
+  EXPECT_NO_THROW(parse_json_text(R"({"a": {"n": 1}, "b": {"n": 2}, "c": [{"n": 1}, {"n": 2}]})", "f"));
+}
+
+TEST(JsonRead, DeepNestingIsRejectedNotACrash) {
+  // 200,000 levels of arrays: an error naming the depth, not a stack overflow in a recursive copy
+  // (fuzz/corpus/material/issue13-deep-nesting.json).
+  std::string deep = R"({"model": "lambert", "zz": )";
+  deep += std::string(200000, '[') + std::string(200000, ']') + "}";
+  const std::string msg = error_of([&] { load_material(deep); });
+  EXPECT_TRUE(contains(msg, "inline material")) << msg;
+  EXPECT_TRUE(contains(msg, "nested deeper than 64 levels")) << msg;
+  // 60 levels are still read (and then rejected as an unknown key, by the material reader).
+  std::string ok = R"({"model": "lambert", "zz": )" + std::string(60, '[') + std::string(60, ']') + "}";
+  EXPECT_TRUE(contains(error_of([&] { load_material(ok); }), "unknown key \"zz\""));
+}
+
+TEST(JsonRead, ControlCharactersInKeysAreEscaped) {
+  const std::string msg = parse_error_of(json::parse("{\"model\": \"lambert\", \"a\\u0000b\\u001b[31m\": 1}"));
+  EXPECT_TRUE(contains(msg, "a\\u0000b\\u001b[31m")) << msg;  // the whole key, escaped
+  EXPECT_EQ(msg.find('\x1b'), std::string::npos);
+}
+
+TEST(JsonRead, FileKindsHaveTheirOwnMessages) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("aniso-json-read-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  EXPECT_TRUE(contains(error_of([&] { read_json_file((dir / "missing.json").string()); }), "no such file"));
+  EXPECT_TRUE(contains(error_of([&] { read_json_file(dir.string()); }), "is a directory"));
+  std::ofstream(dir / "bad.json") << "{\"model\": ";
+  EXPECT_TRUE(contains(error_of([&] { read_json_file((dir / "bad.json").string()); }), "invalid JSON"));
+  // A FIFO is read like a file (`-m <(...)` passes /dev/fd/N, a pipe).
+  const std::filesystem::path fifo = dir / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer([&] { std::ofstream(fifo) << R"({"model": "lambert", "kd": 0.25})"; });
+  const MaterialDesc d = load_material(fifo.string());
+  writer.join();
+  EXPECT_EQ(d.params.color("kd"), glm::dvec3(0.25));
+  std::filesystem::remove_all(dir);
+}
+
+// --- materials: inline, names, resolved form ---------------------------------------------------
+
+TEST(MaterialSpec, InlineJsonAndNames) {
+  const MaterialDesc d = load_material(R"({"model": "ward", "alpha_x": 0.1, "alpha_y": 0.3})");
+  EXPECT_EQ(d.params.scalar("alpha_y"), 0.3);
+  EXPECT_TRUE(contains(error_of([] { load_material(R"({"model": "ward", "alpha": 7})"); }), "inline material: key \"alpha\""));
+  EXPECT_TRUE(contains(error_of([] { load_material("gld"); }), "did you mean \"gold\""));
+  EXPECT_TRUE(contains(error_of([] { load_material(""); }), "empty name"));
+  // The American spelling is an alias (docs/presets.md).
+  EXPECT_NO_THROW(load_material("aluminum"));
+  EXPECT_NO_THROW(load_material("brushed-aluminum"));
+  EXPECT_NO_THROW(parse_material({{"model", "metal"}, {"metal", "aluminum"}, {"lobe", {{"model", "ggx"}}}}, "m"));
+  EXPECT_TRUE(
+      contains(parse_error_of({{"model", "metal"}, {"metal", "gld"}, {"lobe", {{"model", "ggx"}}}}), "did you mean \"gold\""));
+}
+
+TEST(MaterialSpec, ResolvedJsonIsValidInputGivingTheSameMaterial) {
+  Rng rng(11);
+  for (const PresetInfo& p : presets()) {
+    const MaterialDesc d = load_material(p.name);
+    const json r = resolved_json(d);
+    const MaterialDesc again = parse_material(r, "resolved " + p.name);
+    const MaterialD a = build_material<double>(d), b = build_material<double>(again);
+    for (int i = 0; i < 8; ++i) {
+      const Vec3d wi = glm::normalize(Vec3d(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() + 0.05));
+      const Vec3d wo = glm::normalize(Vec3d(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() + 0.05));
+      ASSERT_EQ(a.f(wi, wo), b.f(wi, wo)) << p.name;
+    }
+    ASSERT_EQ(resolved_json(again), r) << p.name;  // a fixed point
+  }
+}
+
+TEST(MaterialSpec, NegativeZeroReadsAsZero) {
+  const MaterialDesc d = parse_material({{"model", "lambert"}, {"kd", -0.0}}, "m");
+  EXPECT_FALSE(std::signbit(d.params.color("kd").x));
 }
 
 }  // namespace

@@ -145,7 +145,7 @@ INSTANTIATE_TEST_SUITE_P(Tabulated, MeasuredSampling, testing::Combine(testing::
 // The discrete part of the sampler without quadrature: with uc in the table branch, the half
 // vector of each sample falls in cell (theta_h row, phi_h column) with exactly the probability the
 // tables give (marginal x conditional), whatever wo is within its bin. Pearson's chi-square over
-// the cells with expected count >= 5 (the rest pooled), 1M samples, two views.
+// the cells (tests/chi2.h: sparse cells pooled), 1M samples, two views.
 TEST(MeasuredSamplingCells, HalfVectorCellsHaveTheirTableProbabilities) {
   const MeasuredData& d = *as_data();
   const MaterialT<double> m = measured_kernel<double>(d);
@@ -180,28 +180,14 @@ TEST(MeasuredSamplingCells, HalfVectorCellsHaveTheirTableProbabilities) {
       const int j = std::min(P - 1, int(phi / (2 * M_PI) * P));
       observed[size_t(i) * P + j] += 1.0;
     }
-    double chi2 = 0.0, pooled_e = 0.0, pooled_o = 0.0;
-    int dof = -1;
-    for (size_t q = 0; q < observed.size(); ++q) {
-      const double e = expected[q] * n;
-      if (e == 0.0) {
-        ASSERT_EQ(observed[q], 0.0) << "a sample in a cell of probability 0";
-        continue;
-      }
-      if (e < 5.0) {
-        pooled_e += e, pooled_o += observed[q];
-        continue;
-      }
-      chi2 += (observed[q] - e) * (observed[q] - e) / e;
-      ++dof;
-    }
+    for (double& e : expected) e *= n;
     // The rejected draws (h whose reflection of wo is below the horizon) belong to the pooled rest.
-    pooled_o += rejected;
-    chi2 += (pooled_o - pooled_e) * (pooled_o - pooled_e) / std::max(pooled_e, 1.0);
-    ++dof;
-    const double p = boost::math::gamma_q(dof / 2.0, chi2 / 2.0);
-    std::printf("cells, view theta %g: chi2 %.1f dof %d p %.3f rejected %d\n", v.theta, chi2, dof, p, rejected);
-    EXPECT_GT(p, 0.005) << "chi2 " << chi2 << " dof " << dof;
+    PearsonOptions po;
+    po.pooled_extra_observed = rejected;
+    const PearsonResult r = pearson_chi2(observed, expected, po);
+    ASSERT_TRUE(r.message.empty()) << r.message;
+    std::printf("cells, view theta %g: chi2 %.1f dof %d p %.3f rejected %d\n", v.theta, r.chi2, r.dof, r.p_value, rejected);
+    EXPECT_GT(r.p_value, 0.005) << "chi2 " << r.chi2 << " dof " << r.dof;
     EXPECT_LT(rejected, n / 1000);
   }
 }

@@ -275,7 +275,7 @@ struct RoundTripCase {
   nlohmann::json material;  // a JSON material, or a string: a preset name
   bool merl = false;        // a MERL-layout table tabulated from the material
   double rotation = 0.0;
-  // Bounds: the targets (L1 5 %, albedo 2 %) where they are met, else what is reached
+  // Bounds: the accuracy targets (L1 5 %, albedo 2 %) where they are met, else what is reached
   // with a margin of about 30 % (docs/rgl.md, "Accuracy", lists both).
   double l1_bound_60, l1_bound_80, albedo_bound;
 };

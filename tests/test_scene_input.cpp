@@ -145,8 +145,9 @@ TEST(SceneText, NameAndDescriptionMustBeStrings) {
   EXPECT_TRUE(has(scene_error(j), "objects[0].name: expected a string")) << scene_error(j);
 }
 
-// |e1 x e2| overflowed float for edges above about 4e9: the normal was 0 and a triangle of size
-// 1e11 rendered black. The normal is now finite and unit for any finite edges.
+// A triangle's normal is finite and unit for any finite edges: |e1 x e2| overflows float for edges
+// above about 4e9, where a normal taken from the unscaled cross product would be 0 (a triangle of
+// size 1e11 would render black).
 TEST(SceneMesh, TriangleNormalOfHugeEdgesIsUnit) {
   for (float s : {1.0f, 1e10f, 1e19f, 1e38f}) {
     const Vec3 n = SceneGeometry::triangle_normal(Vec3(s, 0, 0), Vec3(0, s, 0));

@@ -11,8 +11,8 @@ thread's: what the work costs, even while other programs share the cores) and wa
 In each round the C++ program runs (best of REPS calls) and then Python (best of REPS calls: C-ordered (N, 3) input and a new C-ordered
 output per call, as a NumPy user would hold them; and "columns": Fortran-ordered input and out=,
 which the bindings hand to the batch API in place); a round's ratio compares them, and the table gives the median over rounds (the
-machine is shared: seconds apart is comparable, minutes apart is not). Issue 9's target: Python
-at most 1.5 times C++. `make bench-python`
+machine is shared: seconds apart is comparable, minutes apart is not). The target
+(docs/python.md): Python at most 1.5 times C++. `make bench-python`
 runs it.
 
     PYTHONPATH=build/release/python /usr/bin/python3 python/bench/bench_eval.py [--n 1000000] [--reps 15]

@@ -44,9 +44,9 @@ template <class D> HWY_INLINE V<D> K(D d, hn::TFromD<D> c) { return hn::Set(d, c
 
 template <class D> HWY_INLINE V<D> Sqr(V<D> x) { return hn::Mul(x, x); }
 // Highway's Exp, Sin and Cos convert a multiple of their argument to int32 (range reduction); on
-// the 1-lane SCALAR target that is a C++ float-to-int cast, undefined for NaN (found by UBSan in
-// make test-sanitize, batch_tests_baseline: Ward's exponent in a masked-off lane). NaN lanes go in
-// as 0 and come out as the NaN they were: exp, sin and cos of NaN are NaN, so no result changes.
+// the 1-lane SCALAR target that is a C++ float-to-int cast, undefined for NaN (UBSan reports it in
+// batch_tests_baseline under make test-sanitize: Ward's exponent in a masked-off lane). NaN lanes go
+// in as 0 and come out as the NaN they were: exp, sin and cos of NaN are NaN, so no result changes.
 template <class D, class Op> HWY_INLINE V<D> NaNPassing(D d, V<D> x, Op op) {
   const M<D> nan = hn::IsNaN(x);
   return hn::IfThenElse(nan, x, op(d, hn::IfThenZeroElse(nan, x)));

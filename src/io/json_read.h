@@ -4,7 +4,7 @@
 //  - duplicate keys in an object are an error naming the key and its JSON path (nlohmann keeps the
 //    last one silently; RFC 8259 Sec. 4 leaves the behaviour to the implementation);
 //  - nesting deeper than kMaxJsonDepth is an error (nlohmann's copy and comparison of a value are
-//    recursive: 200,000 levels overflowed the stack, issue 13);
+//    recursive: 200,000 levels overflow the stack; fuzz/corpus/material/issue13-deep-nesting.json);
 //  - files are told apart: missing, a directory, unreadable, a read error, and invalid JSON, each
 //    with its own message; pipes and FIFOs (`-m <(...)`) are read like files.
 // Messages are `<where>: <what>`, with control characters in keys escaped (text_escape()).

@@ -104,8 +104,8 @@ std::string lower_extension(const std::string& path) {
 
 Vec3d direction_from_degrees(double theta_deg, double phi_deg) {
   // phi is any finite number of degrees: reduced to (-360, 360) first (fmod is exact), because
-  // phi * pi / 180 overflows to inf above about 5.7e307 degrees and cos(inf) is NaN (found by
-  // fuzz_eval_line: "30 1e300 30 -1e308" gave NaN with exit 0).
+  // phi * pi / 180 overflows to inf above about 5.7e307 degrees and cos(inf) is NaN ("30 1e300 30
+  // -1e308": tests/test_cli.cpp, CliEval.AnglesHugePhiIsReducedNotNaN).
   const double t = theta_deg * M_PI / 180.0, p = std::fmod(phi_deg, 360.0) * M_PI / 180.0;
   return Vec3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
 }

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# tests/package/package_test.sh: aniso as a C++ package, tried from outside (issue 21, docs/cpp.md).
+# tests/package/package_test.sh: aniso as a C++ package, tried from outside (docs/cpp.md).
 # One ctest entry per check (tests/package/CMakeLists.txt); `install` is the fixture the others use.
 #
 #   package_test.sh install     BUILD PREFIX        cmake --install BUILD --prefix PREFIX

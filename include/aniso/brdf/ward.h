@@ -24,9 +24,9 @@ enum class WardNormalization : int { Ward1992 = 0, Duer = 1, Balanced = 2 };
 // --- Exponential terms -------------------------------------------------------------------------
 
 // exp(x) for the Gaussian exponents below (x <= 0), with the underflow decided here: exp(x) rounds
-// to 0 below -103.97 in float and -745.13 in double, so the result is the same bit for bit, but
-// glibc's exp no longer takes its underflow path (errno, a floating-point exception) for the far
-// tail, where a narrow lobe puts most random (wi, wo) pairs (docs/benchmarks.md).
+// to 0 below -103.97 in float and -745.13 in double, so the result is the same bit for bit, and
+// glibc's exp is not called on its slow underflow path (errno, a floating-point exception) for the
+// far tail, where a narrow lobe puts most random (wi, wo) pairs (docs/benchmarks.md).
 template <typename T> ANISO_INLINE T Ward_Exp(T x) {
   using std::exp;
   return x < T(sizeof(T) == sizeof(float) ? -104.0 : -746.0) ? T(0) : exp(x);
