@@ -17,7 +17,7 @@ namespace aniso {
 std::string num(double x);
 
 // Every write to stdout goes through here: a short write (a full disk, a closed pipe) is an error
-// with a message and exit 1, never a silent exit 0 (docs/cli.md, "Exit codes").
+// with a message and exit 1, never a silent exit 0 (docs/cli.md, "Exit status").
 void write_stdout(std::string_view text);
 void flush_stdout();
 

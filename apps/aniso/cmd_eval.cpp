@@ -28,7 +28,7 @@ using Mat = MaterialT<double>;
 // stdin, a closed descriptor) is an error, not the end of input; lines are capped at 1 MiB (a
 // direction pair needs under 200 bytes) so that a line without newline cannot exhaust memory.
 // Byte by byte (getc_unlocked, no lock per byte): fgets cannot tell a NUL byte from the end of what
-// it read, so a line with a NUL lost its rest and was joined to the next one.
+// it read, so with fgets a line holding a NUL would lose its rest and be joined to the next one.
 bool read_stdin_line(std::string& line, size_t line_no) {
   constexpr size_t kMaxLine = size_t(1) << 20;
   line.clear();

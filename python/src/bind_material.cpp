@@ -58,7 +58,7 @@ PyMaterial make_material(const py::object& x, const py::kwargs& kw) {
   } else if (py::isinstance<py::dict>(x)) {
     base.emplace(parse_material(from_py(x, inline_where, ""), inline_where), inline_where);
   } else if (py::isinstance<py::str>(x) || py::hasattr(x, "__fspath__")) {
-    // A preset name, a file (JSON now; whatever else load_material reads), or inline JSON text.
+    // A preset name, a file (whatever load_material reads: JSON), or inline JSON text.
     const std::string spec = py::str(py::module_::import("os").attr("fspath")(x));
     base.emplace(load_material(spec), spec);
   } else {
