@@ -569,6 +569,27 @@ TEST_F(FitRgl, CliFitsABsdfAndRefusesABadOne) {
   EXPECT_TRUE(contains(missing.err, "missing.bsdf")) << missing.err;
 }
 
+// --grid sets a .bsdf file's sampling (N theta_h x N/2 theta_d x N phi_d), and --compare ranks every
+// model on it; --grid is refused for data that have samples of their own, and when odd.
+TEST_F(FitRgl, CompareOnABsdfWithItsGrid) {
+  const std::string path = export_file({{"model", "ggx"}, {"kd", 0.1}, {"f0", 0.5}, {"alpha", 0.2}}, "iso.bsdf");
+  const Result r = run({"fit", path, "--compare", "--grid", "8", "--starts", "1", "--threads", "2", "-q"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "8 theta_h (square-root spaced) x 4 theta_d x 8 phi_d")) << r.out;
+  EXPECT_TRUE(contains(r.out, "rank")) << r.out;
+  EXPECT_TRUE(contains(r.out, "best: ")) << r.out;
+  const SampleSet coarse = read_measured(path, 8), fine = read_measured(path, 16);
+  EXPECT_LT(coarse.samples.size(), fine.samples.size());
+  EXPECT_EQ(read_measured(path).samples.size(), read_measured(path, 64).samples.size());  // the isotropic default: 64
+  const std::string csv = write("x.csv", "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.1,0,0.2,3,0.5,0.5,0.5\n");
+  const Result not_bsdf = run({"fit", csv, "--model", "ggx", "--grid", "8", "-o", (dir_ / "x.json").string()});
+  EXPECT_EQ(not_bsdf.code, 2);
+  EXPECT_TRUE(contains(not_bsdf.err, "--grid applies to an RGL tensor file")) << not_bsdf.err;
+  const Result odd = run({"fit", path, "--model", "ggx", "--grid", "7", "-o", (dir_ / "x.json").string()});
+  EXPECT_EQ(odd.code, 2);
+  EXPECT_TRUE(contains(odd.err, "--grid")) << odd.err;
+}
+
 class FitCli : public Cli {};
 
 TEST_F(FitCli, WritesAValidMaterialWithTheFitObjectAndPrintsTheLectureTable) {
