@@ -441,8 +441,9 @@ TEST(RglExport, MetalSpectraAreTheMeasuredFresnel) {
       const glm::dvec3 reduced = reduce(r), rgb = glm::dvec3(F_Conductor(c, RGBT<double>(md.eta), RGBT<double>(md.k)));
       for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, std::abs(reduced[ch] - rgb[ch]));
       // The spectral F0 of the table (81 wavelengths) against 21: the reduction's own step.
-      if (deg == 0)
+      if (deg == 0) {
         for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(reduced[ch], md.f0[ch], 6e-3) << md.name << " channel " << ch;
+      }
     }
   }
   fmt::print("metals: |reduction of the measured Fresnel over 21 wavelengths - RGB Fresnel| <= {:.4f}\n", worst);
