@@ -1316,6 +1316,7 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
     // The same model: the parameters carry over (principled_differences says what still differs).
     const MitsubaPrincipled mp = principled_params(source.principled);
     notes = principled_differences(mp);
+    notes_before.clear();  // the GGX path's refinement: not what is written
     res.model = mitsuba_principled_model(mp, 0.0, rotation_of(desc), params, notes);
     mitsuba_origin = "exact: the source is aniso's principled; Mitsuba 3's principled takes the same parameters";
   } else if (info->target == Target::Mitsuba3 && !res.ggx.conductor && !no_diffuse(res.ggx)) {
