@@ -405,6 +405,24 @@ INSTANTIATE_TEST_SUITE_P(Paints, FitCornell,
 // A MERL-format file written from an analytic model (tabulate_merl, write_merl), read back as data
 // (read_measured: the bins as samples) and fitted, recovers the model: the bins are the model's
 // values at their centres, so only the stored rounding separates them.
+// FitOptions::start: the caller's start is tried first (at the truth, the fit keeps it), an
+// isotropic fit takes the mean of an _x/_y pair, and a name the fit does not have is an error.
+TEST(FitStart, AGivenStartIsTriedAndUnknownNamesAreRefused) {
+  const json truth = {{"model", "ggx"}, {"kd", 0.2}, {"f0", 0.6}, {"alpha_x", 0.1}, {"alpha_y", 0.1}};
+  const SampleSet data = synthetic(truth, 1500, 500, 0.0, 3);
+  FitOptions o = opts("ggx");
+  o.starts = 1;
+  o.start = {{"kd.r", 0.2}, {"kd.g", 0.2},     {"kd.b", 0.2},      {"f0.r", 0.6},        {"f0.g", 0.6},
+             {"f0.b", 0.6}, {"alpha_x", 0.08}, {"alpha_y", 0.125}, {"rotation_deg", 0.0}};
+  const FitResult r = fit_samples(data, o);
+  EXPECT_EQ(r.best_start, "given");
+  EXPECT_LT(r.errors.relative_l2cos, 1e-6);
+  o.start = {{"alpha_z", 0.1}};
+  EXPECT_THROW(fit_samples(data, o), InputError);
+  o.start = {{"alpha_x", NAN}};
+  EXPECT_THROW(fit_samples(data, o), InputError);
+}
+
 class FitMerl : public Cli {};
 
 TEST_F(FitMerl, AnalyticModelWrittenAsMerlReadBackAndFittedRecoversIt) {
