@@ -174,6 +174,44 @@ TEST(ExportTargets, MaskingSeparableAndHeightCorrelated) {
   EXPECT_NEAR(ratio, g1(wi) * g1(wo) * (1.0 + lambda(wi) + lambda(wo)), 1e-12);
 }
 
+// Mitsuba 3, principled.cpp:230: m_eta = 2 / (1 - sqrt(0.08 specular)) - 1, and
+// principledhelpers.h:179-182, schlick_R0_eta = ((eta - 1) / (eta + 1))^2: R0 = 0.08 specular.
+// principled.cpp:643-680: f_diff = (1 - 0.5 Fi)(1 - 0.5 Fo), Rr = 2 roughness cos_d^2,
+// f_retro = Rr (Fo + Fi + Fo Fi (Rr - 1)): Burley's Fd = (1 + (Fd90 - 1) Fi)(1 + (Fd90 - 1) Fo),
+// Fd90 = 0.5 + Rr, expanded. So for aniso's principled source the target differs from the source
+// only by the dielectric Fresnel (exact there, Schlick here): mitsuba - aniso = (F_exact - Schlick)
+// D G / (4 cos cos), and nothing at metallic 1.
+TEST(ExportTargets, MitsubaPrincipledAgainstAnisosPrincipled) {
+  const double eta = mitsuba_principled_eta(0.5);
+  EXPECT_NEAR(sqr((eta - 1.0) / (eta + 1.0)), 0.04, 1e-15);
+  for (const double metallic : {0.0, 0.3, 1.0}) {
+    const nlohmann::json j = {{"model", "principled"}, {"base_color", {0.6, 0.3, 0.1}},
+                              {"metallic", metallic},  {"roughness", 0.4},
+                              {"anisotropic", 0.6},    {"subsurface", 0.3},
+                              {"specular", 0.7},       {"sheen", 0.4},
+                              {"sheen_tint", 0.0}};
+    const MaterialD src = build_material<double>(parse_material(j, "test"));
+    const PrincipledT<double>& s = src.principled;
+    MitsubaPrincipled mp;
+    mp.base_color = glm::dvec3(0.6, 0.3, 0.1), mp.metallic = metallic, mp.roughness = 0.4, mp.anisotropic = 0.6;
+    mp.flatness = 0.3, mp.specular = 0.7, mp.sheen = 0.4;
+    const glm::dvec2 a = mitsuba_principled_alpha(0.4, 0.6, true);
+    EXPECT_NEAR(a.x, s.specular_lobe().alpha_x, 1e-15);
+    EXPECT_NEAR(a.y, s.specular_lobe().alpha_y, 1e-15);
+    for (const auto& [wi, wo] :
+         {std::pair{dir(30, 10), dir(40, 200)}, std::pair{dir(70, 80), dir(10, 250)}, std::pair{dir(55, 0), dir(60, 170)}}) {
+      const Vec3d h = glm::normalize(wi + wo);
+      const double c = glm::dot(wi, h), w5 = std::pow(1.0 - c, 5.0), f0 = 0.08 * 0.7;
+      const double DG = D_GGX_Aniso(h.x, h.y, h.z, a.x, a.y) * G1_SmithGGX(Lambda_GGX_Aniso(wi, a.x, a.y)) *
+                        G1_SmithGGX(Lambda_GGX_Aniso(wo, a.x, a.y)) / (4.0 * wi.z * wo.z);
+      const double fresnel_difference =
+          (1.0 - metallic) * (F_Conductor(c, mitsuba_principled_eta(0.7), 0.0) - (f0 + (1.0 - f0) * w5));
+      const glm::dvec3 mf = mitsuba_principled_f(mp, wi, wo), af = glm::dvec3(src.f(wi, wo));
+      for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(mf[ch] - af[ch], fresnel_difference * DG, 1e-12 * std::max(1.0, af[ch]));
+    }
+  }
+}
+
 // ---- exact path ---------------------------------------------------------------------------------------
 
 GgxSource ggx(double ax, double ay, double rotation = 0.0) {
@@ -196,6 +234,46 @@ TEST(ExportExact, AlphasCarryOverToEveryTarget) {
       EXPECT_NEAR(m.lobe.alpha_y, swaps ? ax : ay, 1e-9) << p.dump();
     }
   }
+}
+
+// KHR_materials_specular README.md:144-157, quoted:
+//   dielectric_f0 = min(0.04 * specularColor, float3(1.0)) * specular; dielectric_f90 = specular
+//   dielectric_fresnel = mix(dielectric_f0, dielectric_f90, fresnel_w)
+//   dielectric_brdf = dielectric_fresnel * specular_brdf + (1 - max_value(dielectric_fresnel)) * diffuse_brdf
+// A Schlick source with an F0 other than 0.04 is written with the extension, and its specular lobe
+// is then the source's exactly; F0 = 0.04 is written without it.
+TEST(ExportExact, GltfSpecularCarriesTheSourcesF0) {
+  GgxSource g;
+  g.alpha_x = 0.2, g.alpha_y = 0.1;
+  g.kd = glm::dvec3(0.3, 0.2, 0.1), g.f0 = glm::dvec3(0.9, 0.6, 0.02);
+  json p;
+  std::vector<std::string> notes;
+  const TargetBrdf m = target_model(Target::Gltf, g, &p, &notes);
+  ASSERT_TRUE(p.contains("specularFactor")) << p.dump();
+  const double specular = p["specularFactor"].get<double>();
+  const glm::dvec3 color(p["specularColorFactor"][0].get<double>(), p["specularColorFactor"][1].get<double>(),
+                         p["specularColorFactor"][2].get<double>());
+  for (const auto& [wi, wo] : {std::pair{dir(30, 10), dir(40, 200)}, std::pair{dir(70, 80), dir(10, 250)}}) {
+    const Vec3d h = glm::normalize(wi + wo);
+    const double w = std::pow(1.0 - std::abs(glm::dot(wo, h)), 5.0);
+    const glm::dvec3 f0 = glm::min(0.04 * color, glm::dvec3(1.0)) * specular;
+    const glm::dvec3 F = f0 * (1.0 - w) + glm::dvec3(specular) * w;
+    // The source's Schlick with F0 = g.f0 and f90 = 1: the same curve.
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(F[c], g.f0[c] + (1.0 - g.f0[c]) * w, 1e-12);
+    const double fmax = std::max({F.x, F.y, F.z});
+    TargetBrdf lobe_only = m;
+    lobe_only.diffuse = glm::dvec3(0.0);
+    const glm::dvec3 want = lobe_only.f(wi, wo) + (1.0 - fmax) * g.kd / kPi<double>;
+    const glm::dvec3 got = m.f(wi, wo);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 1e-12 * std::max(1.0, want[c]));
+    // The lobe against aniso's GGX with the same F0: equal (no diffuse).
+    TargetBrdf src = lobe_only;
+    src.lobe.f0 = g.f0;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(lobe_only.f(wi, wo)[c], src.f(wi, wo)[c], 1e-12 * std::max(1.0, src.f(wi, wo)[c]));
+  }
+  g.f0 = glm::dvec3(0.04);
+  target_model(Target::Gltf, g, &p);
+  EXPECT_FALSE(p.contains("specularFactor")) << p.dump();
 }
 
 TEST(ExportExact, RotationGoesToEachTargetsInputWithItsSign) {
@@ -450,6 +528,54 @@ TEST_F(ExportCli, MaterialXUsesTheSchemasNames) {
 // glTF 2.0's required fields (the Khronos JSON schema: asset.version; buffer.byteLength;
 // bufferView.buffer, byteLength; accessor.componentType, count, type; mesh.primitives[].attributes),
 // the buffer's length, and the extension declared in extensionsUsed.
+TEST_F(ExportCli, GltfWritesKhrMaterialsSpecularForAnF0Other0p04) {
+  const std::string mat = (dir_ / "plastic.json").string();
+  std::FILE* f = std::fopen(mat.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs(R"({"model": "ggx", "kd": [0.3, 0.2, 0.1], "f0": [0.9, 0.6, 0.02], "alpha_x": 0.2, "alpha_y": 0.1})", f);
+  std::fclose(f);
+  const std::string out = (dir_ / "plastic.gltf").string();
+  const Result r = run({"export", "--to", "gltf", "--material", mat, "-o", out});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json doc = json::parse(read_file(out));
+  const json& ext = doc["materials"][0]["extensions"]["KHR_materials_specular"];
+  EXPECT_EQ(ext["specularFactor"].get<double>(), 1.0);
+  EXPECT_NEAR(ext["specularColorFactor"][0].get<double>(), 0.9 / 0.04, 1e-9);
+  EXPECT_NEAR(ext["specularColorFactor"][2].get<double>(), 0.02 / 0.04, 1e-9);
+  EXPECT_NE(doc["extensionsUsed"].dump().find("KHR_materials_specular"), std::string::npos) << doc["extensionsUsed"].dump();
+}
+
+// Mitsuba 3's principled: written for an aniso principled source (the file's parameters are the
+// source's), and for a source with a diffuse part where it is closer to the source than the
+// blendbsdf (the report says which and both errors).
+TEST_F(ExportCli, MitsubaPrincipledForPrincipledAndDiffuseSources) {
+  const std::string out = (dir_ / "p.xml").string();
+  const Result r =
+      run({"export", "--to", "mitsuba3", "--material", "principled/red-plastic", "-o", out, "--starts", "1", "--grid", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string x = read_file(out);
+  std::vector<std::pair<std::string, std::string>> elements;
+  std::string why;
+  ASSERT_TRUE(xml_well_formed(x, &elements, &why)) << why << "\n" << x;
+  EXPECT_NE(x.find("<bsdf type=\"principled\""), std::string::npos) << x;
+  std::set<std::string> names;
+  for (const auto& [element, name] : elements) names.insert(name);
+  for (const char* key : {"base_color", "roughness", "anisotropic", "metallic", "specular", "spec_tint", "sheen", "sheen_tint",
+                          "flatness", "clearcoat", "clearcoat_gloss"})
+    EXPECT_TRUE(names.count(key)) << key << "\n" << x;
+  EXPECT_NE(x.find("name=\"roughness\" value=\"0.3\""), std::string::npos) << x;  // red-plastic's roughness, carried over
+
+  const MaterialDesc as = load_material(kAS);  // rd 0.3: the fitted GGX has a diffuse part
+  ExportOptions o;
+  o.target = "mitsuba3", o.grid = 3, o.starts = 2, o.refine_samples = 1500;
+  const ExportResult e = export_material(as, kAS, o);
+  std::string said;
+  for (const std::string& n : e.report.notes)
+    if (n.find("written: it is closer") != std::string::npos) said = n;
+  EXPECT_FALSE(said.empty()) << e.report.text();
+  std::printf("%s: %s\n", e.report.target_model.c_str(), said.c_str());
+}
+
 TEST_F(ExportCli, GltfHasTheSchemasRequiredFieldsAndTangents) {
   const std::string out = (dir_ / "gold.gltf").string();
   const Result r = run({"export", "--to", "gltf", "--material", "brushed-gold", "-o", out, "--starts", "1", "--grid", "2"});

@@ -405,6 +405,24 @@ INSTANTIATE_TEST_SUITE_P(Paints, FitCornell,
 // A MERL-format file written from an analytic model (tabulate_merl, write_merl), read back as data
 // (read_measured: the bins as samples) and fitted, recovers the model: the bins are the model's
 // values at their centres, so only the stored rounding separates them.
+// FitOptions::start: the caller's start is tried first (at the truth, the fit keeps it), an
+// isotropic fit takes the mean of an _x/_y pair, and a name the fit does not have is an error.
+TEST(FitStart, AGivenStartIsTriedAndUnknownNamesAreRefused) {
+  const json truth = {{"model", "ggx"}, {"kd", 0.2}, {"f0", 0.6}, {"alpha_x", 0.1}, {"alpha_y", 0.1}};
+  const SampleSet data = synthetic(truth, 1500, 500, 0.0, 3);
+  FitOptions o = opts("ggx");
+  o.starts = 1;
+  o.start = {{"kd.r", 0.2}, {"kd.g", 0.2},     {"kd.b", 0.2},      {"f0.r", 0.6},        {"f0.g", 0.6},
+             {"f0.b", 0.6}, {"alpha_x", 0.08}, {"alpha_y", 0.125}, {"rotation_deg", 0.0}};
+  const FitResult r = fit_samples(data, o);
+  EXPECT_EQ(r.best_start, "given");
+  EXPECT_LT(r.errors.relative_l2cos, 1e-6);
+  o.start = {{"alpha_z", 0.1}};
+  EXPECT_THROW(fit_samples(data, o), InputError);
+  o.start = {{"alpha_x", NAN}};
+  EXPECT_THROW(fit_samples(data, o), InputError);
+}
+
 class FitMerl : public Cli {};
 
 TEST_F(FitMerl, AnalyticModelWrittenAsMerlReadBackAndFittedRecoversIt) {
@@ -567,6 +585,27 @@ TEST_F(FitRgl, CliFitsABsdfAndRefusesABadOne) {
   const Result missing = run({"fit", (dir_ / "missing.bsdf").string(), "--model", "ggx", "-o", bad_out});
   EXPECT_EQ(missing.code, 2);
   EXPECT_TRUE(contains(missing.err, "missing.bsdf")) << missing.err;
+}
+
+// --grid sets a .bsdf file's sampling (N theta_h x N/2 theta_d x N phi_d), and --compare ranks every
+// model on it; --grid is refused for data that have samples of their own, and when odd.
+TEST_F(FitRgl, CompareOnABsdfWithItsGrid) {
+  const std::string path = export_file({{"model", "ggx"}, {"kd", 0.1}, {"f0", 0.5}, {"alpha", 0.2}}, "iso.bsdf");
+  const Result r = run({"fit", path, "--compare", "--grid", "8", "--starts", "1", "--threads", "2", "-q"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "8 theta_h (square-root spaced) x 4 theta_d x 8 phi_d")) << r.out;
+  EXPECT_TRUE(contains(r.out, "rank")) << r.out;
+  EXPECT_TRUE(contains(r.out, "best: ")) << r.out;
+  const SampleSet coarse = read_measured(path, 8), fine = read_measured(path, 16);
+  EXPECT_LT(coarse.samples.size(), fine.samples.size());
+  EXPECT_EQ(read_measured(path).samples.size(), read_measured(path, 64).samples.size());  // the isotropic default: 64
+  const std::string csv = write("x.csv", "theta_i,phi_i,theta_o,phi_o,r,g,b\n0.1,0,0.2,3,0.5,0.5,0.5\n");
+  const Result not_bsdf = run({"fit", csv, "--model", "ggx", "--grid", "8", "-o", (dir_ / "x.json").string()});
+  EXPECT_EQ(not_bsdf.code, 2);
+  EXPECT_TRUE(contains(not_bsdf.err, "--grid applies to an RGL tensor file")) << not_bsdf.err;
+  const Result odd = run({"fit", path, "--model", "ggx", "--grid", "7", "-o", (dir_ / "x.json").string()});
+  EXPECT_EQ(odd.code, 2);
+  EXPECT_TRUE(contains(odd.err, "--grid")) << odd.err;
 }
 
 class FitCli : public Cli {};

@@ -12,9 +12,11 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "aniso/data/metals.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/params.h"
 #include "aniso/measured/measured.h"
+#include "aniso/measured/spectral.h"
 #include "aniso/rgl/rgl_export.h"
 #include "aniso/rgl/rgl_material.h"
 #include "aniso/rgl/tensor.h"
@@ -416,6 +418,85 @@ TEST(RglExport, SpectralFileReducesBackToTheRgb) {
     const glm::dvec3 fs = rgl::rgl_kernel<double>(*spectral).f(wi, wo), fr = rgl::rgl_kernel<double>(*rgb).f(wi, wo);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(fs[c], fr[c], 2e-3 * std::max(1.0, fr[c])) << i << " channel " << c;
   }
+}
+
+// A named metal's spectral file carries the conductor Fresnel of its measured n(lambda), k(lambda)
+// (docs/rgl.md "Spectral files"), and aniso's reduction of it agrees with the RGB metal to the
+// bound measured in docs/rgl.md: the RGB eta, k are a fit to the reduction over 81 wavelengths
+// (docs/metals.md, step 9), the file has 21.
+TEST(RglExport, MetalSpectraAreTheMeasuredFresnel) {
+  const std::vector<float> lf = rgl::export_wavelengths();
+  const std::vector<double> lambda(lf.begin(), lf.end());
+  const SpectralToRgb reduce(lambda);
+  double worst = 0.0;
+  for (const MetalData& md : metal_table()) {
+    EXPECT_EQ(metal_nk(md, 380.0), metal_nk(md, 300.0)) << md.name << ": the end value outside the data range";
+    for (int deg = 0; deg <= 88; deg += 4) {
+      const double c = std::cos(deg * kPi<double> / 180.0);
+      std::vector<double> r(lambda.size());
+      for (size_t j = 0; j < lambda.size(); ++j) {
+        const glm::dvec2 nk = metal_nk(md, lambda[j]);
+        r[j] = F_Conductor(c, nk.x, nk.y);
+      }
+      const glm::dvec3 reduced = reduce(r), rgb = glm::dvec3(F_Conductor(c, RGBT<double>(md.eta), RGBT<double>(md.k)));
+      for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, std::abs(reduced[ch] - rgb[ch]));
+      // The spectral F0 of the table (81 wavelengths) against 21: the reduction's own step.
+      if (deg == 0) {
+        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(reduced[ch], md.f0[ch], 6e-3) << md.name << " channel " << ch;
+      }
+    }
+  }
+  fmt::print("metals: |reduction of the measured Fresnel over 21 wavelengths - RGB Fresnel| <= {:.4f}\n", worst);
+  EXPECT_LT(worst, 0.02);
+
+  // The source's spectra are the Fresnel equation at the measured n, k, term for term.
+  const MaterialD gold = build_material<double>(load_material("gold"));
+  const rgl::BrdfSource b = rgl::brdf_source(gold, find_metal("gold"));
+  ASSERT_TRUE(bool(b.f_spectral));
+  Rng rng(5);
+  std::vector<double> out(lambda.size());
+  for (int i = 0; i < 50; ++i) {
+    const Vec3d wi = random_upper<double>(rng), wo = random_upper<double>(rng);
+    b.f_spectral(wi, wo, out.data());
+    const double c = glm::dot(wi, glm::normalize(wi + wo)), spec = gold.metal.specular(wi, wo);
+    for (size_t j = 0; j < lambda.size(); ++j) {
+      const glm::dvec2 nk = metal_nk(*find_metal("gold"), lambda[j]);
+      EXPECT_NEAR(out[j], F_Conductor(c, nk.x, nk.y) * spec, 1e-12 * std::max(1.0, out[j])) << i << " " << lambda[j];
+    }
+    const glm::dvec3 reduced = reduce(out), f = b.f(wi, wo);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(reduced[ch], f[ch], 0.02 * std::max(spec, 1e-3)) << i << " channel " << ch;
+  }
+
+  // The file: spectra that vary inside a box (gold falls from 500 to 580 nm), and a reduction
+  // within the same bound of the RGB file's f.
+  rgl::ExportOptions o = small_options(true);
+  rgl::ExportReport rep;
+  const std::vector<TensorField> fields = rgl::export_rgl(b, o, &rep);
+  EXPECT_NE(rep.spectra.find("gold's measured n, k"), std::string::npos) << rep.spectra;
+  const TensorField* spectra = nullptr;
+  for (const TensorField& f : fields)
+    if (f.name == "spectra") spectra = &f;
+  ASSERT_NE(spectra, nullptr);
+  const size_t plane = size_t(o.colour) * size_t(o.colour), j500 = 6, j580 = 10;  // 380 + 20 j nm
+  ASSERT_EQ(lambda[j500], 500.0);
+  ASSERT_EQ(lambda[j580], 580.0);
+  const std::vector<float> v = spectra->floats();
+  const size_t node = plane / 2 + size_t(o.colour) / 2;  // slice 0 (theta_i 0), the square's centre
+  EXPECT_GT(v[j580 * plane + node], 1.1f * v[j500 * plane + node]);
+  const auto spectral = read_back(fields);
+  o.spectral = false;
+  const auto rgb = read_back(rgl::export_rgl(b, o));
+  double file_worst = 0.0;
+  for (int i = 0; i < 200; ++i) {
+    const Vec3d wi = random_upper<double>(rng), wo = random_upper<double>(rng);
+    const glm::dvec3 fs = rgl::rgl_kernel<double>(*spectral).f(wi, wo), fr = rgl::rgl_kernel<double>(*rgb).f(wi, wo);
+    const double spec = gold.metal.specular(wi, wo);
+    for (int ch = 0; ch < 3; ++ch) {
+      file_worst = std::max(file_worst, std::abs(fs[ch] - fr[ch]) / std::max(spec, 1e-3));
+      EXPECT_NEAR(fs[ch], fr[ch], 0.02 * std::max(spec, 1e-3) + 2e-3 * fr[ch]) << i << " channel " << ch;
+    }
+  }
+  fmt::print("gold: |spectral file (reduced) - rgb file| / specular lobe <= {:.4f}\n", file_worst);
 }
 
 class RglCli : public Cli {};

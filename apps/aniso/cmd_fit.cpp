@@ -21,7 +21,7 @@ namespace {
 
 struct FitArgs {
   FitOptionText options;  // as typed: parse_fit_options reads them (fit/fit.h)
-  std::string data, output, plot, progress_after = "1";
+  std::string data, output, plot, progress_after = "1", grid;
   bool compare = false, quiet = false;
 };
 
@@ -159,7 +159,17 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
   FitOptions o = parse_fit_options(a.options);
   for (const std::string& note : o.notes) fmt::print(stderr, "aniso: note: {}\n", note);
   if (!a.compare && a.output.empty()) throw InputError("-o: required: the file to write the fitted material to (fitted.json)");
-  const SampleSet data = read_measured(a.data);
+  int grid = 0;
+  if (!a.grid.empty()) {
+    if (lower_extension(a.data) != ".bsdf")
+      throw InputError(
+          fmt::format("--grid applies to an RGL tensor file (.bsdf) only, which has no samples of its own; {} "
+                      "is sampled where it was measured",
+                      a.data));
+    grid = int(parse_integer(a.grid, 4, 256, "--grid"));
+    if (grid % 2 != 0) throw InputError(fmt::format("--grid: expected an even number (theta_d gets half of it), got {}", grid));
+  }
+  const SampleSet data = read_measured(a.data, grid);
   print_warnings(data);
   const std::optional<double> after = parse_decimal(a.progress_after);
   if (!after || !(*after >= 0.0))
@@ -284,6 +294,10 @@ void add_fit_command(CLI::App& app) {
   fit->add_option("--max-iterations", a->options.max_iterations, "Levenberg-Marquardt iterations of the final refinement")
       ->type_name("INT")
       ->capture_default_str();
+  fit->add_option("--grid", a->grid,
+                  "a .bsdf file's sampling: N theta_h x N/2 theta_d x N phi_d half/difference angle pairs (x 24 half-vector "
+                  "azimuths for an anisotropic file), N even, 4 to 256 [default: 64 isotropic, 32 anisotropic]")
+      ->type_name("N");
   fit->add_option("-o,--output", a->output, "fitted material (JSON with a \"fit\" object); required unless --compare");
   fit->add_flag("--compare", a->compare, "fit every model and print a ranking table (Ngan 2005's comparison)");
   fit->add_option("--plot", a->plot, "PNG of measured vs fitted in-plane slices at several incidence angles");

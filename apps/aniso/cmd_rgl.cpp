@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "aniso/data/metals.h"
 #include "aniso/io/materials.h"
 #include "aniso/rgl/rgl_export.h"
 #include "aniso/rgl/rgl_material.h"
@@ -41,7 +42,9 @@ void add_rgl_command(CLI::App& app) {
       if (!a->ndf.empty()) opt.ndf = int(parse_integer(a->ndf, 8, 512, "--ndf"));
       const MaterialDesc desc = load_material(a->material);
       const MaterialD m = build_material<double>(desc);
-      rgl::BrdfSource src = rgl::brdf_source(m);
+      const MetalData* metal =
+          desc.model == "metal" && desc.params.has("metal") ? find_metal(desc.params.text("metal")) : nullptr;
+      rgl::BrdfSource src = rgl::brdf_source(m, metal);
       src.description = fmt::format("{} (written by aniso {} export-rgl)", resolved_json(desc).dump(), ANISO_VERSION);
       rgl::ExportReport rep;
       const std::vector<rgl::TensorField> fields = rgl::export_rgl(src, opt, &rep);
@@ -49,6 +52,7 @@ void add_rgl_command(CLI::App& app) {
       write_atomically(a->output, std::string(bytes.begin(), bytes.end()));
       fmt::print(stderr, "{}: {} bytes, {}, {}, D: {}, {:.2f} s CPU\n", a->output, bytes.size(),
                  rep.isotropic ? "isotropic" : "anisotropic", opt.spectral ? "spectral" : "rgb", rep.d_method, rep.seconds);
+      if (opt.spectral) fmt::print(stderr, "spectra: {}\n", rep.spectra);
       if (a->check) {
         const auto d = rgl::rgl_from_tensor(rgl::parse_tensor(bytes, a->output));
         const rgl::RoundTripStats s = rgl::compare_rgl(rgl::source_model(m), rgl::rgl_kernel<double>(*d));

@@ -29,10 +29,13 @@ constexpr TargetInfo kTargets[] = {
      "dp/du as aniso's meshes), else Cycles' default. Run: blender -b scene.blend -P FILE, or exec(open(FILE).read()) "
      "after making the object. Blender 4.x: metals use the F82-tint Fresnel (Base Color = F0, Specular Tint = the "
      "edge tint at 82 degrees); 3.4 has no edge tint (its Specular Tint is a float)."},
-    {Target::Mitsuba3, "mitsuba3", ".xml", "Mitsuba 3 roughconductor (GGX), or blendbsdf of diffuse and roughconductor",
+    {Target::Mitsuba3, "mitsuba3", ".xml",
+     "Mitsuba 3 roughconductor (GGX), principled, or blendbsdf of diffuse and roughconductor",
      "Writes a <scene version=\"3.0.0\"> holding one <bsdf> with id = the material name: a roughconductor with "
      "distribution ggx, alpha_u / alpha_v as aniso's alpha_x / alpha_y, and a named material (Ag, Al, Au, Cr, Cu, W) "
-     "or rgb eta / k; with a diffuse part, a blendbsdf of a diffuse and a roughconductor. Use it with <include "
+     "or rgb eta / k; an aniso principled material as Mitsuba's principled (the same parameters); with a diffuse "
+     "part, a principled or a blendbsdf of a diffuse and a roughconductor, whichever is closer to the source (the "
+     "report gives both errors). Use it with <include "
      "filename=\"FILE\"/> and <ref id=\"NAME\"/>. The tangent is dp/du of the mesh: rotate the uv map by rotation_deg "
      "to orient the highlight (Mitsuba 3 has no rotation input)."},
     {Target::PbrtV4, "pbrt-v4", ".pbrt", "pbrt-v4 conductor (remaproughness false), or mix of diffuse and conductor",
@@ -398,7 +401,7 @@ double metric_of(const FitErrors& e, FitMetric m) { return m == FitMetric::L2Cos
 // cannot: a search over the two alphas (log grid, 0.002 to 1, then a finer grid around the best),
 // where everything else is linear (kd and F0 of the Schlick GGX: f = kd / pi + (F0 (1 - s) + s) L,
 // s = (1 - wi.h)^5, solved by weighted least squares per channel, l2cos residuals) or fixed (the
-// conductor's eta, k: the source's own). The better of the two, in the chosen metric, is written.
+// conductor's eta, k: the source's own). Its result is one of the fit's starts (FitOptions::start).
 GgxSource grid_fit(const GgxSource& base, const SampleSet& all) {
   SampleSet data;
   const size_t stride = std::max<size_t>(1, all.samples.size() / 6000);
@@ -512,6 +515,31 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
   } else {
     fo.model = "ggx";
   }
+  if (d.params.has("metal")) {
+    if (const MetalData* md = find_metal(d.params.text("metal")))
+      g.metal = std::string(md->name), g.symbol = std::string(md->symbol);
+  }
+  // The alpha grid search first (the conductor keeps the source's own eta, k), then Ceres with its
+  // result as one more start beside its own (Levenberg-Marquardt does not raise the cost of a start
+  // on the solver's samples).
+  GgxSource start = g;
+  if (fo.model == "metal") {
+    start.conductor = true;
+    const MaterialD src = build_material<double>(unrotated(d));
+    start.eta = glm::dvec3(src.metal.eta.x, src.metal.eta.y, src.metal.eta.z);
+    start.k = glm::dvec3(src.metal.k.x, src.metal.k.y, src.metal.k.z);
+  }
+  const GgxSource grid = grid_fit(start, samples);
+  const char* ch[3] = {"r", "g", "b"};
+  fo.start = {{"alpha_x", grid.alpha_x}, {"alpha_y", grid.alpha_y}, {"rotation_deg", 0.0}};
+  for (int c = 0; c < 3; ++c) {
+    if (fo.model == "ggx")
+      fo.start.emplace_back(fmt::format("kd.{}", ch[c]), grid.kd[c]),
+          fo.start.emplace_back(fmt::format("f0.{}", ch[c]), grid.f0[c]);
+    else if (fo.metal.empty())
+      fo.start.emplace_back(fmt::format("eta.{}", ch[c]), grid.eta[c]),
+          fo.start.emplace_back(fmt::format("k.{}", ch[c]), grid.k[c]);
+  }
   const FitResult r = fit_samples(samples, fo);
   const MaterialDesc fitted = parse_material(r.material, "fitted GGX");
   std::optional<GgxSource> e = exact_ggx(fitted);
@@ -524,28 +552,12 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
     std::swap(g.alpha_x, g.alpha_y);
   g.conductor = e->conductor;
   g.kd = e->kd, g.f0 = e->f0, g.eta = e->eta, g.k = e->k;
-  if (d.params.has("metal")) {
-    if (const MetalData* md = find_metal(d.params.text("metal")))
-      g.metal = std::string(md->name), g.symbol = std::string(md->symbol);
-  }
   g.exact = false;
   g.source_fit = r.errors;
-  // The grid candidate: the conductor keeps the source's own eta, k.
-  GgxSource start = g;
-  if (g.conductor) {
-    const MaterialD src = build_material<double>(unrotated(d));
-    start.eta = glm::dvec3(src.metal.eta.x, src.metal.eta.y, src.metal.eta.z);
-    start.k = glm::dvec3(src.metal.k.x, src.metal.k.y, src.metal.k.z);
-  }
-  const GgxSource grid = grid_fit(start, samples);
   const FitErrors grid_err = ggx_errors(grid, samples);
-  std::string how = fmt::format("Ceres from {} starts, best {}", fo.starts, r.best_start);
-  if (metric_of(grid_err, o.metric) < metric_of(r.errors, o.metric)) {
-    g.alpha_x = grid.alpha_x, g.alpha_y = grid.alpha_y, g.kd = grid.kd, g.f0 = grid.f0, g.eta = grid.eta, g.k = grid.k;
-    g.source_fit = grid_err;
-    how = fmt::format("the alpha grid search (Ceres from {} starts reached l2cos {:.4g}, log {:.4g})", fo.starts,
-                      r.errors.l2cos_all, r.errors.log_all);
-  }
+  const std::string how =
+      fmt::format("Ceres from {} starts and the alpha grid search's result (l2cos {:.4g}, log {:.4g}), best {}", fo.starts,
+                  grid_err.l2cos_all, grid_err.log_all, r.best_start);
   g.origin = fmt::format(
       "fitted: aniso's anisotropic {} to {} samples of the {} source ({} metric; {}): l2cos {:.4g}, "
       "log {:.4g}",
@@ -801,11 +813,19 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         m.lobe.f0 = glm::dvec3(0.04);
         m.diffuse = g.kd, m.diffuse_times_one_minus_f = true;
         p["metallicFactor"] = 0.0, p["baseColorFactor"] = j3(glm::clamp(g.kd, 0.0, 1.0));
-        if (std::abs(luminance_avg(g.f0) - 0.04) > 1e-3)
-          notes.push_back(
-              fmt::format("glTF's dielectric F0 is 0.04 (ior 1.5); the source's is {} "
-                          "(KHR_materials_specular would carry it; not written)",
-                          fmt3(g.f0)));
+        // glTF's default dielectric F0 is 0.04 (ior 1.5); any other goes into KHR_materials_specular,
+        // whose Fresnel is then Schlick's with the source's F0 exactly (targets.h, gltf_specular_for).
+        if (glm::any(glm::greaterThan(glm::abs(g.f0 - 0.04), glm::dvec3(1e-4)))) {
+          const auto [specular, color] = gltf_specular_for(g.f0);
+          m.name = "glTF 2.0 dielectric_brdf (metallic 0) with KHR_materials_specular: Schlick F0 = 0.04 specularColor";
+          m.lobe.f0 = gltf_dielectric_f0(specular, color);
+          m.diffuse_times_one_minus_f = false, m.diffuse_times_one_minus_max_f = true;
+          p["specularFactor"] = specular, p["specularColorFactor"] = j3(color);
+          notes.push_back(fmt::format(
+              "the source's dielectric F0 {} is not glTF's 0.04: written with KHR_materials_specular (specularColorFactor "
+              "= F0 / 0.04); viewers without the extension show F0 = 0.04",
+              fmt3(g.f0)));
+        }
       }
       if (ax > 1.0) notes.push_back("alpha along the tangent above 1 clamped to 1 (glTF's mix(alpha, 1, s^2) <= 1)");
       break;
@@ -934,6 +954,18 @@ std::string write_blender(const std::string& name, const json& p, const std::str
 
 std::string write_mitsuba(const std::string& name, const json& p, const std::string& comment) {
   const std::string id = xml_escape(identifier(name));
+  if (p.contains("principled")) {
+    // principled.cpp:20-105: base_color a spectrum, the rest floats; "specular" (not "eta").
+    std::string s = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!--\n" + xml_comment_safe(comment) + "-->\n";
+    s += "<scene version=\"3.0.0\">\n";
+    s += fmt::format("    <bsdf type=\"principled\" id=\"{}\">\n", id);
+    s += fmt::format("        <rgb name=\"base_color\" value=\"{}\"/>\n", fmt3(col(p, "base_color")));
+    for (const char* key : {"roughness", "anisotropic", "metallic", "specular", "spec_tint", "sheen", "sheen_tint", "flatness",
+                            "clearcoat", "clearcoat_gloss"})
+      s += fmt::format("        <float name=\"{}\" value=\"{:.9g}\"/>\n", key, num(p, key));
+    s += "    </bsdf>\n</scene>\n";
+    return s;
+  }
   std::string conductor = "        <string name=\"distribution\" value=\"ggx\"/>\n";
   conductor += fmt::format("        <float name=\"alpha_u\" value=\"{:.9g}\"/>\n", num(p, "alpha_u"));
   conductor += fmt::format("        <float name=\"alpha_v\" value=\"{:.9g}\"/>\n", num(p, "alpha_v"));
@@ -1058,11 +1090,17 @@ void write_gltf(const std::string& name, const json& p, const ExportReport& r, c
       {"extensions",
        {{"KHR_materials_anisotropy",
          {{"anisotropyStrength", num(p, "anisotropyStrength")}, {"anisotropyRotation", num(p, "anisotropyRotation")}}}}}};
+  json used = {"KHR_materials_anisotropy"};
+  if (p.contains("specularFactor")) {
+    material["extensions"]["KHR_materials_specular"] = {{"specularFactor", num(p, "specularFactor")},
+                                                        {"specularColorFactor", p.at("specularColorFactor")}};
+    used.push_back("KHR_materials_specular");
+  }
   json doc = {{"asset",
                {{"version", "2.0"},
                 {"generator", "aniso " ANISO_VERSION " export --to gltf"},
                 {"extras", {{"source", source}, {"aniso_export", r.to_json()}}}}},
-              {"extensionsUsed", {"KHR_materials_anisotropy"}},
+              {"extensionsUsed", used},
               {"scene", 0},
               {"scenes", {{{"nodes", {0}}}}},
               {"nodes", {{{"mesh", 0}, {"name", name}}}},
@@ -1186,6 +1224,74 @@ GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& all, 
   return full(best) < full(g) ? best : g;
 }
 
+namespace {
+
+// Mitsuba 3's principled (targets.h, mitsuba_principled_f) with these parameters; `turn`: the
+// tangent's extra quarter turn (the larger alpha along dp/du).
+TargetBrdf mitsuba_principled_model(const MitsubaPrincipled& mp, double turn, double rotation_deg, json& p,
+                                    std::vector<std::string>& notes) {
+  TargetBrdf m;
+  m.name = "Mitsuba 3 principled (GGX, separable Smith G, exact dielectric + Schlick metallic Fresnel, Burley diffuse)";
+  m.is_mitsuba_principled = true;
+  m.principled = mp;
+  m.tangent_turn_deg = turn;
+  const glm::dvec2 a = mitsuba_principled_alpha(mp.roughness, mp.anisotropic, true);
+  m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+  p = json::object();
+  p["principled"] = true;
+  p["base_color"] = j3(mp.base_color);
+  for (const auto& [key, v] : {std::pair{"roughness", mp.roughness},
+                               {"anisotropic", mp.anisotropic},
+                               {"metallic", mp.metallic},
+                               {"specular", mp.specular},
+                               {"spec_tint", mp.spec_tint},
+                               {"sheen", mp.sheen},
+                               {"sheen_tint", mp.sheen_tint},
+                               {"flatness", mp.flatness},
+                               {"clearcoat", mp.clearcoat},
+                               {"clearcoat_gloss", mp.clearcoat_gloss}})
+    p[key] = v;
+  if (rotation_deg + turn != 0.0)
+    notes.push_back(
+        fmt::format("the tangent is dp/du: Mitsuba 3 has no rotation input, so rotate the mesh's uv "
+                    "parameterisation (or the tangent) by {:.9g} degrees about the normal, towards dp/dv",
+                    rotation_deg + turn));
+  return m;
+}
+
+// An aniso principled source: the parameters are the same (principled.h against principled.cpp);
+// what differs is said in the notes.
+MitsubaPrincipled principled_params(const PrincipledT<double>& s) {
+  MitsubaPrincipled mp;
+  mp.base_color = glm::dvec3(s.base_color.x, s.base_color.y, s.base_color.z);
+  mp.roughness = s.roughness, mp.anisotropic = s.anisotropic, mp.metallic = s.metallic, mp.specular = s.specular;
+  mp.spec_tint = s.specular_tint, mp.sheen = s.sheen, mp.sheen_tint = s.sheen_tint, mp.flatness = s.subsurface;
+  mp.clearcoat = s.clearcoat, mp.clearcoat_gloss = s.clearcoat_gloss;
+  return mp;
+}
+
+std::vector<std::string> principled_differences(const MitsubaPrincipled& mp) {
+  std::vector<std::string> n;
+  n.push_back(
+      "aniso's principled and Mitsuba 3's share the alphas (calc_dist_params), the separable Smith G, the "
+      "metallic Schlick Fresnel, the Burley diffuse with retro-reflection (Mitsuba's f_diff + f_retro expands "
+      "to Burley's Fd) and the subsurface approximation (flatness = subsurface)");
+  if (mp.metallic < 1.0)
+    n.push_back(
+        "the dielectric specular: Mitsuba's exact dielectric Fresnel at eta = 2 / (1 - sqrt(0.08 specular)) - 1 "
+        "where aniso has Schlick's with the same F0 = 0.08 specular");
+  if (mp.spec_tint > 0.0 || (mp.sheen > 0.0 && mp.sheen_tint > 0.0))
+    n.push_back(
+        "the tint colour: Mitsuba divides by the Rec. 709 luminance (0.2127, 0.7152, 0.0722), aniso by Disney's (0.3, 0.6, 0.1)");
+  if (mp.clearcoat > 0.0)
+    n.push_back(
+        "the clearcoat: Mitsuba's is 0.25 clearcoat F D G1 G1 without Burley's 1 / (4 cos_i cos_o) "
+        "(principled.cpp:619-641): a different lobe");
+  return n;
+}
+
+}  // namespace
+
 ExportResult export_material(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o,
                              const std::string& bin_name_in) {
   const TargetInfo* info = find_target(o.target);
@@ -1205,11 +1311,48 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
     res.ggx = refined;
   }
   res.model = target_model(info->target, res.ggx, &params, &notes, o.blender_version);
+  std::string mitsuba_origin;
+  if (info->target == Target::Mitsuba3 && source.kind == ModelKind::Principled) {
+    // The same model: the parameters carry over (principled_differences says what still differs).
+    const MitsubaPrincipled mp = principled_params(source.principled);
+    notes = principled_differences(mp);
+    notes_before.clear();  // the GGX path's refinement: not what is written
+    res.model = mitsuba_principled_model(mp, 0.0, rotation_of(desc), params, notes);
+    mitsuba_origin = "exact: the source is aniso's principled; Mitsuba 3's principled takes the same parameters";
+  } else if (info->target == Target::Mitsuba3 && !res.ggx.conductor && !no_diffuse(res.ggx)) {
+    // A GGX with a diffuse part: Mitsuba 3's principled (metallic 0, base_color kd, specular from
+    // F0 = 0.08 specular) beside the blendbsdf; the one closer to the source's samples in the
+    // chosen metric is written.
+    MitsubaPrincipled mp;
+    mp.base_color = glm::clamp(res.ggx.kd, 0.0, 1.0);
+    mp.metallic = 0.0;
+    mp.specular = std::clamp(luminance_avg(res.ggx.f0) / 0.08, 0.0, 12.0);  // eta finite: 0.08 specular < 1
+    double ax = res.ggx.alpha_x, ay = res.ggx.alpha_y;
+    std::vector<std::string> pnotes;
+    const RoughAniso ra = invert_aspect(ax, ay, 0.9, 1.0, "Mitsuba 3's principled", pnotes);
+    mp.roughness = ra.rough, mp.anisotropic = ra.aniso;
+    json pparams;
+    const TargetBrdf principled = mitsuba_principled_model(mp, ra.extra, res.ggx.rotation_deg, pparams, pnotes);
+    const double e_blend = metric_of(target_errors(res.model, samples), o.metric);
+    const double e_principled = metric_of(target_errors(principled, samples), o.metric);
+    const std::string which = fmt::format("{} error: principled {:.4g}, blendbsdf {:.4g}",
+                                          o.metric == FitMetric::L2Cos ? "l2cos" : "log", e_principled, e_blend);
+    if (e_principled < e_blend) {
+      res.model = principled, params = pparams, notes = pnotes;
+      notes.push_back(fmt::format("principled written: it is closer to the source than the blendbsdf ({})", which));
+      notes.push_back(
+          "the principled's diffuse is Burley's (retro-reflection, Schlick darkening at grazing), its specular "
+          "the exact dielectric Fresnel at eta = 2 / (1 - sqrt(0.08 specular)) - 1 for the source's Schlick "
+          "F0 (grey: the mean of the source's)");
+    } else {
+      notes.push_back(fmt::format("blendbsdf written: it is closer to the source than the principled ({})", which));
+    }
+  }
   ExportReport& r = res.report;
   r.target = std::string(info->name);
   r.target_model = res.model.name;
-  r.exact = res.ggx.exact;
-  r.origin = res.ggx.origin;
+  r.exact = res.ggx.exact || !mitsuba_origin.empty();
+  r.origin = mitsuba_origin.empty() ? res.ggx.origin : mitsuba_origin;
   r.parameters = params;
   r.notes = notes;
   r.notes.insert(r.notes.end(), notes_before.begin(), notes_before.end());

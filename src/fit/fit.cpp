@@ -532,6 +532,44 @@ std::optional<StartPoint> nearest_ngan_start(const Model& model, const std::vect
   return StartPoint{fmt::format("ngan2005 {}", best_preset->name.substr(prefix.size())), *x};
 }
 
+// FitOptions::start as a start of this model's parameters (nullopt when none is given).
+template <class Model> std::optional<StartPoint> given_start(const Model& model, const DataMoments& dm, const FitOptions& o) {
+  if (o.start.empty()) return std::nullopt;
+  const auto index = [&](std::string_view name) {
+    for (size_t i = 0; i < model.defs.size(); ++i)
+      if (model.defs[i].name == name) return int(i);
+    return -1;
+  };
+  std::vector<double> x = model.moment_start(dm);
+  std::vector<std::pair<int, double>> pairs;  // the isotropic parameter and one of its pair's values
+  for (const auto& [name, value] : o.start) {
+    if (!std::isfinite(value)) throw InputError(fmt::format("the fit's start: {} = {} is not a finite number", name, value));
+    if (const int i = index(name); i >= 0) {
+      x[size_t(i)] = value;
+      continue;
+    }
+    const std::string_view n = name;
+    const bool xy = n.size() > 2 && (n.ends_with("_x") || n.ends_with("_y") || n.ends_with("_u") || n.ends_with("_v"));
+    if (xy && index(n.substr(0, n.size() - 2)) >= 0) {
+      pairs.emplace_back(index(n.substr(0, n.size() - 2)), value);
+      continue;
+    }
+    if (name == "rotation_deg" && model.rotation_index() < 0) continue;  // an isotropic fit has no orientation
+    std::string names;
+    for (const ParamDef& d : model.defs) names += fmt::format("{}{}", names.empty() ? "" : ", ", d.name);
+    throw InputError(fmt::format("the fit's start: \"{}\" is not a parameter of this fit (its parameters: {})", name, names));
+  }
+  for (size_t i = 0; i < model.defs.size(); ++i) {
+    double log_sum = 0.0;
+    int count = 0;
+    for (const auto& [k, v] : pairs)
+      if (size_t(k) == i) log_sum += std::log(std::max(v, 1e-300)), ++count;
+    if (count > 0) x[i] = std::exp(log_sum / count);
+  }
+  for (size_t i = 0; i < x.size(); ++i) x[i] = std::clamp(x[i], model.defs[i].lo, model.defs[i].hi);
+  return StartPoint{"given", x};
+}
+
 struct Solved {
   std::vector<double> x;
   double cost = INFINITY;
@@ -573,7 +611,8 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   }
   const DataMoments dm = data_moments(data);
 
-  // The starts: moments, the nearest Ngan fit, random draws.
+  // The starts: moments, the nearest Ngan fit, random draws; the caller's first, beside them.
+  const std::optional<StartPoint> given = given_start(model, dm, o);
   std::vector<StartPoint> starts;
   starts.push_back({"moments", model.moment_start(dm)});
   if (o.starts > 1)
@@ -606,6 +645,7 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     }
     starts = std::move(turned);
   }
+  if (given) starts.insert(starts.begin(), *given);  // at its own orientation
 
   // Residual blocks: chunks of 64 samples (fewer blocks, less overhead); one sample per block when a
   // robust loss is asked, because the loss acts on a block's squared norm.

@@ -318,10 +318,14 @@ SampleSet merl_samples(const MerlBrdf& brdf, const std::string& source) {
   return set;
 }
 
-HalfDiffGrid rgl_sample_grid(bool isotropic) {
+HalfDiffGrid rgl_sample_grid(bool isotropic, int n_theta_h) {
   HalfDiffGrid g;
   g.phi_d_range = 2.0 * kPiD;
-  if (isotropic) {
+  if (n_theta_h > 0) {
+    if (n_theta_h < 4 || n_theta_h % 2 != 0)
+      throw InputError(fmt::format("the RGL sample grid: expected an even number of theta_h bins >= 4, got {}", n_theta_h));
+    g.n_theta_h = n_theta_h, g.n_theta_d = n_theta_h / 2, g.n_phi_d = n_theta_h, g.n_phi_h = isotropic ? 1 : 24;
+  } else if (isotropic) {
     // 64 x 32 x 64 = 131,072 pairs (98,564 above the horizon): MERL's layout at a resolution whose
     // pairs the fitter uses (a 32,768-sample solver subset, errors over all), theta_h bins from
     // 0.022 degrees wide at the highlight to 2.8 at 90, theta_d bins of 2.8 degrees, phi_d of 5.6.
@@ -375,14 +379,14 @@ SampleSet rgl_samples(const rgl::RglData& data, const std::string& source, const
   return set;
 }
 
-SampleSet read_measured(const std::string& path) {
+SampleSet read_measured(const std::string& path, int rgl_grid) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".csv") return read_samples_csv(path);
   if (ext == ".brdf") return read_cornell(path);
   if (ext == ".binary") return merl_samples(read_merl(path), path);
   if (ext == ".bsdf") {
     const std::shared_ptr<const rgl::RglData> d = rgl::load_rgl(path);  // InputError naming the file, the field and the problem
-    return rgl_samples(*d, path, rgl_sample_grid(d->isotropic));
+    return rgl_samples(*d, path, rgl_sample_grid(d->isotropic, rgl_grid));
   }
   throw InputError(
       fmt::format("{}: unknown data format \"{}\": expected .csv (samples), .brdf (Cornell), .binary (MERL), "

@@ -69,9 +69,51 @@ glm::dmat3 rgb_to_box_coefficients() {
   return glm::inverse(a);
 }
 
-BrdfSource brdf_source(const MaterialD& m) {
+namespace {
+// The box spectrum whose reduction is rgb (coefficients clamped at 0, as for the colour tables),
+// at each of the export wavelengths.
+std::vector<double> box_spectrum(const glm::dvec3& rgb) {
+  const std::vector<float> lambda = export_wavelengths();
+  const glm::dvec3 coef = glm::max(rgb_to_box_coefficients() * rgb, glm::dvec3(0.0));
+  std::vector<double> v(lambda.size(), 0.0);
+  for (size_t j = 0; j < lambda.size(); ++j)
+    for (int c = 0; c < 3; ++c) v[j] += coef[c] * box(c, lambda[j]);
+  return v;
+}
+
+// A metal's f per wavelength: (1 - a) F(<wi, h>; n(lambda), k(lambda)) specular(wi, wo) +
+// directional_diffuse(wi, wo) (aniso/brdf/metal.h), the conductor Fresnel equation at the
+// measured n, k (docs/metals.md, steps 2-3) where the RGB model has the per-channel fit. The
+// (1 - a) weight and the directional-diffuse lobe are RGB quantities of the model: their box
+// spectra. Their RGB is the same in every direction for the weight, not for the lobe, whose
+// box spectrum is therefore taken per call.
+void set_metal_spectra(BrdfSource& s, const MaterialD& m, const MetalData& metal) {
+  const std::vector<float> lambda = export_wavelengths();
+  std::vector<glm::dvec2> nk;
+  for (const float l : lambda) nk.push_back(metal_nk(metal, l));
+  const std::vector<double> weight = box_spectrum(glm::dvec3(m.metal.specular_weight));
+  const glm::dmat3 inv = rgb_to_box_coefficients();
+  s.f_spectral = [m, nk, weight, inv, lambda](const Vec3d& wi_in, const Vec3d& wo_in, double* out) {
+    const Vec3d wi = m.rotation.to_model(wi_in), wo = m.rotation.to_model(wo_in);
+    std::fill(out, out + nk.size(), 0.0);
+    if (!same_upper_hemisphere(wi, wo)) return;
+    const MetalT<double>& mt = m.metal;
+    const double cos_d = glm::dot(wi, glm::normalize(wi + wo)), spec = mt.specular(wi, wo);
+    glm::dvec3 dd(0.0);
+    if (mt.has_directional_diffuse) dd = glm::max(inv * glm::dvec3(mt.directional_diffuse.eval(wi, wo)), glm::dvec3(0.0));
+    for (size_t j = 0; j < nk.size(); ++j) {
+      out[j] = weight[j] * F_Conductor(cos_d, nk[j].x, nk[j].y) * spec;
+      for (int c = 0; c < 3; ++c) out[j] += dd[c] * box(c, lambda[j]);
+    }
+  };
+  s.spectral_origin = fmt::format("the Fresnel reflectance of {}'s measured n, k ({})", metal.name, metal.source);
+}
+}  // namespace
+
+BrdfSource brdf_source(const MaterialD& m, const MetalData* metal) {
   BrdfSource s;
   s.f = [m](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(m.f(wi, wo)); };
+  if (metal && m.kind == ModelKind::Metal) set_metal_spectra(s, m, *metal);
   // The closed-form GGX distribution is the lobe's in its own frame: a turned material
   // (rotation_deg) takes the general path, like every other model.
   if (!m.rotation.identity()) return s;
@@ -268,6 +310,12 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
   const int n = opt.colour;
   const size_t plane = size_t(n) * n;
   std::vector<float> rgb_t(n_phi * n_theta * 3 * plane, 0.f), lum_t(n_phi * n_theta * plane, 0.f);
+  // A source with spectra of its own fills the spectral table here, with the same factor as the
+  // colour table; otherwise it is made from the colour table below.
+  const std::vector<float> lambda = export_wavelengths();
+  const bool own_spectra = opt.spectral && bool(src.f_spectral);
+  std::vector<float> spec_t(own_spectra ? n_phi * n_theta * lambda.size() * plane : 0, 0.f);
+  std::vector<double> spec_node(lambda.size());
   for (size_t a = 0; a < n_phi; ++a)
     for (size_t b = 0; b < n_theta; ++b) {
       const Vec3d wo = dir(theta_i[b], phi_i[a]);
@@ -293,6 +341,12 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
           if (wi.z > 0.0 && d > 0.0) {
             const glm::dvec3 f = glm::max(src.f(wi, wo), glm::dvec3(0.0));
             c = f * (wi.z * 4.0 * sig / d);
+            if (own_spectra) {
+              src.f_spectral(wi, wo, spec_node.data());
+              for (size_t j = 0; j < lambda.size(); ++j)
+                spec_t[(slice * lambda.size() + j) * plane + size_t(y) * n + x] =
+                    float(std::max(0.0, spec_node[j]) * (wi.z * 4.0 * sig / d));
+            }
             // The luminance table: the density of the sample space that makes the wi density
             // proportional to Y(f) cos (pbrt-v4 bxdfs.cpp:1054-1082: pdf(wi) = luminance(u)
             // vndf_pdf(m) / (4 <wo, m> 2 pi^2 u_theta sin(theta_m))): Y(f) cos times that Jacobian
@@ -325,10 +379,15 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
   fields.push_back(make_field("sigma", {uint64_t(rows), uint64_t(N)}, sigma_t));
   fields.push_back(make_field("vndf", {n_phi, n_theta, uint64_t(N), uint64_t(N)}, vndf_t));
   fields.push_back(make_field("luminance", {n_phi, n_theta, uint64_t(n), uint64_t(n)}, lum_t));
-  if (opt.spectral) {
+  std::string spectra_made = "none (an rgb file)";
+  if (own_spectra) {
+    fields.push_back(make_field("wavelengths", {lambda.size()}, lambda));
+    fields.push_back(make_field("spectra", {n_phi, n_theta, lambda.size(), uint64_t(n), uint64_t(n)}, spec_t));
+    spectra_made = src.spectral_origin;
+  } else if (opt.spectral) {
     // rgb -> three non-negative box spectra whose reduction is that rgb (rgb_to_box_coefficients);
     // a negative coefficient (a colour outside what the boxes reach) is clamped to 0.
-    const std::vector<float> lambda = export_wavelengths();
+    spectra_made = "box spectra of the RGB f";
     const glm::dmat3 inv = rgb_to_box_coefficients();
     std::vector<float> spec(n_phi * n_theta * lambda.size() * plane);
     for (size_t s = 0; s < n_phi * n_theta; ++s)
@@ -351,6 +410,7 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
   if (report) {
     report->isotropic = iso;
     report->d_method = d_method;
+    report->spectra = spectra_made;
     report->seconds = cpu_seconds() - t0;
   }
   return fields;

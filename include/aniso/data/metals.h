@@ -29,4 +29,12 @@ const MetalData* find_metal(std::string_view name);
 std::string unknown_metal_message(std::string_view name);
 std::string metal_names();  // "\"gold\", \"silver\", ..." for error messages
 
+// The measured n(lambda), k(lambda) the RGB eta, k were reduced from: the data of data/ior/ as
+// scripts/reduce_ior.py resamples it (docs/metals.md, step 2: linear in wavelength on 380..780 nm
+// every 5 nm; src/data/metal_spectra.inc). Between the samples, linear interpolation; outside
+// 380..780 nm, the end value (the script's clamp). m must be a row of metal_table().
+constexpr double kMetalSpectrumFirstNm = 380.0, kMetalSpectrumStepNm = 5.0;
+constexpr int kMetalSpectrumSamples = 81;
+glm::dvec2 metal_nk(const MetalData& m, double lambda_nm);  // (n, k)
+
 }  // namespace aniso

@@ -17,7 +17,8 @@
 //   MaterialX   AcademySoftwareFoundation/MaterialX @ 4177b2cb: libraries/pbrlib/genglsl/
 //               mx_roughness_anisotropy.glsl, mx_conductor_bsdf.glsl, mx_artistic_ior.glsl,
 //               lib/mx_microfacet_specular.glsl; libraries/bxdf/standard_surface.mtlx.
-//   glTF        KhronosGroup/glTF @ 77b44be7: extensions/2.0/Khronos/KHR_materials_anisotropy/README.md.
+//   glTF        KhronosGroup/glTF @ 77b44be7: extensions/2.0/Khronos/KHR_materials_anisotropy/README.md,
+//               KHR_materials_specular/README.md.
 //
 // Frames: aniso's local frame (docs/conventions.md): z the normal, x the tangent, y = z x x.
 // Every renderer here uses the same right-handed tangent frame (Cycles' make_orthonormals_tangent
@@ -28,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include <glm/glm.hpp>
 
@@ -63,21 +65,35 @@ struct TargetLobe {
   glm::dvec3 weight{1.0};       // a colour or mix weight the lobe is multiplied by
 };
 
+// The parameters of <bsdf type="principled"> the exporter writes (principled.cpp:20-105; no
+// spec_trans: reflection only).
+struct MitsubaPrincipled {
+  glm::dvec3 base_color{0.5};
+  double roughness = 0.5, anisotropic = 0.0, metallic = 0.0, specular = 0.5, spec_tint = 0.0;
+  double sheen = 0.0, sheen_tint = 0.0, flatness = 0.0, clearcoat = 0.0, clearcoat_gloss = 0.0;
+};
+
 // The target's BRDF for the written parameters: weight F D G / (4 cos_i cos_o) + diffuse / pi,
-// where glTF's dielectric weights its diffuse term by 1 - F(v.h) (diffuse_times_one_minus_f).
+// where glTF's dielectric weights its diffuse term by 1 - F(v.h) (diffuse_times_one_minus_f), and
+// with KHR_materials_specular by 1 - max(F) (diffuse_times_one_minus_max_f, README.md:152-157).
 struct TargetBrdf {
   std::string name;  // "Cycles 4.x Principled BSDF (metallic)"
   TargetLobe lobe;
   glm::dvec3 diffuse{0.0};
   bool diffuse_times_one_minus_f = false;
+  bool diffuse_times_one_minus_max_f = false;
   // The target's tangent, turned from aniso's x axis towards y by this angle (the targets that want
   // the larger alpha along the tangent turn it by 90 degrees instead of swapping the alphas); f()
   // takes directions in aniso's frame.
   double tangent_turn_deg = 0.0;
+  // Mitsuba 3's principled BSDF (mitsuba_principled_f) in place of the lobe and the diffuse term.
+  bool is_mitsuba_principled = false;
+  MitsubaPrincipled principled;
 
   glm::dvec3 fresnel(double cos_theta) const;
   glm::dvec3 f(const Vec3d& wi, const Vec3d& wo) const;
 };
+inline glm::dvec3 mitsuba_principled_f(const MitsubaPrincipled& p, const Vec3d& wi, const Vec3d& wo);
 
 // --- Blender Cycles -----------------------------------------------------------------------------
 
@@ -136,7 +152,7 @@ inline glm::dvec3 cycles_tint_for(const glm::dvec3& f0, const glm::dvec3& f_at_8
   return glm::clamp(f_at_82 / schlick, 0.0, 1.0);
 }
 
-// --- Mitsuba 3 principled (for reference: the exporter writes roughconductor) -----------------------
+// --- Mitsuba 3 principled ------------------------------------------------------------------------
 
 // src/bsdfs/principledhelpers.h:320-331, calc_dist_params: roughness_2 = roughness^2;
 //   isotropic: a = max(0.001, roughness_2); else aspect = sqrt(1 - 0.9 anisotropic),
@@ -148,6 +164,67 @@ inline glm::dvec2 mitsuba_principled_alpha(double roughness, double anisotropic,
   if (!has_anisotropic) return glm::dvec2(std::max(0.001, r2));
   const double aspect = std::sqrt(1.0 - 0.9 * anisotropic);
   return {std::max(0.001, r2 / aspect), std::max(0.001, r2 * aspect)};
+}
+
+// principled.cpp:227-230: without "eta", m_eta = 2 / (1 - sqrt(0.08 specular)) - 1, so that
+// schlick_R0_eta(eta) = ((eta - 1) / (eta + 1))^2 = 0.08 specular (principledhelpers.h:179-182).
+inline double mitsuba_principled_eta(double specular) { return 2.0 / (1.0 - std::sqrt(0.08 * specular)) - 1.0; }
+
+// Mitsuba's luminance of an RGB (include/mitsuba/core/spectrum.h:439-442), which its c_tint divides by.
+inline double mitsuba_luminance(const glm::dvec3& c) { return c.x * 0.212671 + c.y * 0.715160 + c.z * 0.072169; }
+
+// Its reflection, principled.cpp:493-708 (eval) for wi, wo above the surface, spec_trans 0, as a
+// BRDF (eval returns f cos(theta_o)):
+//   specular   F_principled D G / (4 cos_i cos_o), D the anisotropic GGX with calc_dist_params'
+//              alphas, G = smith_g1(wi) smith_g1(wo) (microfacet.h:329-331: separable);
+//   F_principled (principledhelpers.h:239-275) = (1 - metallic)(1 - spec_tint) F_dielectric(wi.h; eta)
+//              + metallic Schlick(base_color) + (1 - metallic) spec_tint Schlick(c_tint 0.08 specular),
+//              F_dielectric the exact dielectric Fresnel (fresnel.h), Schlick(R0) = R0 + (1 - R0)(1 - wi.h)^5
+//              (calc_schlick, principledhelpers.h:157-170, eta > 1), c_tint = base_color / luminance;
+//   diffuse    (1 - metallic) base_color / pi mix(f_diff + f_retro, f_ss, flatness) (lines 643-680):
+//              f_diff = (1 - Fi / 2)(1 - Fo / 2), Rr = 2 roughness (wh.wo)^2,
+//              f_retro = Rr (Fo + Fi + Fo Fi (Rr - 1)), f_ss = 1.25 (Fss (1 / (cos_o + cos_i) - 1/2) + 1/2),
+//              Fss = mix(1, Rr / 2, Fo) mix(1, Rr / 2, Fi), Fi, Fo = (1 - cos)^5 (schlick_weight);
+//   sheen      (1 - metallic) sheen (1 - wh.wo)^5 mix(1, c_tint, sheen_tint) (lines 681-706);
+//   clearcoat  0.25 clearcoat Schlick(0.04) D_GTR1(mix(0.1, 0.001, gloss)) G1(wi) G1(wo) with
+//              smith_ggx1 at alpha 0.25 (lines 619-641, principledhelpers.h:21-40, 77-111): the
+//              product has no 1 / (4 cos_i cos_o), which Burley's (and aniso's) clearcoat has.
+// Directions in the lobe's frame (x its tangent).
+inline glm::dvec3 mitsuba_principled_f(const MitsubaPrincipled& p, const Vec3d& wi, const Vec3d& wo) {
+  if (!(wi.z > 0.0) || !(wo.z > 0.0)) return glm::dvec3(0.0);
+  const Vec3d h = glm::normalize(wi + wo);
+  const double ci = wi.z, co = wo.z, hi = glm::dot(wi, h), ho = glm::dot(wo, h);
+  const auto weight = [](double c) {
+    const double m = std::clamp(1.0 - c, 0.0, 1.0);
+    return m * m * m * m * m;
+  };
+  const auto schlick = [&](const glm::dvec3& r0) { return r0 + (glm::dvec3(1.0) - r0) * weight(hi); };
+  const glm::dvec2 a = mitsuba_principled_alpha(p.roughness, p.anisotropic, true);
+  const double D = D_GGX_Aniso(h.x, h.y, h.z, a.x, a.y);
+  const double G = G1_SmithGGX(Lambda_GGX_Aniso(wi, a.x, a.y)) * G1_SmithGGX(Lambda_GGX_Aniso(wo, a.x, a.y));
+  const double lum = mitsuba_luminance(p.base_color);
+  const glm::dvec3 c_tint = lum > 0.0 ? p.base_color / lum : glm::dvec3(1.0);
+  const double eta = mitsuba_principled_eta(p.specular);
+  const glm::dvec3 F = (1.0 - p.metallic) * (1.0 - p.spec_tint) * glm::dvec3(F_Conductor(hi, eta, 0.0)) +
+                       p.metallic * schlick(p.base_color) +
+                       (1.0 - p.metallic) * p.spec_tint * schlick(c_tint * (0.08 * p.specular));
+  glm::dvec3 out = F * (D * G / (4.0 * ci * co));
+  const double Fi = weight(ci), Fo = weight(co), Rr = 2.0 * p.roughness * ho * ho;
+  const double f_diff = (1.0 - 0.5 * Fi) * (1.0 - 0.5 * Fo), f_retro = Rr * (Fo + Fi + Fo * Fi * (Rr - 1.0));
+  const double Fss = (1.0 + (Rr / 2.0 - 1.0) * Fo) * (1.0 + (Rr / 2.0 - 1.0) * Fi);
+  const double f_ss = 1.25 * (Fss * (1.0 / (co + ci) - 0.5) + 0.5);
+  out += (1.0 - p.metallic) * p.base_color * kInvPi<double> * ((f_diff + f_retro) * (1.0 - p.flatness) + f_ss * p.flatness);
+  out += (1.0 - p.metallic) * p.sheen * weight(ho) * (glm::dvec3(1.0) * (1.0 - p.sheen_tint) + c_tint * p.sheen_tint);
+  if (p.clearcoat > 0.0) {
+    const double g = 0.1 * (1.0 - p.clearcoat_gloss) + 0.001 * p.clearcoat_gloss, g2 = g * g;
+    const double Dcc = (g2 - 1.0) / (kPi<double> * std::log(g2) * (1.0 + (g2 - 1.0) * h.z * h.z));
+    const auto g1 = [](const Vec3d& v) {
+      const double c2 = v.z * v.z, t2 = (1.0 - c2) / c2;
+      return 2.0 / (1.0 + std::sqrt(1.0 + 0.0625 * t2));
+    };
+    out += glm::dvec3(0.25 * p.clearcoat * (0.04 + 0.96 * weight(hi)) * Dcc * g1(wi) * g1(wo));
+  }
+  return out;
 }
 
 // --- MaterialX ---------------------------------------------------------------------------------
@@ -199,6 +276,18 @@ inline glm::dvec2 gltf_alpha(double roughness, double strength) {
   return {a * (1.0 - s2) + s2, a};
 }
 
+// KHR_materials_specular (KhronosGroup/glTF @ 77b44be7, extensions/2.0/Khronos/
+// KHR_materials_specular/README.md:144-157):
+//   dielectric_f0 = min(0.04 * specularColor, float3(1.0)) * specular; dielectric_f90 = specular;
+//   dielectric_fresnel = mix(dielectric_f0, dielectric_f90, fresnel_w)   (fresnel_w = (1 - |v.h|)^5)
+//   dielectric_brdf = dielectric_fresnel * specular_brdf + (1 - max_value(dielectric_fresnel)) * diffuse_brdf
+// So a Schlick F0 (f90 = 1) is specular = 1, specularColor = F0 / 0.04 (the factor may exceed 1,
+// README.md:125; the product is clamped to 1). Returns {specularFactor, specularColorFactor}.
+inline std::pair<double, glm::dvec3> gltf_specular_for(const glm::dvec3& f0) { return {1.0, glm::clamp(f0, 0.0, 1.0) / 0.04}; }
+inline glm::dvec3 gltf_dielectric_f0(double specular, const glm::dvec3& specular_color) {
+  return glm::min(0.04 * specular_color, glm::dvec3(1.0)) * specular;
+}
+
 // --- the shared evaluation ----------------------------------------------------------------------
 
 inline glm::dvec3 TargetBrdf::fresnel(double c) const {
@@ -220,6 +309,7 @@ inline glm::dvec3 TargetBrdf::f(const Vec3d& wi_in, const Vec3d& wo_in) const {
     wi = Vec3d(c * wi_in.x + s * wi_in.y, -s * wi_in.x + c * wi_in.y, wi_in.z);
     wo = Vec3d(c * wo_in.x + s * wo_in.y, -s * wo_in.x + c * wo_in.y, wo_in.z);
   }
+  if (is_mitsuba_principled) return mitsuba_principled_f(principled, wi, wo);
   const Vec3d h = glm::normalize(wi + wo);
   const double ax = lobe.alpha_x, ay = lobe.alpha_y;
   const double D = D_GGX_Aniso(h.x, h.y, h.z, ax, ay);
@@ -239,6 +329,7 @@ inline glm::dvec3 TargetBrdf::f(const Vec3d& wi_in, const Vec3d& wo_in) const {
   glm::dvec3 out = lobe.weight * F * (D * G / (4.0 * wi.z * wo.z));
   glm::dvec3 d = diffuse * kInvPi<double>;
   if (diffuse_times_one_minus_f) d *= glm::dvec3(1.0) - F;
+  if (diffuse_times_one_minus_max_f) d *= 1.0 - std::max({F.x, F.y, F.z});
   return out + d;
 }
 

@@ -60,6 +60,14 @@ struct FitOptions {
   std::string loss = "none";  // robust loss per sample: none | huber | cauchy | soft_l1
   double loss_scale = 0.0;    // its scale in residual units; 0 = from the data (docs/fitting.md)
   int starts = 6;
+  // A start of the caller's (a previous fit, a search over some of the parameters), by the names
+  // of FitResult::parameter_names ("kd.r", "alpha_x", "rotation_deg"): tried first, in addition to
+  // the `starts` above, at its own orientation. Parameters it does not name come from the moments
+  // start; values are clamped into the parameters' bounds. An isotropic fit (Anisotropy::No, or
+  // Auto's isotropic candidate) gives its parameter the geometric mean of an _x/_y or _u/_v pair
+  // ("alpha_x", "alpha_y" -> "alpha"; "n_u", "n_v" -> "n") and has no rotation_deg. A name the fit
+  // does not have, or a value that is not finite, is an InputError naming it.
+  std::vector<std::pair<std::string, double>> start;
   uint64_t seed = 1;
   int threads = 0;  // 0: all cores
   int max_iterations = 200;

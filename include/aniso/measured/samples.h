@@ -70,12 +70,14 @@ struct RglData;
 // only, and the fitter's anisotropy rule sees one azimuth), an anisotropic one at 24 half-vector
 // azimuths over the full circle. phi_d covers the full circle (a file holds f(wi, wo) and f(wo, wi)
 // separately, and need not be reciprocal). The description names the grid and the file's kind.
-HalfDiffGrid rgl_sample_grid(bool isotropic);
+// n_theta_h > 0 sets the resolution (`aniso fit --grid N`): N theta_h x N/2 theta_d x N phi_d, the
+// same 24 azimuths for an anisotropic file; 0: the defaults, N = 64 isotropic and 32 anisotropic.
+HalfDiffGrid rgl_sample_grid(bool isotropic, int n_theta_h = 0);
 SampleSet rgl_samples(const rgl::RglData& data, const std::string& source, const HalfDiffGrid& grid);
 
 // By extension: .csv, .brdf (Cornell), .binary (MERL, measured/merl.h), .bsdf (RGL tensor file,
-// sampled on rgl_sample_grid).
-SampleSet read_measured(const std::string& path);
+// sampled on rgl_sample_grid(isotropic, rgl_grid)).
+SampleSet read_measured(const std::string& path, int rgl_grid = 0);
 
 // w = (sin theta cos phi, sin theta sin phi, cos theta).
 Vec3d direction_from_angles(double theta, double phi);

@@ -12,6 +12,7 @@
 
 #include "aniso/brdf/material.h"
 #include "aniso/brdf/rgl.h"
+#include "aniso/data/metals.h"
 #include "aniso/rgl/tensor.h"
 
 namespace aniso::rgl {
@@ -34,17 +35,25 @@ struct BrdfSource {
   std::optional<glm::dvec2> ggx_alpha;
   double uniform_weight = 0.0;
   std::string description;  // written verbatim (the material JSON and the aniso version)
+  // Spectral files: f(wi, wo) at each of export_wavelengths() into out[0 .. size), when the source
+  // has a spectral description of its own (a named metal's measured n, k); absent, a spectral file
+  // spreads the RGB of f over box spectra (rgb_to_box_coefficients).
+  std::function<void(const Vec3d& wi, const Vec3d& wo, double* out)> f_spectral;
+  std::string spectral_origin;  // what f_spectral evaluates, for the report
 };
 
 struct ExportReport {
   bool isotropic = true;
   std::string d_method;  // "exact GGX" or "power iteration (N steps)"
+  std::string spectra;   // how the spectra of a spectral file were made
   double seconds = 0.0;  // CPU time of the export
 };
 
 // The source material as a BrdfSource (exact D for GGX and GGX metal lobes); `description` is
-// filled by the caller.
-BrdfSource brdf_source(const MaterialD& m);
+// filled by the caller. `metal`: the table row of a metal material named by "metal" (its eta, k are
+// that row's): its spectral files then carry the Fresnel reflectance of the row's measured
+// n(lambda), k(lambda) (metal_nk) instead of box spectra (docs/rgl.md, "Spectral files").
+BrdfSource brdf_source(const MaterialD& m, const MetalData* metal = nullptr);
 
 // f is isotropic when rotating both directions about the normal leaves it unchanged (checked at
 // fixed pseudo-random pairs and angles, relative tolerance 1e-6).
