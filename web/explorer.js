@@ -226,7 +226,7 @@ void main() {
   o_value = vec4(pdf > 0.0 ? weight : vec3(0.0), 1.0);
 }`;
   // Display: exposure, Narkowicz 2015's ACES fit and the sRGB encoding, as render::tonemap
-  // (src/render/image.cpp); A | B split or |A - B| x gain.
+  // (src/image/tonemap.cpp); A | B split or |A - B| x gain.
   const DISPLAY_FS = `${PREAMBLE}
 in vec2 v_xy;
 uniform sampler2D u_a, u_b;

@@ -27,6 +27,7 @@
 #include "aniso/batch/batch.h"
 #include "aniso/data/metals.h"
 #include "aniso/gl/gl_context.h"
+#include "aniso/image/image_io.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/presets.h"
 #include "aniso/measured/measured.h"

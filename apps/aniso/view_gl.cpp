@@ -30,7 +30,7 @@ void main() {
 }
 )";
 
-// The tone curve of render/image.h's tonemap(), ToneMap::Aces: exposure, Narkowicz 2015's fit,
+// The tone curve of image/tonemap.h's tonemap(), ToneMap::Aces: exposure, Narkowicz 2015's fit,
 // the sRGB OETF (IEC 61966-2-1). The window's framebuffer is not sRGB: the shader encodes.
 constexpr const char* kDisplayFS = R"(#version 330 core
 in vec2 uv;

@@ -35,6 +35,7 @@
 #include "aniso/export/export.h"
 #include "aniso/fit/fit.h"
 #include "aniso/gl/glsl_export.h"
+#include "aniso/image/image_io.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/params.h"
 #include "aniso/io/presets.h"

@@ -419,7 +419,7 @@ layout(location = 0) out vec4 o_color;
 void main() { o_color = u_weight * texelFetch(u_src, ivec2(gl_FragCoord.xy), 0); }
 )";
 
-// render::tonemap in GLSL (src/render/image.cpp): exposure, Narkowicz 2015's ACES fit or a clamp,
+// render::tonemap in GLSL (src/image/tonemap.cpp): exposure, Narkowicz 2015's ACES fit or a clamp,
 // the sRGB transfer function (IEC 61966-2-1).
 const char* kTonemapFragment = R"(
 uniform sampler2D u_src;
