@@ -4,8 +4,9 @@
 //
 // The library aniso::image (include/aniso/image, src/image): these types, the image files
 // (image_io.h), tone mapping (tonemap.h) and drawing with the label font (canvas.h). The renderer,
-// the fitter's plots and the exports' previews all use it; it needs neither Embree nor Ceres. Its
-// names are in aniso::render, where the renderer and every caller already use them.
+// the fitter's plots and the exports' previews all use it; it needs neither Embree nor Ceres. The
+// names are in aniso::render (render::Image, render::write_image, ...), the renderer's namespace,
+// whose scenes, integrator and gallery use them unqualified.
 #pragma once
 
 #include <cstddef>
