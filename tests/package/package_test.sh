@@ -54,10 +54,15 @@ find)
   cmake -S "$source_dir/examples/cpp" -B "$work" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" -DANISO_CLI="$cli" >/dev/null
   cmake --build "$work" -j "$jobs" >/dev/null
   ctest --test-dir "$work" --output-on-failure
-  # The fitter draws its plots with aniso::image, not the renderer: a program linking aniso::fit
-  # loads no Embree (the static libraries' link lines name what each target needs), and
-  # find_package(aniso COMPONENTS fit) looks for neither Embree nor tinyobjloader.
-  if ldd "$work/fit" | grep -E 'libembree|libtinyobjloader'; then fail "the fit example (aniso::fit) links the renderer's libraries"; fi
+  # The fitter draws its plots with aniso::image, not the renderer: the link line of a program that
+  # links aniso::fit names no Embree or tinyobjloader (the link line, not ldd: Debian's gcc links
+  # with --as-needed, which drops unused libraries either way), and find_package(aniso COMPONENTS
+  # fit) looks for neither.
+  grep -q 'libaniso_image' "$work/CMakeFiles/fit.dir/link.txt" || fail "cannot read the fit example's link line"
+  if grep -oE '[^ ]*(embree|tinyobjloader|aniso_render)[^ ]*' "$work/CMakeFiles/fit.dir/link.txt"; then
+    fail "the fit example's link line (aniso::fit) names the renderer's libraries"
+  fi
+  rm -rf "$work-fit"
   cmake -S "$source_dir/examples/cpp" -B "$work-fit" -DCMAKE_PREFIX_PATH="$prefix" -DANISO_COMPONENTS=fit >/dev/null
   if grep -E '^(embree|tinyobjloader)_DIR:' "$work-fit/CMakeCache.txt"; then fail "find_package(aniso COMPONENTS fit) looked for the renderer's packages"; fi
   grep -q '^OpenEXR_DIR:PATH=/' "$work-fit/CMakeCache.txt" || fail "find_package(aniso COMPONENTS fit) did not load the image component (OpenEXR)"
