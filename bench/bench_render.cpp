@@ -46,8 +46,8 @@
 #include <tbb/task_arena.h>
 #include <nlohmann/json.hpp>
 
+#include "aniso/image/image_io.h"
 #include "aniso/render/gallery.h"
-#include "aniso/render/image.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
 

@@ -18,20 +18,23 @@ install(DIRECTORY include/aniso DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONEN
 install(FILES ${PROJECT_BINARY_DIR}/include/aniso/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/aniso COMPONENT dev)
 
 # One export set per find_package component, so that a consumer of the kernels alone needs glm
-# only, and one of the host library needs no Embree or Ceres (anisoConfig.cmake.in).
+# only, one of the host library needs no OpenEXR, Embree or Ceres, and one of the fitter no Embree
+# (anisoConfig.cmake.in).
 #   kernels: aniso::kernels                      header-only, glm
 #   host:    aniso::batch, aniso::host, aniso::measured
-#   render:  aniso::render                        Embree 3, OpenEXR, tinyobjloader
+#   image:   aniso::image                         image files, tone mapping, labels; OpenEXR
+#   render:  aniso::render                        Embree 3, tinyobjloader (and image)
 #   gl:      aniso::gl                            GLSL export, headless GL host; libepoxy
-#   fit:     aniso::fit, aniso::export            Ceres (fitting writes its plots: needs render)
+#   fit:     aniso::fit, aniso::export            Ceres (and image: fitting writes its plots)
 #   aniso::aniso, all of them (every component)
 set(ANISO_COMPONENT_kernels aniso_kernels)
 set(ANISO_COMPONENT_host aniso_batch aniso_host aniso_measured)
+set(ANISO_COMPONENT_image aniso_image)
 set(ANISO_COMPONENT_render aniso_render)
 set(ANISO_COMPONENT_gl aniso_gl)
 set(ANISO_COMPONENT_fit aniso_fit aniso_export)
 set(ANISO_COMPONENT_all aniso_all)
-foreach(component kernels host render gl fit all)
+foreach(component kernels host image render gl fit all)
   install(TARGETS ${ANISO_COMPONENT_${component}} EXPORT aniso_${component}
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev
           LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime NAMELINK_COMPONENT dev)

@@ -1,11 +1,11 @@
-// fuzz/fuzz_image.cpp: the image readers (render/image.cpp): PNG and JPEG through stb_image, HDR
+// fuzz/fuzz_image.cpp: the image readers (image/image_io.cpp): PNG and JPEG through stb_image, HDR
 // through stb_image, EXR through OpenEXR, PFM by hand. The first byte chooses the extension (and
 // whether 8-bit data is read as linear numbers, as tangent maps are, or decoded from sRGB); the
 // rest is the file. Selector byte: (b & 0x7f) % 5 picks .png .hdr .exr .pfm .jpg; b & 0x80 reads
 // 8-bit data as linear. An accepted image must have a positive size, width * height * 3 values, each
-// finite and >= 0 (read_image's contract, image.h).
-#include "aniso/io/params.h"
-#include "aniso/render/image.h"
+// finite and >= 0 (read_image's contract, image/image_io.h).
+#include "aniso/image/image_io.h"
+#include "aniso/io/input_error.h"
 #include "fuzz_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

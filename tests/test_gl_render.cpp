@@ -15,6 +15,7 @@
 
 #include <epoxy/gl.h>
 
+#include "aniso/image/image_io.h"
 #include "aniso/measured/merl.h"
 #include "aniso/render/geometry.h"
 #include "aniso/render/integrator.h"

@@ -15,8 +15,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "aniso/io/params.h"
-#include "aniso/render/image.h"
+#include "aniso/image/canvas.h"
+#include "aniso/image/image_io.h"
+#include "aniso/image/tonemap.h"
+#include "aniso/io/input_error.h"
 #include "temp_dir.h"
 
 namespace aniso::render {

@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "aniso/render/image.h"
+#include "aniso/image/image_io.h"
 
 namespace aniso {
 namespace {

@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "aniso/image/image_io.h"
 #include "aniso/render/gallery.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"

@@ -1,6 +1,6 @@
 // tests/test_tonemap_parity.cpp: the one tone map, three runners. The CPU's render::tonemap
-// (src/render/image.cpp) gives exactly the bytes of tests/reference/tonemap_cpu.json, and the GL
-// backend's display pass (gl/tonemap_pass.h, the GLSL twin aniso/render/tonemap.glsl) gives them to
+// (src/image/tonemap.cpp) gives exactly the bytes of tests/reference/tonemap_cpu.json, and the GL
+// backend's display pass (gl/tonemap_pass.h, the GLSL twin aniso/image/tonemap.glsl) gives them to
 // within rounding, on probe values written into a float texture: 0, tiny, around sRGB's and ACES's
 // knees, 1, huge, +inf, -inf, NaN, negative, at several exposures, both curves. The web explorer's
 // display pass is held to the same file by tests/web/explorer.test.mjs (check "tonemap").
@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "aniso/render/image.h"
+#include "aniso/image/tonemap.h"
 #include "gl/gl_objects.h"
 #include "gl/tonemap_pass.h"
 #include "glsl_util.h"

@@ -10,8 +10,9 @@
 
 #include <unistd.h>
 
+#include "aniso/image/image_io.h"
+#include "aniso/image/tonemap.h"
 #include "aniso/io/materials.h"
-#include "aniso/render/image.h"
 #include "cli_fixture.h"
 #include "io/json_read.h"
 

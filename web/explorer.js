@@ -225,7 +225,7 @@ void main() {
   aniso_sample(wo, u, weight, pdf);
   o_value = vec4(pdf > 0.0 ? weight : vec3(0.0), 1.0);
 }`;
-  // Display: the one tone map, ToneMap_apply of aniso/render/tonemap.glsl (the twin of
+  // Display: the one tone map, ToneMap_apply of aniso/image/tonemap.glsl (the twin of
   // render::tonemap, delivered by `aniso web-data` as D.glsl.tonemap): exposure, Narkowicz 2015's
   // ACES fit with its cap, NaN and negative radiance black, the sRGB encoding; A | B split or
   // |A - B| x gain.

@@ -22,8 +22,10 @@
 
 #include "aniso/data/metals.h"
 #include "aniso/gl/glsl_export.h"
+#include "aniso/image/canvas.h"
+#include "aniso/image/image_io.h"
+#include "aniso/image/tonemap.h"
 #include "aniso/io/params.h"
-#include "aniso/render/image.h"
 #include "commands.h"
 #include "view/explorer.h"
 #include "view/frame_times.h"
@@ -778,7 +780,7 @@ void App::save_screenshot(const std::string& path) {
   int w = 0, h = 0;
   glfwGetFramebufferSize(window_, &w, &h);
   try {
-    render::write_png(path, viewgl::read_window(w, h));       // temp file + rename (render/image.h)
+    render::write_png(path, viewgl::read_window(w, h));       // temp file + rename (image/image_io.h)
     fmt::print("wrote {} ({}x{} screenshot)\n", path, w, h);  // as write_reported()
   } catch (const std::exception& e) {
     report("screenshot " + path, e);

@@ -31,7 +31,7 @@ void main() {
 }
 )";
 
-// The display pass: the one tone map, ToneMap_apply of aniso/render/tonemap.glsl (the twin of
+// The display pass: the one tone map, ToneMap_apply of aniso/image/tonemap.glsl (the twin of
 // render::tonemap, ToneMap::Aces: exposure, Narkowicz 2015's fit with its cap, NaN and negative
 // radiance black, the sRGB OETF), which comes before this in the program. The window's
 // framebuffer is not sRGB: the shader encodes.

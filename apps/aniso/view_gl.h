@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "aniso/render/image.h"
+#include "aniso/image/image.h"
 #include "view/plots.h"
 
 namespace aniso::viewgl {
@@ -33,7 +33,7 @@ class RenderTarget {
 };
 
 // Linear radiance textures (RGBA, alpha = coverage) to display colours in the bound target:
-// exposure, the tone curve of render/image.h (Narkowicz 2015 ACES fit, then the sRGB OETF) over
+// exposure, the tone curve of image/tonemap.h (Narkowicz 2015 ACES fit, then the sRGB OETF) over
 // a background where coverage is below 1. Difference mode shows |A - B| * gain instead, tone-mapped
 // the same way (black: equal).
 class DisplayPass {

@@ -6,7 +6,9 @@
 //   batch         batch::evaluate / pdf / sample over arrays (Highway SIMD, oneTBB)
 //   measured      MERL and RGL tensor files as materials, measured samples for fitting
 //   albedo        directional albedo of any material
-//   render        scenes from JSON, the path tracer, images
+//   image         Image and DisplayImage, image files (PNG, JPEG, HDR, EXR, PFM), tone mapping,
+//                 drawing and labels
+//   render        scenes from JSON, the path tracer
 //   glsl          a material's GLSL (export_glsl) and the GLSL library of the kernels
 //   fit / export  fitting a model to samples (Ceres), the renderer exports
 // Each part has its own header (include/aniso/<part>/) and CMake component, for a project that
@@ -23,6 +25,10 @@
 #include "aniso/gl/glsl_export.h"
 #include "aniso/gl/glsl_library.h"
 #include "aniso/gl/glsl_material.h"
+#include "aniso/image/canvas.h"
+#include "aniso/image/image.h"
+#include "aniso/image/image_io.h"
+#include "aniso/image/tonemap.h"
 #include "aniso/io/input_error.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/params.h"
@@ -32,7 +38,6 @@
 #include "aniso/measured/samples.h"
 #include "aniso/measured/spectral.h"
 #include "aniso/render/gallery.h"
-#include "aniso/render/image.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
 #include "aniso/rgl/rgl_export.h"

@@ -1,5 +1,5 @@
 // python/src/bind_render.cpp: aniso.render() and aniso.save_image(): scenes read and rendered by
-// src/render as `aniso render` does, images written by its writer (render/image.h).
+// src/render as `aniso render` does, images written by its writer (image/image_io.h).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -102,7 +102,7 @@ py::array_t<float> render_py(const py::object& scene_in, const py::object& mater
 }
 
 // render()'s image (or any (H, W, 3) linear RGB array) to a file, by the CLI's writer
-// (render/image.h, write_image): .png tone-mapped as `aniso render` does (exposure in stops, the
+// (image/image_io.h, write_image): .png tone-mapped as `aniso render` does (exposure in stops, the
 // aces or clamp curve, sRGB), .exr and .pfm linear as they are; written atomically. exposure and
 // tonemap apply to PNG only, as the CLI's --exposure and --tonemap.
 void save_image_py(const py::object& img_in, const py::object& path_in, std::optional<double> exposure,

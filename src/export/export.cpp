@@ -13,8 +13,10 @@
 #include <fmt/format.h>
 
 #include "aniso/data/metals.h"
+#include "aniso/image/canvas.h"
+#include "aniso/image/image_io.h"
+#include "aniso/image/tonemap.h"
 #include "aniso/io/input_error.h"
-#include "aniso/render/image.h"
 
 namespace aniso::exporter {
 

@@ -1,5 +1,5 @@
-// fit/plot.cpp: the in-plane slices of `aniso fit --plot` (plot.h), drawn with the renderer's image
-// and label-font code (render/image.h).
+// fit/plot.cpp: the in-plane slices of `aniso fit --plot` (plot.h), drawn and written with the
+// image library (image/canvas.h, image/image_io.h).
 #include "aniso/fit/plot.h"
 
 #include <algorithm>
@@ -8,8 +8,9 @@
 
 #include <fmt/format.h>
 
+#include "aniso/image/canvas.h"
+#include "aniso/image/image_io.h"
 #include "aniso/io/materials.h"
-#include "aniso/render/image.h"
 
 namespace aniso {
 namespace {

@@ -12,7 +12,7 @@
 
 namespace aniso::embedded {
 extern const std::string_view glsl_core_platform, glsl_core_math, glsl_core_frame, glsl_core_sampling, glsl_core_lobe_mixture,
-    glsl_brdf_fresnel, glsl_tangent_fields, glsl_render_tonemap;
+    glsl_brdf_fresnel, glsl_tangent_fields, glsl_image_tonemap;
 // The twin of each registry row that says Glsl: include/aniso/brdf/<member>.glsl (CMakeLists.txt
 // embeds every brdf/*.glsl; a row whose file is missing does not link).
 #define ANISO_GLSL_EXTERN_Glsl(member) extern const std::string_view glsl_brdf_##member;
@@ -116,7 +116,7 @@ std::string glsl_library_source() {
   return out;
 }
 
-std::string_view glsl_tonemap_source() { return embedded::glsl_render_tonemap; }
+std::string_view glsl_tonemap_source() { return embedded::glsl_image_tonemap; }
 
 namespace {
 

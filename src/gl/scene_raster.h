@@ -53,8 +53,8 @@
 #include <string>
 #include <vector>
 
+#include "aniso/image/tonemap.h"
 #include "aniso/io/materials.h"
-#include "aniso/render/image.h"
 #include "aniso/render/scene.h"
 
 namespace aniso::gl {

@@ -1,6 +1,6 @@
 // gl/tonemap_pass.h: the GL backend's display pass (private to src/gl): a float RGB texture drawn
 // tone-mapped into the bound draw framebuffer and viewport, through the one GLSL tone map
-// (aniso/render/tonemap.glsl, the twin of render::tonemap: 2^exposure, the ACES curve or a clamp,
+// (aniso/image/tonemap.glsl, the twin of render::tonemap: 2^exposure, the ACES curve or a clamp,
 // the sRGB transfer function; written as is, so GL_FRAMEBUFFER_SRGB must be off).
 #pragma once
 
@@ -8,7 +8,7 @@
 
 #include <glm/glm.hpp>
 
-#include "aniso/render/image.h"
+#include "aniso/image/tonemap.h"
 
 namespace aniso::gl {
 

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "aniso/image/canvas.h"
+
 namespace aniso::render {
 namespace {
 

@@ -14,9 +14,9 @@
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
+#include "aniso/image/image_io.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/presets.h"
-#include "aniso/render/image.h"
 #include "io/json_read.h"
 #include "io/text_input.h"
 

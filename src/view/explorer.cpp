@@ -437,7 +437,7 @@ void Explorer::load_tangent_map(const std::string& path) {
   const TangentControls saved = tangent;
   tangent.map_path = std::filesystem::absolute(path).string();
   try {
-    refresh();  // reads and checks the map (render/image.h's reader: corrupt files are InputErrors)
+    refresh();  // reads and checks the map (image/image_io.h's reader: corrupt files are InputErrors)
   } catch (...) {
     tangent = saved;
     throw;

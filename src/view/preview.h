@@ -10,7 +10,7 @@
 #include <mutex>
 #include <thread>
 
-#include "aniso/render/image.h"
+#include "aniso/image/image.h"
 #include "aniso/render/scene.h"
 
 namespace aniso::view {

@@ -23,7 +23,7 @@ install)
   cmake --install "$build" --prefix "$prefix" >/dev/null
   for f in include/aniso/aniso.h include/aniso/kernels.h include/aniso/version.h \
            include/aniso/brdf/ward.glsl lib/cmake/aniso/anisoConfig.cmake lib/cmake/aniso/anisoConfigVersion.cmake \
-           lib/pkgconfig/aniso.pc lib/pkgconfig/aniso-kernels.pc lib/libaniso_host.a bin/aniso \
+           lib/pkgconfig/aniso.pc lib/pkgconfig/aniso-kernels.pc lib/libaniso_host.a lib/libaniso_image.a bin/aniso \
            share/aniso/web/index.html share/doc/aniso/cpp.md share/doc/aniso/examples/cpp/CMakeLists.txt; do
     [[ -e "$prefix/$f" ]] || fail "the install has no $f"
   done
@@ -54,6 +54,19 @@ find)
   cmake -S "$source_dir/examples/cpp" -B "$work" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" -DANISO_CLI="$cli" >/dev/null
   cmake --build "$work" -j "$jobs" >/dev/null
   ctest --test-dir "$work" --output-on-failure
+  # The fitter draws its plots with aniso::image, not the renderer: the link line of a program that
+  # links aniso::fit names no Embree or tinyobjloader (the link line, not ldd: Debian's gcc links
+  # with --as-needed, which drops unused libraries either way), and find_package(aniso COMPONENTS
+  # fit) looks for neither.
+  grep -q 'libaniso_image' "$work/CMakeFiles/fit.dir/link.txt" || fail "cannot read the fit example's link line"
+  if grep -oE '[^ ]*(embree|tinyobjloader|aniso_render)[^ ]*' "$work/CMakeFiles/fit.dir/link.txt"; then
+    fail "the fit example's link line (aniso::fit) names the renderer's libraries"
+  fi
+  rm -rf "$work-fit"
+  cmake -S "$source_dir/examples/cpp" -B "$work-fit" -DCMAKE_PREFIX_PATH="$prefix" -DANISO_COMPONENTS=fit >/dev/null
+  if grep -E '^(embree|tinyobjloader)_DIR:' "$work-fit/CMakeCache.txt"; then fail "find_package(aniso COMPONENTS fit) looked for the renderer's packages"; fi
+  grep -q '^OpenEXR_DIR:PATH=/' "$work-fit/CMakeCache.txt" || fail "find_package(aniso COMPONENTS fit) did not load the image component (OpenEXR)"
+  echo "aniso::fit links no Embree; COMPONENTS fit loads kernels, host, image and fit"
   ;;
 pkgconfig)
   # Without CMake: the compiler line pkg-config gives. The kernels example with aniso-kernels alone

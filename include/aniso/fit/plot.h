@@ -23,7 +23,7 @@ struct PlotMaterial {
 // slice across the plane of incidence through the mirror direction, and the mirror cone
 // (theta_o = theta_i, all phi_o), where its two widths show; their dots are the samples whose light
 // is within 5 degrees of phi_i = 0. One material: a colour per channel; several (--compare): a
-// colour per material, the mean of the channels, and a legend. Written as PNG (render/image.h,
+// colour per material, the mean of the channels, and a legend. Written as PNG (image/image_io.h,
 // atomically).
 void write_slices_plot(const std::string& path, const SampleSet& data, const std::vector<PlotMaterial>& materials);
 

@@ -26,7 +26,7 @@ std::span<const GlslFile> glsl_library_files();
 // The concatenation of every library file (no #version, no main).
 std::string glsl_library_source();
 
-// The GLSL twin of render::tonemap's per-channel curve (include/aniso/render/tonemap.glsl:
+// The GLSL twin of render::tonemap's per-channel curve (include/aniso/image/tonemap.glsl:
 // ToneMap_apply(radiance, gain, aces) and its helpers; no #version, no main). Not part of the
 // library: the display passes of the GL backend and of the web explorer put it in front of theirs.
 std::string_view glsl_tonemap_source();

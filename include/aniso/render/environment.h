@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "aniso/core/math.h"
-#include "aniso/render/image.h"
+#include "aniso/image/image.h"
 
 namespace aniso::render {
 

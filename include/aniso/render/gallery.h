@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "aniso/render/image.h"
+#include "aniso/image/tonemap.h"
 #include "aniso/render/integrator.h"
 
 namespace aniso::render {

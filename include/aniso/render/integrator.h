@@ -60,8 +60,8 @@
 #include <cstdint>
 #include <functional>
 
+#include "aniso/image/image.h"
 #include "aniso/render/geometry.h"
-#include "aniso/render/image.h"
 #include "aniso/render/sampler.h"
 #include "aniso/render/scene.h"
 

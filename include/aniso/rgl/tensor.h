@@ -57,7 +57,7 @@ TensorFile parse_tensor(std::span<const uint8_t> bytes, const std::string& where
 // Reads and parses a file (InputError if it cannot be opened or is invalid).
 TensorFile read_tensor_file(const std::string& path);
 // The bytes of a file holding these fields (offsets assigned here, aligned to 8); the caller writes
-// them atomically (render/image.h write_atomically).
+// them atomically (io/atomic_file.h, write_file_atomically).
 std::vector<uint8_t> serialize_tensor(std::vector<TensorField> fields);
 
 }  // namespace aniso::rgl

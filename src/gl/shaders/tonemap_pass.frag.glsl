@@ -1,5 +1,5 @@
 // The GL backend's display pass (gl/tonemap_pass.h): the accumulated radiance through the one tone
-// map, ToneMap_apply of aniso/render/tonemap.glsl (the twin of render::tonemap), which comes before
+// map, ToneMap_apply of aniso/image/tonemap.glsl (the twin of render::tonemap), which comes before
 // this file in the program.
 uniform sampler2D u_src;
 uniform float u_scale;  // 2^exposure

@@ -1,8 +1,8 @@
-// render/image.cpp: image readers and writers, tone mapping, and the gallery's text.
+// image/image_io.cpp: the image readers and writers (image_io.h).
 //
-// This translation unit owns the stb implementations (stb_image, stb_image_write, stb_truetype):
-// they are compiled here, static to this file, and nowhere else.
-#include "aniso/render/image.h"
+// This translation unit owns the stb_image and stb_image_write implementations: they are
+// compiled here, static to this file, and nowhere else.
+#include "aniso/image/image_io.h"
 
 #include <algorithm>
 #include <array>
@@ -26,7 +26,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 
-#include "aniso/io/params.h"
+#include "aniso/io/input_error.h"
 #include "io/atomic_file.h"
 #include "io/text_input.h"
 
@@ -50,8 +50,8 @@
 #endif
 #define STB_IMAGE_STATIC
 // Only the decoders of the documented formats: stb_image otherwise detects a dozen formats by
-// content, and a 118-byte file named .png decoded as a run-length TGA of 6168 x 6168 pixels
-// (found by fuzz/fuzz_image.cpp: a 31 s timeout under the sanitizers).
+// content, and would decode a 118-byte file named .png as a run-length TGA of 6168 x 6168 pixels
+// (31 s under the sanitizers; fuzz/fuzz_image.cpp keeps such inputs).
 #define STBI_ONLY_PNG
 #define STBI_ONLY_JPEG
 #define STBI_ONLY_HDR
@@ -62,14 +62,7 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_WRITE_NO_STDIO  // PNGs are encoded to memory, then written atomically
 #include <stb_image_write.h>
-#define STBTT_STATIC
-#define STB_TRUETYPE_IMPLEMENTATION
-#include <stb_truetype.h>
 #pragma GCC diagnostic pop
-
-// DejaVu Sans, embedded by the build (an .incbin in an assembler file, see CMakeLists.txt).
-extern "C" const unsigned char aniso_label_font_begin[];
-extern "C" const unsigned char aniso_label_font_end[];
 
 namespace aniso::render {
 namespace {
@@ -242,7 +235,7 @@ Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, c
   if (ext == ".png" && (data.size() < 8 || std::memcmp(bytes, kPng, 8) != 0))
     input_error(where, path, "not a PNG file (no PNG signature)");
   // stb_image reserves a PNG chunk's stated length before reading it, so a 405-byte file whose IDAT
-  // header claimed 2 GB allocated 2 GB (found by fuzz_tangent_map). Every chunk (4-byte length,
+  // header claims 2 GB would allocate 2 GB. Every chunk (4-byte length,
   // 4-byte type, data, 4-byte CRC; PNG spec 5.3) must fit in the file.
   if (ext == ".png") {
     for (size_t off = 8; off + 8 <= data.size();) {
@@ -263,11 +256,10 @@ Image read_stb(const std::vector<unsigned char>& data, const std::string& ext, c
     input_error(where, path, fmt::format("corrupt or unsupported image ({})", stbi_failure_reason()));
   check_size(w, h, where, path);
   // stb_image allocates the whole image from the header before decoding a byte of it, so a tiny
-  // file claiming 2^28 pixels allocated gigabytes (found by fuzz_tangent_map: 397 bytes, a 2 GB
-  // malloc). No file of these formats holds more pixels than its compression allows: deflate
-  // expands at most 1032:1 (zlib's technical details) and a 1-bit PNG packs 8 pixels a byte, so
-  // PNG holds at most 8256 pixels per byte; Radiance RLE and JPEG expand far less. 8256 per byte
-  // plus a million pixels of slack rejects only files that cannot be valid.
+  // file claiming 2^28 pixels (397 bytes) would allocate gigabytes. No file of these formats holds more pixels than its
+  // compression allows: deflate expands at most 1032:1 (zlib's technical details) and a 1-bit PNG packs 8 pixels a byte, so PNG
+  // holds at most 8256 pixels per byte; Radiance RLE and JPEG expand far less. 8256 per byte plus a million pixels of slack
+  // rejects only files that cannot be valid.
   constexpr int64_t kMaxPixelsPerByte = 8256, kPixelSlack = int64_t(1) << 20;
   if (int64_t(w) * h > kMaxPixelsPerByte * int64_t(len) + kPixelSlack)
     input_error(where, path, fmt::format("the header claims {} x {} pixels, more than a file of {} bytes can hold", w, h, len));
@@ -491,115 +483,7 @@ void check_writable(const std::string& path, int w, int h, size_t size) {
     write_error(path, fmt::format("the pixel buffer holds {} values, {} x {} x 3 expected", size, w, h));
 }
 
-// ---------------------------------------------------------------------------------------------
-// Text
-
-struct LabelFont {
-  stbtt_fontinfo info{};
-  int ascent = 0;  // font units
-};
-
-// Parsed once, on first use; C++ guarantees the initialisation of a function-local static is
-// thread-safe. stb_truetype only reads `info` afterwards, so concurrent drawing is fine too.
-const LabelFont& label_font() {
-  static const LabelFont font = [] {
-    LabelFont f;
-    const unsigned char* data = aniso_label_font_begin;
-    if (aniso_label_font_end <= data || !stbtt_InitFont(&f.info, data, stbtt_GetFontOffsetForIndex(data, 0)))
-      throw std::runtime_error("the embedded label font (DejaVu Sans) cannot be parsed");
-    int descent = 0, line_gap = 0;
-    stbtt_GetFontVMetrics(&f.info, &f.ascent, &descent, &line_gap);
-    return f;
-  }();
-  return font;
-}
-
-// UTF-8 -> code points; a malformed sequence (stray continuation byte, overlong form, surrogate,
-// truncated sequence) becomes U+FFFD and decoding resumes at the next byte.
-std::vector<uint32_t> decode_utf8(std::string_view s) {
-  std::vector<uint32_t> out;
-  out.reserve(s.size());
-  size_t i = 0;
-  while (i < s.size()) {
-    const auto b0 = uint8_t(s[i]);
-    int len = 0;
-    uint32_t cp = 0, min = 0;
-    if (b0 < 0x80)
-      len = 1, cp = b0;
-    else if ((b0 & 0xE0) == 0xC0)
-      len = 2, cp = b0 & 0x1Fu, min = 0x80;
-    else if ((b0 & 0xF0) == 0xE0)
-      len = 3, cp = b0 & 0x0Fu, min = 0x800;
-    else if ((b0 & 0xF8) == 0xF0)
-      len = 4, cp = b0 & 0x07u, min = 0x10000;
-    bool ok = len > 0 && i + size_t(len) <= s.size();
-    for (int k = 1; ok && k < len; ++k) {
-      const auto b = uint8_t(s[i + size_t(k)]);
-      ok = (b & 0xC0) == 0x80;
-      cp = (cp << 6) | (b & 0x3Fu);
-    }
-    ok = ok && cp >= min && cp <= 0x10FFFF && !(cp >= 0xD800 && cp <= 0xDFFF);
-    out.push_back(ok ? cp : 0xFFFD);
-    i += ok ? size_t(len) : 1;
-  }
-  return out;
-}
-
-// Lays the text out on one line and calls draw(glyph, pen_x) for each glyph, pen_x being the
-// origin of the glyph relative to the start of the text. Returns the advance width in pixels.
-template <typename Draw> double layout_text(const LabelFont& font, std::string_view text, float scale, Draw&& draw) {
-  double pen = 0.0;
-  int prev = 0;
-  for (const uint32_t cp : decode_utf8(text)) {
-    if (cp < 0x20 || cp == 0x7F) continue;  // control characters: one line of text, nothing to draw
-    const int glyph = stbtt_FindGlyphIndex(&font.info, int(cp));
-    if (prev) pen += double(stbtt_GetGlyphKernAdvance(&font.info, prev, glyph)) * scale;
-    draw(glyph, pen);
-    int advance = 0, lsb = 0;
-    stbtt_GetGlyphHMetrics(&font.info, glyph, &advance, &lsb);
-    pen += double(advance) * scale;
-    prev = glyph;
-  }
-  return pen;
-}
-
-bool valid_pixel_height(float pixel_height) { return std::isfinite(pixel_height) && pixel_height > 0.0f; }
-
 }  // namespace
-
-// ---------------------------------------------------------------------------------------------
-
-// IEC 61966-2-1 (sRGB), with the knee at 0.0031308 (linear) / 0.04045 (encoded).
-float srgb_encode(float linear) {
-  if (!(linear > 0.0f)) return 0.0f;  // also NaN
-  if (linear >= 1.0f) return 1.0f;
-  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
-}
-
-float srgb_decode(float encoded) {
-  if (!(encoded > 0.0f)) return 0.0f;
-  if (encoded >= 1.0f) return 1.0f;
-  return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
-}
-
-DisplayImage tonemap(const Image& img, const ToneMapOptions& opt) {
-  DisplayImage out(img.width, img.height);
-  const float gain = std::exp2(opt.exposure_stops);
-  const size_t n = std::min(out.rgb.size(), img.rgb.size());
-  for (size_t i = 0; i < n; ++i) {
-    float v = img.rgb[i] * gain;
-    if (!(v > 0.0f)) v = 0.0f;  // NaN and negative radiance show as black
-    if (opt.curve == ToneMap::Aces) {
-      // Narkowicz 2015, "ACES Filmic Tone Mapping Curve". The curve reaches 1 near v = 7.24;
-      // capping v far above that keeps v * v finite (inf / inf would be NaN).
-      v = std::min(v, 1e4f);
-      v = v * (2.51f * v + 0.03f) / (v * (2.43f * v + 0.59f) + 0.14f);
-    }
-    v = std::clamp(v, 0.0f, 1.0f);
-    out.rgb[i] = uint8_t(srgb_encode(v) * 255.0f + 0.5f);  // in [0.5, 255.5): never out of range
-  }
-  return out;
-}
 
 Image read_image(const std::string& path, const std::string& where, bool linear_8bit) {
   const std::string ext = lower_extension(path);
@@ -641,68 +525,6 @@ void write_png(const std::string& path, const DisplayImage& img) {
   if (!stbi_write_png_to_func(append, &bytes, img.width, img.height, 3, img.rgb.data(), img.width * 3))
     write_error(path, "PNG encoding failed");
   write_bytes(path, bytes);
-}
-
-int text_width(std::string_view text, float pixel_height) {
-  if (!valid_pixel_height(pixel_height)) return 0;
-  const LabelFont& font = label_font();
-  const float scale = stbtt_ScaleForPixelHeight(&font.info, pixel_height);
-  return int(std::ceil(layout_text(font, text, scale, [](int, double) {})));
-}
-
-// Coverage is alpha-blended into the 8-bit values as they are, in sRGB space (what most UI text
-// renderers do; blending in linear light would make dark-on-light text look thinner).
-int draw_text(DisplayImage& img, int x, int y, std::string_view text, float pixel_height, const glm::u8vec3& color) {
-  if (!valid_pixel_height(pixel_height)) return 0;
-  const LabelFont& font = label_font();
-  const float scale = stbtt_ScaleForPixelHeight(&font.info, pixel_height);
-  const int64_t baseline = int64_t(y) + std::lround(double(font.ascent) * scale);
-  std::vector<unsigned char> bitmap;
-  const double width = layout_text(font, text, scale, [&](int glyph, double pen) {
-    const double origin = double(x) + pen;
-    const double origin_floor = std::floor(origin);
-    const float shift = float(origin - origin_floor);  // sub-pixel position of the glyph
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    stbtt_GetGlyphBitmapBoxSubpixel(&font.info, glyph, scale, scale, shift, 0.0f, &x0, &y0, &x1, &y1);
-    const int gw = x1 - x0, gh = y1 - y0;
-    if (gw <= 0 || gh <= 0) return;  // a space
-    const int64_t left = int64_t(origin_floor) + x0, top = baseline + y0;
-    // Clip to the image; a glyph wholly outside is not even rasterised.
-    const int64_t cx0 = std::max<int64_t>(left, 0), cx1 = std::min<int64_t>(left + gw, img.width);
-    const int64_t cy0 = std::max<int64_t>(top, 0), cy1 = std::min<int64_t>(top + gh, img.height);
-    if (cx0 >= cx1 || cy0 >= cy1) return;
-    bitmap.assign(size_t(gw) * size_t(gh), 0);
-    stbtt_MakeGlyphBitmapSubpixel(&font.info, bitmap.data(), gw, gh, gw, scale, scale, shift, 0.0f, glyph);
-    for (int64_t py = cy0; py < cy1; ++py)
-      for (int64_t px = cx0; px < cx1; ++px) {
-        const unsigned a = bitmap[size_t(py - top) * size_t(gw) + size_t(px - left)];
-        if (a == 0) continue;
-        uint8_t* d = &img.rgb[(size_t(py) * size_t(img.width) + size_t(px)) * 3];
-        for (int c = 0; c < 3; ++c) d[c] = uint8_t((d[c] * (255u - a) + unsigned(color[c]) * a + 127u) / 255u);
-      }
-  });
-  return int(std::ceil(width));
-}
-
-void fill_rect(DisplayImage& img, int x, int y, int w, int h, const glm::u8vec3& color) {
-  const int64_t x0 = std::max<int64_t>(x, 0), x1 = std::min<int64_t>(int64_t(x) + w, img.width);
-  const int64_t y0 = std::max<int64_t>(y, 0), y1 = std::min<int64_t>(int64_t(y) + h, img.height);
-  for (int64_t py = y0; py < y1; ++py)
-    for (int64_t px = x0; px < x1; ++px) {
-      uint8_t* d = &img.rgb[(size_t(py) * size_t(img.width) + size_t(px)) * 3];
-      d[0] = color.x, d[1] = color.y, d[2] = color.z;
-    }
-}
-
-void blit(DisplayImage& dst, const DisplayImage& src, int x, int y) {
-  const int64_t x0 = std::max<int64_t>(x, 0), x1 = std::min<int64_t>(int64_t(x) + src.width, dst.width);
-  const int64_t y0 = std::max<int64_t>(y, 0), y1 = std::min<int64_t>(int64_t(y) + src.height, dst.height);
-  if (x0 >= x1) return;
-  for (int64_t py = y0; py < y1; ++py) {
-    const uint8_t* s = &src.rgb[(size_t(py - y) * size_t(src.width) + size_t(x0 - x)) * 3];
-    uint8_t* d = &dst.rgb[(size_t(py) * size_t(dst.width) + size_t(x0)) * 3];
-    std::copy(s, s + (x1 - x0) * 3, d);
-  }
 }
 
 }  // namespace aniso::render

@@ -1,5 +1,5 @@
-// aniso/render/tonemap.glsl: GLSL twin of render::tonemap's per-channel curve (aniso/render/image.h,
-// src/render/image.cpp), the one tone map of the GL backend's display pass (src/gl/shaders/
+// aniso/image/tonemap.glsl: GLSL twin of render::tonemap's per-channel curve (aniso/image/tonemap.h,
+// src/image/tonemap.cpp), the one tone map of the GL backend's display pass (src/gl/shaders/
 // tonemap_pass.frag.glsl) and of the web explorer (web/explorer.js, delivered by `aniso web-data` as
 // ANISO_DATA.glsl.tonemap). GLSL 3.30 core and ES 3.00; self-contained (no library names).
 // tests/test_tonemap_parity.cpp and tests/web (check "tonemap") hold both to the CPU's bytes.
