@@ -32,6 +32,7 @@
 # The image is written as a PFM (rows bottom to top, as Blender stores them) of linear radiance.
 import json
 import math
+import os
 import sys
 
 import bpy
@@ -275,8 +276,6 @@ def main():
     w, h = img.size
     px = np.array(img.pixels[:], dtype=np.float32).reshape(h, w, 4)[:, :, :3]
     write_pfm(o["out"], px, w, h)
-    import os
-
     os.remove(exr)
 
 
