@@ -18,7 +18,6 @@ packages=(
   libssl-dev          # OpenSSL libcrypto: sha256 to recognise MERL BRDF files (src/measured)
   # The renderer (src/render): ray casting, threads, images, meshes, the label font.
   libembree-dev       # Embree 3 BVH and ray intersection
-  libceres-dev        # Ceres Solver: Levenberg-Marquardt fits of measured data (src/fit)
   libtbb-dev          # oneTBB: parallel tiles, parallel batch evaluation (src/batch)
   libhwy-dev          # Google Highway: SIMD batch evaluation with dynamic dispatch (src/batch)
   libopenexr-dev      # .exr output and input
@@ -35,6 +34,8 @@ packages=(
 )
 # The tests, benchmarks, Python module and sanitizer build on top (make build, make test).
 if [[ $render_only == 0 ]]; then packages+=(
+  # Fitting (src/fit; not in the render-only executable, apps/aniso/cmd_render_only.cpp).
+  libceres-dev        # Ceres Solver: Levenberg-Marquardt fits of measured data
   libgtest-dev        # unit and statistical tests
   libbenchmark-dev    # benchmarks
   libboost-dev        # boost::math::gamma_q for the chi-square p-values in tests

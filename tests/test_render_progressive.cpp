@@ -185,6 +185,43 @@ TEST(RenderCancel, SeenWithinAPassAndReportsNoWholePicture) {
   }
 }
 
+// The gallery under Ctrl-C (render/gallery.h): a cancel before every cell has a sample leaves no
+// whole figure (spp_done 0, nothing to write); one during the cells' full renders still gives the
+// whole figure, each cell with at least the first round's sample.
+TEST(RenderCancel, InterruptedGalleryIsWholeAfterItsFirstRound) {
+  GalleryOptions go;
+  go.width = 200;
+  go.spp = 64;
+  go.render.threads = 2;
+  std::atomic<bool> cancel{true};
+  go.render.cancel = &cancel;
+  const GalleryResult before = render_gallery(go);
+  EXPECT_TRUE(before.stats.cancelled);
+  EXPECT_EQ(before.stats.spp_done, 0);
+
+  cancel = false;
+  go.render.progress = [&](double f) {
+    if (f > 0.0) cancel = true;  // during the first cell's full render (progress counts those only)
+  };
+  const GalleryResult r = render_gallery(go);
+  EXPECT_TRUE(r.stats.cancelled);
+  EXPECT_GE(r.stats.spp_done, 1);
+  EXPECT_LT(r.stats.spp_done, 64);
+  // Every cell drawn: as many blank (white page) pixels as in the uninterrupted 1-spp figure,
+  // where one blank cell would add cell_width x cell_height of them.
+  go.render.cancel = nullptr;
+  go.render.progress = nullptr;
+  go.spp = 1;
+  const GalleryResult one = render_gallery(go);
+  const auto white = [](const DisplayImage& im) {
+    int n = 0;
+    for (size_t i = 0; i + 2 < im.rgb.size(); i += 3) n += im.rgb[i] == 255 && im.rgb[i + 1] == 255 && im.rgb[i + 2] == 255;
+    return n;
+  };
+  ASSERT_EQ(r.image.rgb.size(), one.image.rgb.size());
+  EXPECT_LT(std::abs(white(r.image) - white(one.image)), r.cell_width * r.cell_height / 4);
+}
+
 // --- adaptive sampling and the time budget -------------------------------------------------------
 
 json adaptive_scene() {

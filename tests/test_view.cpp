@@ -1,6 +1,7 @@
 // tests/test_view.cpp: the explorer's logic without a window (src/view): the plots' data against
 // the scalar evaluator, the sliders against the parameter tables, --set and the load actions
 // (errors keep the last good state), and the progressive preview against the renderer.
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -378,6 +379,41 @@ TEST_F(ViewFiles, SceneFileGoesToThePreview) {
   EXPECT_EQ(s->objects[0].material.f(wi, wo).x, ex.a.kernel_f.f(wi, wo).x);
   ASSERT_EQ(s->objects.size(), 2u);
   EXPECT_EQ(s->objects[1].material.f(wi, wo).x, file.objects[1].material.f(wi, wo).x);  // the plate keeps its own
+}
+
+// A scene's film.noise_threshold and film.time_s apply to the preview's average (view/preview.h),
+// not to each of its passes: with a loose threshold it stops soon after film.min_spp, far below its
+// cap; with a short budget it stops near the budget (each pass applying it would instead reach
+// the cap of 2^16 samples, pass by pass).
+TEST(ViewPreview, NoiseThresholdAndTimeApplyToTheAverage) {
+  view::Explorer ex;
+  ex.a = view::load_slot("clay");
+  ex.b = ex.a;
+  ex.refresh();
+  auto base = ex.view_scene(view::ObjectKind::Sphere, ex.a);
+  auto scene = std::make_shared<render::Scene>(*base);
+  scene->film.width = 24, scene->film.height = 16;
+  scene->film.noise_threshold = 0.5f;
+  scene->film.min_spp = 4;
+  {
+    view::ProgressivePreview preview(2, 1 << 16);
+    preview.restart(scene);
+    preview.wait_for(1 << 16);  // returns when the preview is idle
+    EXPECT_GE(preview.spp(), 4);
+    EXPECT_LE(preview.spp(), 16);
+  }
+  scene->film.noise_threshold = 0.0f;
+  scene->film.time_s = 0.3f;
+  {
+    view::ProgressivePreview preview(2, 1 << 16);
+    const auto t0 = std::chrono::steady_clock::now();
+    preview.restart(scene);
+    preview.wait_for(1 << 16);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_GE(preview.spp(), 1);
+    EXPECT_LT(preview.spp(), 1 << 16);
+    EXPECT_LT(seconds, 10.0);  // the budget, plus the last pass on a loaded machine
+  }
 }
 
 // The progressive preview's average converges to the renderer's image of the same scene.

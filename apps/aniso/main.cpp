@@ -132,7 +132,11 @@ int main(int argc, char** argv) {
                  near.empty() ? "" : fmt::format("; did you mean {}?", near), command_list(app));
       return 2;
     }
-    if (const std::string msg = unknown_option_message(*cmd, fmt::format("aniso {}", cmd->get_name()), argc, argv, 2);
+    // A command that takes any arguments (the render-only build's fit and export: cmd_render_only.cpp)
+    // answers for itself.
+    if (const std::string msg = cmd->get_allow_extras()
+                                    ? std::string()
+                                    : unknown_option_message(*cmd, fmt::format("aniso {}", cmd->get_name()), argc, argv, 2);
         !msg.empty()) {
       fmt::print(stderr, "aniso: error: {}\n", msg);
       return 2;

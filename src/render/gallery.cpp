@@ -2,6 +2,8 @@
 #include "aniso/render/gallery.h"
 
 #include <algorithm>
+#include <limits>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -113,23 +115,22 @@ GalleryResult render_gallery(const GalleryOptions& opt) {
   res.cell_height = cell_h;
   res.image = DisplayImage(opt.width, fig_h, 255);  // white page, like a paper's figure
 
+  std::vector<Scene> scenes;
   for (int c = 0; c < cells; ++c) {
     nlohmann::json sj = gallery_cell_scene(size_t(c));
     sj["film"]["width"] = cell_w;
     sj["film"]["height"] = cell_h;
     if (opt.spp > 0) sj["film"]["spp"] = opt.spp;
     if (!opt.sampler.empty()) sj["integrator"]["sampler"] = opt.sampler;
-    const Scene scene = parse_scene(sj, fmt::format("embedded gallery, cell {}", c), "");
-    RenderOptions ro = opt.render;
-    if (opt.render.progress) ro.progress = [&, c](double f) { opt.render.progress((double(c) + f) / double(cells)); };
-    RenderStats st;
-    const Image img = render(scene, ro, &st);
+    scenes.push_back(parse_scene(sj, fmt::format("embedded gallery, cell {}", c), ""));
+  }
+  const auto add_stats = [&](const RenderStats& st) {
     res.stats.seconds += st.seconds;
     res.stats.paths += st.paths;
     res.stats.rays += st.rays;
     res.stats.nonfinite += st.nonfinite;
-    res.stats.spp_done = c == 0 ? st.spp_done : std::min(res.stats.spp_done, st.spp_done);
-    res.stats.cancelled = res.stats.cancelled || st.cancelled;
+  };
+  const auto draw_cell = [&](int c, const Image& img) {
     const int col = c % columns, row = c / columns;
     const int x = margin + col * (cell_w + margin), y = margin + row * (cell_h + strip + margin);
     blit(res.image, tonemap(img, opt.tonemap), x, y);
@@ -138,10 +139,44 @@ GalleryResult render_gallery(const GalleryOptions& opt) {
               glm::u8vec3(20, 20, 20));
     draw_text(res.image, x + 2, y + cell_h + int(label_px * 1.45f), cell.at("detail").get<std::string>(), detail_px,
               glm::u8vec3(90, 90, 90));
-    if (st.cancelled) {
-      if (c + 1 < cells) res.stats.spp_done = 0;  // cells left blank: the figure is not whole
-      break;
+  };
+
+  // Ctrl-C (RenderOptions::cancel) keeps the single image's promise for the whole figure (docs/
+  // cli.md: the finished passes are written, nothing before the first complete pass): a first
+  // round renders one sample per pixel of every cell, then each cell is rendered in full; an
+  // interrupted figure shows each cell at the most samples it finished (at least that one). The
+  // full render repeats the first round's sample (same seed and sample index): 1 / spp of the time.
+  std::vector<Image> first(scenes.size());
+  for (int c = 0; c < cells; ++c) {
+    RenderOptions ro = opt.render;
+    ro.spp = 1;
+    ro.progress = nullptr;
+    RenderStats st;
+    first[size_t(c)] = render(scenes[size_t(c)], ro, &st);
+    add_stats(st);
+    if (st.cancelled || st.spp_done == 0) {  // no whole figure yet: nothing is written
+      res.stats.cancelled = true;
+      res.stats.spp_done = 0;
+      return res;
     }
+  }
+  res.stats.spp_done = std::numeric_limits<int>::max();  // the fewest samples of any cell, below
+  for (int c = 0; c < cells; ++c) {
+    const Scene& scene = scenes[size_t(c)];
+    if (res.stats.cancelled || scene.film.spp <= 1) {  // interrupted earlier, or the first round was all
+      draw_cell(c, first[size_t(c)]);
+      res.stats.spp_done = std::min(res.stats.spp_done, 1);
+      continue;
+    }
+    RenderOptions ro = opt.render;
+    if (opt.render.progress) ro.progress = [&, c](double f) { opt.render.progress((double(c) + f) / double(cells)); };
+    RenderStats st;
+    const Image img = render(scene, ro, &st);
+    add_stats(st);
+    const bool whole = st.spp_done > 0;  // else this cell keeps its first round's sample
+    draw_cell(c, whole ? img : first[size_t(c)]);
+    res.stats.spp_done = std::min(res.stats.spp_done, whole ? st.spp_done : 1);
+    res.stats.cancelled = res.stats.cancelled || st.cancelled;
   }
   return res;
 }

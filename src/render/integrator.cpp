@@ -379,11 +379,17 @@ Image render(const Scene& scene, const RenderOptions& opt, RenderStats* stats_ou
   tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
   int s_begin = 0;
   uint64_t active_pixels = npix;
-  double pass_seconds_per_sample = 0.0;  // measured: the last pass's time per pixel sample
+  // The time per pixel sample, measured over every pass so far (not the last pass alone): on a
+  // loaded machine one pass may stall (a thread descheduled for a while), and a prediction from
+  // that pass alone stops the render long before its budget; over all passes a stall is diluted by
+  // the samples around it.
+  double passes_seconds = 0.0;
+  uint64_t passes_samples = 0;
   while (s_begin < spp) {
     const int s_end = next_pass_end(s_begin, spp);
     if (time_budget > 0.0 && stats.passes > 0) {
-      const double predicted = pass_seconds_per_sample * double(active_pixels) * double(s_end - s_begin);
+      const double seconds_per_sample = passes_samples > 0 ? passes_seconds / double(passes_samples) : 0.0;
+      const double predicted = seconds_per_sample * double(active_pixels) * double(s_end - s_begin);
       if (elapsed() + predicted > time_budget) {
         stats.out_of_time = true;
         break;
@@ -442,7 +448,8 @@ Image render(const Scene& scene, const RenderOptions& opt, RenderStats* stats_ou
     ++stats.passes;
     stats.spp_done = s_end;
     const uint64_t pass_paths = paths.load() - paths_before;
-    if (pass_paths > 0) pass_seconds_per_sample = (elapsed() - pass_t0) / double(pass_paths);
+    passes_seconds += elapsed() - pass_t0;
+    passes_samples += pass_paths;
     s_begin = s_end;
     if (threshold > 0.0f && s_end >= min_spp && s_end < spp) {
       // Converged: the standard error of the mean of I = R + G + B, normalised (integrator.h).
@@ -451,10 +458,8 @@ Image render(const Scene& scene, const RenderOptions& opt, RenderStats* stats_ou
         const double n = count[p];
         if (n < 2.0) continue;  // no variance estimate yet
         const double mean = (sum[3 * p] + sum[3 * p + 1] + sum[3 * p + 2]) / n;
-        const double var = std::max(0.0, (sum_i2[p] - n * mean * mean) / (n - 1.0));
-        const double norm = mean < 1.0 ? std::sqrt(std::max(mean, 0.0)) : mean;
-        // 1e-4: Cycles' guard against a division by zero (a black pixel with zero variance converges).
-        converged[p] = std::sqrt(var / n) / (1e-4 + norm) < threshold;
+        const double var = (sum_i2[p] - n * mean * mean) / (n - 1.0);
+        converged[p] = adaptive_error(mean, var, n) < threshold;
       }
       active_pixels = 0;
       for (int y = 0; y < H; ++y)

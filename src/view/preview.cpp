@@ -2,6 +2,8 @@
 #include "view/preview.h"
 
 #include <algorithm>
+#include <chrono>
+#include <vector>
 
 #include "aniso/render/integrator.h"
 
@@ -62,21 +64,37 @@ void ProgressivePreview::wait_for(int spp) const {
 }
 
 void ProgressivePreview::run() {
+  using clock = std::chrono::steady_clock;
   std::shared_ptr<const render::Scene> scene;
+  // What each pass renders: the scene without its noise threshold and time budget, which apply to
+  // the accumulated image instead (below), not to each pass's few samples.
+  std::shared_ptr<render::Scene> pass_scene;
   render::Image sum;
-  int done = 0;
+  std::vector<double> sum_i2;  // per pixel: sum over passes of n_k m_k^2, m_k the pass's mean of R + G + B
+  int done = 0, passes = 0, limit = max_spp_, min_spp = 0;
+  clock::time_point started;
+  double pass_seconds = 0.0;  // all passes of this scene, for the time budget's prediction
   uint64_t pass = 0;
   for (;;) {
     {
       std::unique_lock lock(mutex_);
-      cv_.wait(lock, [&] { return stop_ || pending_ || (scene && done < max_spp_); });
+      cv_.wait(lock, [&] { return stop_ || pending_ || (scene && done < limit); });
       if (stop_) return;
       if (pending_) {
         scene = std::move(pending_);
         pending_.reset();
         cancel_ = false;
+        pass_scene = std::make_shared<render::Scene>(*scene);
+        pass_scene->film.noise_threshold = 0.0f;
+        pass_scene->film.time_s = 0.0f;
         sum = render::Image(scene->film.width, scene->film.height);
-        done = 0;
+        sum_i2.assign(scene->film.noise_threshold > 0.0f ? size_t(scene->film.width) * size_t(scene->film.height) : 0, 0.0);
+        done = passes = 0;
+        limit = max_spp_;
+        const float t = scene->film.noise_threshold;
+        min_spp = t > 0.0f ? (scene->film.min_spp > 0 ? scene->film.min_spp : render::automatic_min_spp(t)) : 0;
+        started = clock::now();
+        pass_seconds = 0.0;
         average_ = render::Image();
         spp_ = 0;
         ++generation_;
@@ -91,8 +109,24 @@ void ProgressivePreview::run() {
     opt.spp = std::min(std::max(1, done), max_spp_ - done);
     opt.seed = 0x9E3779B97F4A7C15ULL ^ ++pass;  // a different sample set per pass
     opt.cancel = &cancel_;
+    const double budget = scene->film.time_s;
+    if (budget > 0.0 && done > 0) {
+      // As the renderer's time budget (render/integrator.h): a pass predicted to end past the
+      // budget (time per sample over all passes so far) is not started.
+      const double since = std::chrono::duration<double>(clock::now() - started).count();
+      if (since + pass_seconds / double(done) * double(opt.spp) > budget) {
+        std::lock_guard lock(mutex_);
+        busy_ = false;
+        limit = done;
+        working_ = false;
+        cv_.notify_all();
+        continue;
+      }
+    }
     render::RenderStats stats;
-    const render::Image img = render::render(*scene, opt, &stats);
+    const auto pass_t0 = clock::now();
+    const render::Image img = render::render(*pass_scene, opt, &stats);
+    pass_seconds += std::chrono::duration<double>(clock::now() - pass_t0).count();
     std::lock_guard lock(mutex_);
     busy_ = false;
     // A cancelled pass is dropped: a restart is pending (or the preview was paused).
@@ -104,11 +138,30 @@ void ProgressivePreview::run() {
     }
     const float w = float(opt.spp);
     for (size_t i = 0; i < sum.rgb.size(); ++i) sum.rgb[i] += img.rgb[i] * w;
+    for (size_t p = 0; p < sum_i2.size(); ++p) {
+      const double m = double(img.rgb[3 * p]) + double(img.rgb[3 * p + 1]) + double(img.rgb[3 * p + 2]);
+      sum_i2[p] += double(opt.spp) * m * m;
+    }
     done += opt.spp;
+    ++passes;
+    // The noise threshold on the accumulated image: it is done when every pixel's error estimate
+    // (render::adaptive_error, as the renderer's adaptive sampling) is below the threshold. The
+    // variance per sample comes from the spread of the passes' means: with K passes of n_k samples,
+    // sum n_k (m_k - M)^2 = sum n_k m_k^2 - N M^2 has the expectation (K - 1) variance.
+    if (!sum_i2.empty() && done >= min_spp && passes >= 2) {
+      bool all = true;
+      const double n = double(done);
+      for (size_t p = 0; p < sum_i2.size() && all; ++p) {
+        const double mean = (double(sum.rgb[3 * p]) + double(sum.rgb[3 * p + 1]) + double(sum.rgb[3 * p + 2])) / n;
+        const double var = (sum_i2[p] - n * mean * mean) / double(passes - 1);
+        all = render::adaptive_error(mean, var, n) < double(scene->film.noise_threshold);
+      }
+      if (all) limit = done;
+    }
     average_ = sum;
     for (float& x : average_.rgb) x /= float(done);
     spp_ = done;
-    working_ = done < max_spp_;
+    working_ = done < limit;
     ++generation_;
     cv_.notify_all();
   }

@@ -2,6 +2,10 @@
 // the current scene with the CPU renderer (render/integrator.h) in passes of 1, 1, 2, 4, ... samples
 // per pixel with different seeds and keeps their running average; restart() with a new scene
 // cancels the pass in flight (RenderOptions::cancel) and starts again from zero samples.
+// A scene's film.noise_threshold and film.time_s apply to the accumulated image, not to each pass:
+// the preview stops when every pixel of the average is below the threshold (from film.min_spp on,
+// the renderer's error estimate, render::adaptive_error, with the variance from the spread of the
+// passes' means) or when the next pass would end past the time budget (from the restart).
 #pragma once
 
 #include <atomic>

@@ -28,7 +28,9 @@ struct GalleryOptions {
 
 struct GalleryResult {
   DisplayImage image;
-  RenderStats stats;  // summed over cells
+  // Summed over cells; spp_done: the fewest samples per pixel of any cell in the figure (0: Ctrl-C
+  // came before every cell had one sample: no whole figure, nothing to write).
+  RenderStats stats;
   int cells = 0, cell_width = 0, cell_height = 0;
 };
 

@@ -56,7 +56,9 @@
 // is the same for any thread count or tile order.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 
@@ -117,8 +119,11 @@ struct RenderStats {
 // (film_adaptive_sampling_convergence_check: "Filmic-like curves need maximum sampling rate at
 // intensity near 0.1-0.2"), whose error itself is |mean - mean of the even samples| instead.
 //
-// Time budget (film.time_s > 0): passes until the budget; a pass whose predicted end (from the
-// time per sample so far) lies past the budget is not started. The first pass always runs.
+// Time budget (film.time_s > 0, wall clock from the call): passes until the budget; a pass whose
+// predicted end lies past the budget is not started. The prediction is the pass's samples times the
+// time per sample measured over all passes so far (sum of their seconds over sum of their samples),
+// so that one pass slowed by other processes does not end the render early. The first pass
+// always runs.
 //
 // Determinism: the decisions are taken between passes from the samples alone, so the image is
 // the same for a seed whatever the thread count; a time-limited render equals the render with
@@ -131,6 +136,13 @@ int next_pass_end(int spp_so_far, int spp_max);
 // film.min_spp = 0 with a noise threshold: Cycles' automatic minimum, max(4, ceil(16 / T^0.3))
 // (scene/integrator.cpp, Integrator::get_adaptive_sampling: "Threshold 0.1 -> 32, 0.01 -> 64").
 int automatic_min_spp(float noise_threshold);
+// Adaptive sampling's error estimate of a pixel (above): the standard error sqrt(variance / n) of
+// the mean of I = R + G + B over n samples, divided by sqrt(mean) below 1 and by the mean above,
+// plus Cycles' 1e-4 against a division by zero (a black pixel with zero variance converges).
+inline double adaptive_error(double mean, double variance, double n) {
+  const double norm = mean < 1.0 ? std::sqrt(std::max(mean, 0.0)) : mean;
+  return std::sqrt(std::max(variance, 0.0) / n) / (1e-4 + norm);
+}
 
 // A ray as cast into the BVH: closest hit (shadow = false) or any hit (shadow = true) in (0, tmax).
 struct RecordedRay {
