@@ -37,9 +37,9 @@ class Distribution1D {
   // Continuous sample in [0, 1); *pdf is the density w.r.t. [0, 1) (func / integral, or 1 when
   // uniform), *offset the bin. Zero-weight bins are never returned. Either pointer may be null.
   // The bin is the one a binary search of the whole CDF finds (the first cdf entry above u, minus
-  // one), searched only between two entries of a guide table (Chen & Wu 1974's "guide table" /
-  // indexed search; Devroye 1986, Sec. III.2.4): O(1) expected for any function whose bins are
-  // not much narrower than 1 / n.
+  // one), searched only between two entries of a guide table (Chen & Asau 1974, "On generating
+  // random variates from an empirical distribution"; Devroye 1986, "Non-Uniform Random Variate
+  // Generation", Ch. III, the guide table method): O(1) expected when no bin is much narrower than 1 / n.
   float sample(float u, float* pdf, int* offset) const;
   float integral() const { return integral_; }
   // Whether sample() gives the same results as other's for every u, bit for bit: the same CDF and
