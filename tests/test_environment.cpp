@@ -113,6 +113,43 @@ TEST(Distribution1D, StaysBelowOneAndSkipsTrailingZeroBin) {
   EXPECT_LT(one.sample(u, nullptr, nullptr), 1.0f);
 }
 
+// The guide table only narrows the search: every u finds the bin the binary search of the whole
+// CDF finds (the first entry above u, minus one), on functions with zero runs, a spike that holds
+// almost all the weight (its neighbours' bins narrower than a guide cell) and a size that is not
+// a power of two. The CDF is rebuilt here as the constructor documents it (double sums, divided
+// once, the last entry exactly 1); u runs over a grid, over random values, and over every CDF entry
+// and guide-cell edge with the floats on either side.
+TEST(Distribution1D, GuideTableFindsTheBinOfTheFullSearch) {
+  std::vector<float> f(300, 0.0f);
+  Rng rng(5);
+  for (size_t i = 0; i < f.size(); ++i) f[i] = (i / 7) % 3 == 0 ? 0.0f : float(rng.uniform()) * 2.0f;
+  f[123] = 1e6f;
+  f[0] = f[299] = 0.0f;
+  const Distribution1D d(f);
+  const size_t n = f.size();
+  std::vector<double> acc(n + 1, 0.0);
+  for (size_t i = 0; i < n; ++i) acc[i + 1] = acc[i] + double(f[i]);
+  std::vector<float> cdf(n + 1);
+  for (size_t i = 0; i <= n; ++i) cdf[i] = float(acc[i] / acc[n]);
+  cdf[n] = 1.0f;
+  std::vector<float> us;
+  for (int k = 0; k <= 4096; ++k) us.push_back(float(k) / 4096.0f);
+  for (int k = 0; k < 20000; ++k) us.push_back(float(rng.uniform()));
+  for (size_t i = 0; i <= n; ++i) us.insert(us.end(), {cdf[i], std::nextafter(cdf[i], 0.0f), std::nextafter(cdf[i], 1.0f)});
+  for (int k = 0; k <= 512; ++k) {
+    const float t = float(k) / 512.0f;  // the guide cells' edges (512: the power of two above 300)
+    us.insert(us.end(), {t, std::nextafter(t, 0.0f), std::nextafter(t, 1.0f)});
+  }
+  for (float u : us) {
+    const float uc = std::clamp(u, 0.0f, 0x1.fffffep-1f);
+    const int want = std::clamp(int(std::upper_bound(cdf.begin(), cdf.end(), uc) - cdf.begin()) - 1, 0, int(n) - 1);
+    int offset = -1;
+    d.sample(u, nullptr, &offset);
+    ASSERT_EQ(offset, want) << "u = " << u;
+    ASSERT_GT(f[size_t(offset)], 0.0f) << "zero bin sampled at u = " << u;
+  }
+}
+
 // ---- Distribution2D -------------------------------------------------------------------------
 
 TEST(Distribution2D, HistogramPdfConsistencyAndNormalisation) {

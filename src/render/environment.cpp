@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 namespace aniso::render {
@@ -174,6 +175,17 @@ Distribution1D::Distribution1D(std::vector<float> f) : func_(std::move(f)) {
     for (size_t i = 0; i <= n; ++i) cdf_[i] = float(double(i) / double(n));
   }
   cdf_[n] = 1.0f;  // exactly, so that every u < 1 finds a bin
+  // The guide table: G the power of two at or above n (at most 2^20), guide_[k] the bin of k / G
+  // found by the full search, guide_[G] the last bin (u < 1 never reaches bin n).
+  size_t g = 1;
+  while (g < n && g < (size_t(1) << 20)) g <<= 1;
+  guide_.resize(g + 1);
+  for (size_t k = 0; k < g; ++k) {
+    const float t = float(k) / float(g);  // exact: k < 2^20 < 2^24 and g a power of two
+    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), t);
+    guide_[k] = uint32_t(std::clamp(int(it - cdf_.begin()) - 1, 0, int(n) - 1));
+  }
+  guide_[g] = uint32_t(n - 1);
 }
 
 float Distribution1D::sample(float u, float* pdf, int* offset) const {
@@ -185,8 +197,19 @@ float Distribution1D::sample(float u, float* pdf, int* offset) const {
   }
   u = std::clamp(u, 0.0f, kOneMinusEpsilon);
   // The bin o with cdf[o] <= u < cdf[o + 1]: the first entry above u, minus one. Bins of zero
-  // weight have cdf[o] == cdf[o + 1] and are never chosen.
-  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+  // weight have cdf[o] == cdf[o + 1] and are never chosen. With k = int(u G) (exact, G a power of
+  // two), k / G <= u < (k + 1) / G, so the first entry above u is entry guide_[k] + 1 or later
+  // (cdf[guide_[k]] <= k / G <= u) and guide_[k + 1] + 1 or earlier (cdf[guide_[k + 1] + 1] >
+  // (k + 1) / G > u, or it is cdf[n] = 1 > u): the search of that range finds the same entry as
+  // the search of all of cdf_. NaN (never from the samplers) takes the full search.
+  auto first = cdf_.begin(), last = cdf_.end();
+  if (u == u) {
+    const size_t g = guide_.size() - 1;
+    const size_t k = std::min(size_t(u * float(g)), g - 1);
+    first = cdf_.begin() + ptrdiff_t(guide_[k]) + 1;
+    last = cdf_.begin() + ptrdiff_t(guide_[k + 1]) + 2;
+  }
+  const auto it = std::upper_bound(first, last, u);
   const int o = std::clamp(int(it - cdf_.begin()) - 1, 0, n - 1);
   float du = u - cdf_[size_t(o)];
   const float width = cdf_[size_t(o) + 1] - cdf_[size_t(o)];
@@ -194,6 +217,17 @@ float Distribution1D::sample(float u, float* pdf, int* offset) const {
   if (pdf) *pdf = integral_ > 0.0f ? func_[size_t(o)] / integral_ : 1.0f;
   if (offset) *offset = o;
   return std::min((float(o) + du) / float(n), kOneMinusEpsilon);
+}
+
+bool Distribution1D::samples_like(const Distribution1D& other) const {
+  if (cdf_ != other.cdf_ || func_.size() != other.func_.size()) return false;
+  // sample()'s pdf: 1 where the integral is 0, else func / integral (the same division).
+  for (size_t i = 0; i < func_.size(); ++i) {
+    const float a = integral_ > 0.0f ? func_[i] / integral_ : 1.0f;
+    const float b = other.integral_ > 0.0f ? other.func_[i] / other.integral_ : 1.0f;
+    if (std::memcmp(&a, &b, sizeof(float)) != 0) return false;
+  }
+  return true;
 }
 
 // ---- Distribution2D -------------------------------------------------------------------------
@@ -211,6 +245,9 @@ Distribution2D::Distribution2D(const std::vector<float>& f, int nu, int nv) {
     }
     conditional_.emplace_back(std::move(row));
     marginal[size_t(v)] = conditional_.back().integral();
+    // The previous distinct row is the candidate: repeated rows come in runs (a sky's bands).
+    const uint32_t prev = v > 0 ? sampling_row_.back() : 0;
+    sampling_row_.push_back(v > 0 && conditional_.back().samples_like(conditional_[prev]) ? prev : uint32_t(v));
   }
   marginal_ = Distribution1D(std::move(marginal));
 }
@@ -223,15 +260,18 @@ Vec2 Distribution2D::sample(const Vec2& u, float* pdf) const {
     return Vec2(0.0f);
   }
   const float d1 = marginal_.sample(u.y, &pdf_v, &v);
-  const float d0 = conditional_[size_t(v)].sample(u.x, &pdf_u, nullptr);
+  const float d0 = conditional_[sampling_row_[size_t(v)]].sample(u.x, &pdf_u, nullptr);
   if (pdf) *pdf = pdf_u * pdf_v;
   return Vec2(d0, d1);
 }
 
 float Distribution2D::pdf(const Vec2& uv) const {
   if (conditional_.empty()) return 0.0f;  // default-constructed
-  const int nu = conditional_.front().size(), nv = marginal_.size();
-  const int iu = bin_of(uv.x, nu), iv = bin_of(uv.y, nv);
+  return pdf_of_bin(bin_of(uv.x, conditional_.front().size()), bin_of(uv.y, marginal_.size()));
+}
+
+float Distribution2D::pdf_of_bin(int iu, int iv) const {
+  if (conditional_.empty()) return 0.0f;  // default-constructed
   // pdf_u * pdf_v = (f / I_row) (I_row / I) = f / I, I the marginal's integral (the mean of f).
   // A zero function samples uniformly (pdf 1 in both factors): say so here too.
   if (!(marginal_.integral() > 0.0f)) return 1.0f;
@@ -296,36 +336,52 @@ Environment Environment::from_image(Image img, float scale, float rotation_deg) 
   }
   e.kind_ = Kind::Map;
   e.luminance_integral_ = float(lum_sum * (2.0 * kPiD * kPiD) / (double(w) * double(h)));
-  e.map_ = std::move(img);
   e.rotation_rad_ = rotation_deg * (kPi / 180.0f);
   e.dist_ = std::make_shared<const Distribution2D>(f, w, h);
+  e.width_ = w;
+  e.height_ = h;
+  e.texels_.resize(size_t(w) * size_t(h));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      e.texels_[size_t(y) * size_t(w) + size_t(x)] = Texel{img.at(x, y), e.dist_->pdf_of_bin(x, y)};
+    }
+  // A map whose every row is one texel repeated, bit for bit (the gradient sky without a sun: it
+  // depends on theta alone) keeps one texel per row and a width of 1 for the lookup: bin_of(u, 1)
+  // is 0, so every lookup reads the same texel values as from the full table, from one small
+  // enough to stay in cache (the full one is read at random and misses it).
+  bool rows_constant = true;
+  for (int y = 0; y < h && rows_constant; ++y)
+    for (int x = 1; x < w && rows_constant; ++x)
+      rows_constant =
+          std::memcmp(&e.texels_[size_t(y) * size_t(w) + size_t(x)], &e.texels_[size_t(y) * size_t(w)], sizeof(Texel)) == 0;
+  if (rows_constant && w > 1) {
+    for (int y = 0; y < h; ++y) e.texels_[size_t(y)] = e.texels_[size_t(y) * size_t(w)];
+    e.texels_.resize(size_t(h));
+    e.texels_.shrink_to_fit();
+    e.width_ = 1;
+  }
   return e;
 }
 
 Environment Environment::sky(const SkyParams& params) { return from_image(tabulate_sky(params), 1.0f, 0.0f); }
 
-RGB Environment::eval(const Vec3& w) const {
+Environment::Lookup Environment::lookup(const Vec3& w) const {
   switch (kind_) {
-    case Kind::None: return RGB(0.0f);
-    case Kind::Uniform: return uniform_;
+    case Kind::None: return {};
+    case Kind::Uniform: return {uniform_, 1.0f / (4.0f * kPi)};
     case Kind::Map: break;
   }
   const MapCoords m = map_coords(w, rotation_rad_);
-  return map_.at(bin_of(m.uv.x, map_.width), bin_of(m.uv.y, map_.height));
-}
-
-float Environment::pdf(const Vec3& w) const {
-  switch (kind_) {
-    case Kind::None: return 0.0f;
-    case Kind::Uniform: return 1.0f / (4.0f * kPi);
-    case Kind::Map: break;
-  }
-  const MapCoords m = map_coords(w, rotation_rad_);
+  const Texel& t = texels_[size_t(bin_of(m.uv.y, height_)) * size_t(width_) + size_t(bin_of(m.uv.x, width_))];
   // At the poles the lat-long map squeezes a whole row into a point: the density in solid angle is
   // unbounded there and the direction is never sampled (probability zero), so report 0.
-  if (!(m.sin_theta > 0.0f)) return 0.0f;
-  return dist_->pdf(m.uv) / (2.0f * kPi * kPi * m.sin_theta);
+  if (!(m.sin_theta > 0.0f)) return {t.radiance, 0.0f};
+  return {t.radiance, t.pdf_uv / (2.0f * kPi * kPi * m.sin_theta)};
 }
+
+RGB Environment::eval(const Vec3& w) const { return lookup(w).radiance; }
+
+float Environment::pdf(const Vec3& w) const { return lookup(w).pdf; }
 
 EnvSample Environment::sample(const Vec2& u) const {
   EnvSample s;
@@ -350,8 +406,9 @@ EnvSample Environment::sample(const Vec2& u) const {
   // Radiance and pdf through eval() and pdf() of the direction itself, not from (uv, pdf_uv): a
   // sample that lands on a texel edge may round into the neighbour texel, and the estimator
   // radiance / pdf and the MIS weights need the values eval() and pdf() give for s.w exactly.
-  s.radiance = eval(s.w);
-  s.pdf = pdf(s.w);
+  const Lookup l = lookup(s.w);
+  s.radiance = l.radiance;
+  s.pdf = l.pdf;
   if (!(s.pdf > 0.0f)) return EnvSample{};  // rounded into a black texel or onto a pole
   return s;
 }

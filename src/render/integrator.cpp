@@ -162,6 +162,12 @@ void roughen(Material& m, float alpha) {
 }
 
 PathTracer::PathTracer(const Scene& scene, const SceneGeometry& geometry) : scene_(scene), geo_(geometry) {
+  const Camera& c = scene.camera;
+  cam_fwd_ = glm::normalize(c.look_at - c.position);
+  cam_right_ = glm::normalize(glm::cross(cam_fwd_, c.up));
+  cam_up_ = glm::cross(cam_right_, cam_fwd_);
+  cam_tan_half_ = std::tan(glm::radians(c.fov_deg) * 0.5f);
+  cam_aspect_ = float(scene.film.width) / float(scene.film.height);
   const float R = std::max(geometry.bounding_radius(), 1e-6f);  // a point-sized scene still lets light in
   std::vector<double> power;
   for (const Light& l : scene.lights) power.push_back(std::max(0.0, double(light_power(l, R))));
@@ -204,15 +210,9 @@ int PathTracer::pick_light(float u) const {
 }
 
 Ray PathTracer::camera_ray(float px, float py) const {
-  const Camera& c = scene_.camera;
-  const Vec3 fwd = glm::normalize(c.look_at - c.position);
-  const Vec3 right = glm::normalize(glm::cross(fwd, c.up));
-  const Vec3 up = glm::cross(right, fwd);
-  const float tan_half = std::tan(glm::radians(c.fov_deg) * 0.5f);
-  const float aspect = float(scene_.film.width) / float(scene_.film.height);
-  const float sx = (2.0f * px / float(scene_.film.width) - 1.0f) * tan_half * aspect;
-  const float sy = (1.0f - 2.0f * py / float(scene_.film.height)) * tan_half;
-  return Ray{c.position, glm::normalize(fwd + sx * right + sy * up)};
+  const float sx = (2.0f * px / float(scene_.film.width) - 1.0f) * cam_tan_half_ * cam_aspect_;
+  const float sy = (1.0f - 2.0f * py / float(scene_.film.height)) * cam_tan_half_;
+  return Ray{scene_.camera.position, glm::normalize(cam_fwd_ + sx * cam_right_ + sy * cam_up_)};
 }
 
 RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRay>* record) const {
@@ -249,8 +249,9 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
     if (record) record->push_back({ray, INFINITY, false});
     if (!geo_.intersect(ray, INFINITY, &hit)) {
       if (!env.is_black()) {
-        const float w = emitted_weight(prev_pdf > 0.0f ? env_prob * env.pdf(ray.d) : 0.0f);
-        if (w > 0.0f) add(beta * env.eval(ray.d) * w, bounces >= 2);
+        const Environment::Lookup e = env.lookup(ray.d);
+        const float w = emitted_weight(prev_pdf > 0.0f ? env_prob * e.pdf : 0.0f);
+        if (w > 0.0f) add(beta * e.radiance * w, bounces >= 2);
       }
       break;
     }

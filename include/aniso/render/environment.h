@@ -20,6 +20,7 @@
 // eval(w) > 0 (needed for unbiased MIS). eval, pdf and sample are const and thread-safe.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -33,15 +34,25 @@ class Distribution1D {
  public:
   Distribution1D() = default;
   explicit Distribution1D(std::vector<float> f);  // f >= 0 (others count as 0); all zero or empty -> uniform
-  // Continuous sample in [0, 1) (O(log n)); *pdf is the density w.r.t. [0, 1) (func / integral, or 1
-  // when uniform), *offset the bin. Zero-weight bins are never returned. Either pointer may be null.
+  // Continuous sample in [0, 1); *pdf is the density w.r.t. [0, 1) (func / integral, or 1 when
+  // uniform), *offset the bin. Zero-weight bins are never returned. Either pointer may be null.
+  // The bin is the one a binary search of the whole CDF finds (the first cdf entry above u, minus
+  // one), searched only between two entries of a guide table (Chen & Asau 1974, "On generating
+  // random variates from an empirical distribution"; Devroye 1986, "Non-Uniform Random Variate
+  // Generation", Ch. III, the guide table method): O(1) expected when no bin is much narrower than 1 / n.
   float sample(float u, float* pdf, int* offset) const;
   float integral() const { return integral_; }
+  // Whether sample() gives the same results as other's for every u, bit for bit: the same CDF and
+  // the same func / integral in every bin (rows of a map that depend on theta alone).
+  bool samples_like(const Distribution1D& other) const;
   int size() const { return int(func_.size()); }
   float func(int i) const { return func_[size_t(i)]; }
 
  private:
   std::vector<float> func_, cdf_;
+  // guide_[k] = the bin of u = k / G (G = guide_.size() - 1, a power of two, so that k = int(u G)
+  // is exact and u in [k / G, (k + 1) / G) has its bin in [guide_[k], guide_[k + 1]]).
+  std::vector<uint32_t> guide_;
   float integral_ = 0.0f;
 };
 
@@ -53,9 +64,13 @@ class Distribution2D {
   Distribution2D(const std::vector<float>& f, int nu, int nv);  // f[v * nu + u]
   Vec2 sample(const Vec2& u, float* pdf) const;                 // returns (u, v) in [0, 1)^2
   float pdf(const Vec2& uv) const;                              // density w.r.t. [0, 1)^2, as sample()'s
+  float pdf_of_bin(int iu, int iv) const;                       // pdf() anywhere in bin (iu, iv)
 
  private:
   std::vector<Distribution1D> conditional_;
+  // sampling_row_[v]: the first row whose conditional samples like row v's, sampled in its place,
+  // so that a map of repeated rows samples from one row's tables, which stay in cache.
+  std::vector<uint32_t> sampling_row_;
   Distribution1D marginal_;
 };
 
@@ -101,6 +116,12 @@ class Environment {
   bool nearly_constant() const { return kind_ != Kind::None && variation_ <= kNearlyConstant; }
   RGB eval(const Vec3& w) const;   // radiance arriving from direction w
   float pdf(const Vec3& w) const;  // density of sample() producing w (solid angle)
+  // Both at once (one lookup of w on the map): {eval(w), pdf(w)}, bit for bit.
+  struct Lookup {
+    RGB radiance{0.0f};
+    float pdf = 0.0f;
+  };
+  Lookup lookup(const Vec3& w) const;
   // radiance == eval(w) and pdf == pdf(w) exactly. pdf = 0 means no sample: always for black
   // environments, otherwise only when rounding puts w on a pole or into a black neighbour texel.
   EnvSample sample(const Vec2& u) const;
@@ -109,7 +130,14 @@ class Environment {
   enum class Kind { None, Uniform, Map };
   Kind kind_ = Kind::None;
   RGB uniform_{0.0f};
-  Image map_;
+  // The map's texels, each with its sampling density w.r.t. [0, 1)^2 (Distribution2D::pdf of the
+  // texel, the same float) beside its radiance, so that a lookup reads one 16-byte record.
+  struct Texel {
+    RGB radiance{0.0f};
+    float pdf_uv = 0.0f;
+  };
+  std::vector<Texel> texels_;
+  int width_ = 0, height_ = 0;  // of texels_: width_ is 1 when every row of the map is one texel repeated
   float rotation_rad_ = 0.0f;
   float luminance_integral_ = 0.0f;
   float variation_ = 0.0f;  // max over channels of (max - min) / max over the texels (0: uniform)

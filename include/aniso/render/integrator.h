@@ -172,6 +172,9 @@ class PathTracer {
   const SceneGeometry& geo_;
   std::vector<float> light_prob_, light_cdf_;  // lights, then the environment
   bool sample_all_ = false;                    // every candidate at every vertex (light_prob_ all 1)
+  // The camera's basis and screen scales, fixed per scene (camera_ray).
+  Vec3 cam_fwd_{0.0f}, cam_right_{0.0f}, cam_up_{0.0f};
+  float cam_tan_half_ = 0.0f, cam_aspect_ = 1.0f;
 };
 
 }  // namespace aniso::render
