@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "aniso/gl/gl_context.h"
+#include "aniso/image/image_io.h"
 #include "aniso/io/presets.h"
 #include "aniso/render/gallery.h"
 #include "aniso/render/integrator.h"

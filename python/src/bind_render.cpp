@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include "aniso/image/image_io.h"
 #include "aniso/render/gallery.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
