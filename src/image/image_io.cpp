@@ -30,24 +30,7 @@
 #include "io/atomic_file.h"
 #include "io/text_input.h"
 
-// Third-party single-header libraries: their own code is not held to the project's warning flags.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
-#pragma GCC diagnostic ignored "-Wdouble-promotion"
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wcast-qual"
-#pragma GCC diagnostic ignored "-Wold-style-cast"
-#ifndef __clang__  // a GCC-only warning (clang would warn about the unknown group)
-#pragma GCC diagnostic ignored "-Wuseless-cast"
-#endif
+#include "image/third_party_begin.h"  // closed by the pop below
 #define STB_IMAGE_STATIC
 // Only the decoders of the documented formats: stb_image otherwise detects a dozen formats by
 // content, and would decode a 118-byte file named .png as a run-length TGA of 6168 x 6168 pixels
