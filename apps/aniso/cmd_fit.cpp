@@ -3,6 +3,7 @@
 // the fitted material is validated by the material reader and written atomically, so an error of
 // any kind leaves no file behind.
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -160,15 +161,7 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
   for (const std::string& note : o.notes) fmt::print(stderr, "aniso: note: {}\n", note);
   if (!a.compare && a.output.empty()) throw InputError("-o: required: the file to write the fitted material to (fitted.json)");
   int grid = 0;
-  if (!a.grid.empty()) {
-    if (lower_extension(a.data) != ".bsdf")
-      throw InputError(
-          fmt::format("--grid applies to an RGL tensor file (.bsdf) only, which has no samples of its own; {} "
-                      "is sampled where it was measured",
-                      a.data));
-    grid = int(parse_integer(a.grid, 4, 256, "--grid"));
-    if (grid % 2 != 0) throw InputError(fmt::format("--grid: expected an even number (theta_d gets half of it), got {}", grid));
-  }
+  if (!a.grid.empty()) grid = check_rgl_fit_grid(a.data, parse_integer(a.grid, INT64_MIN, INT64_MAX, "--grid"), "--grid");
   const SampleSet data = read_measured(a.data, grid);
   print_warnings(data);
   const std::optional<double> after = parse_decimal(a.progress_after);

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cmath>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -15,6 +16,7 @@
 #include "aniso/measured/samples.h"
 #include "bindings.h"
 #include "convert.h"
+#include "io/text_input.h"
 
 namespace aniso::python {
 
@@ -80,16 +82,27 @@ SampleSet samples_from_arrays(const py::object& wi_in, const py::object& wo_in, 
 }
 
 // A measured data file as arrays (aniso.read_measured): what `aniso fit DATA` fits.
-py::dict read_measured_py(const py::object& path_in) {
+// grid= as `aniso fit --grid`: None, or an even number in [4, 256] for a .bsdf file (check_rgl_fit_grid).
+int rgl_grid_of(const py::object& grid, const std::string& path) {
+  if (grid.is_none()) return 0;
+  if (py::isinstance<py::bool_>(grid) || !py::isinstance<py::int_>(grid))
+    throw py::value_error(
+        fmt::format("grid: expected an integer or None, got {}", std::string(py::str(py::type::of(grid).attr("__name__")))));
+  const std::string text = py::str(grid);
+  return check_rgl_fit_grid(path, parse_integer(text, INT64_MIN, INT64_MAX, "grid"), "grid");
+}
+
+py::dict read_measured_py(const py::object& path_in, const py::object& grid) {
   if (!(py::isinstance<py::str>(path_in) || py::hasattr(path_in, "__fspath__")))
     throw py::value_error(
         fmt::format("path: expected a path to a .binary (MERL), .brdf (Cornell), .bsdf (RGL) or .csv file, got {}",
                     std::string(py::str(py::type::of(path_in).attr("__name__")))));
   const std::string path = py::str(py::module_::import("os").attr("fspath")(path_in));
+  const int rgl_grid = rgl_grid_of(grid, path);
   SampleSet set;
   {
     py::gil_scoped_release release;
-    set = read_measured(path);
+    set = read_measured(path, rgl_grid);
   }
   const size_t n = set.samples.size();
   py::array_t<double> wi = rows_out<double>(n, false, 3), wo = rows_out<double>(n, false, 3),
@@ -133,7 +146,7 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
                    bool allow_energy_gain, bool shared_exponents, const std::string& normalization, const py::object& metal,
                    const std::string& metal_lobe, const std::string& metric, const std::string& loss,
                    const py::object& loss_scale, const py::object& starts, const py::object& seed, const py::object& threads,
-                   const py::object& max_iterations, const py::object& progress) {
+                   const py::object& max_iterations, const py::object& progress, const py::object& grid) {
   FitOptionText t;
   t.model = model;
   t.lobes = option_text(lobes, "lobes");
@@ -168,9 +181,12 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
           fmt::format("data: expected a path to a .binary (MERL), .brdf (Cornell), .bsdf (RGL) or .csv file, got {}",
                       std::string(py::str(py::type::of(data_in).attr("__name__")))));
     const std::string path = py::str(py::module_::import("os").attr("fspath")(data_in));
+    const int rgl_grid = rgl_grid_of(grid, path);
     py::gil_scoped_release release;
-    data = read_measured(path);
+    data = read_measured(path, rgl_grid);
   } else {
+    if (!grid.is_none())
+      throw py::value_error("grid: applies to an RGL tensor file (.bsdf) given as data, not to the arrays wi=, wo=, value=");
     data = samples_from_arrays(wi, wo, value, weight);
   }
   for (const std::string& w : data.warnings)
@@ -330,6 +346,7 @@ void bind_fit(py::module_& m) {
         py::arg("normalization") = "ward", py::arg("metal") = py::none(), py::arg("metal_lobe") = "ggx",
         py::arg("metric") = "l2cos", py::arg("loss") = "none", py::arg("loss_scale") = 0.0, py::arg("starts") = 6,
         py::arg("seed") = 1, py::arg("threads") = 0, py::arg("max_iterations") = 200, py::arg("progress") = py::none(),
+        py::arg("grid") = py::none(),
         "Fits a model to measured data, as `aniso fit` (docs/fitting.md): the same solver, options, starts\n"
         "and error figures; the same data, options and seed give the same material.\n\n"
         "data: a path to a MERL .binary, Cornell .brdf, RGL tensor .bsdf or CSV file of samples (what `aniso fit\n"
@@ -341,18 +358,20 @@ void bind_fit(py::module_& m) {
         "rotation_deg too), allow_energy_gain (else every directional albedo stays <= 1), shared_exponents, normalization (Ward: "
         "ward | duer | balanced), metal (a named metal; None fits eta\n"
         "and k), metal_lobe (ggx | ward | ashikhmin-shirley), metric (l2cos | log), loss (none | huber |\n"
-        "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations.\n"
+        "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations, grid (an RGL\n"
+        ".bsdf file's sampling: N theta_h x N/2 theta_d x N phi_d, N even in [4, 256]; None: 64 isotropic, 32\n"
+        "anisotropic).\n"
         "progress: None (a line on stderr when it is a terminal, as the CLI), True, False, or a callable\n"
         "given {stage, iteration, cost, elapsed_s, remaining_s} each iteration. The GIL is released while\n"
         "fitting; Ctrl-C stops the fit (KeyboardInterrupt). Returns a FitResult: `m, errors = aniso.fit(...)`.\n"
         "Bad data or options raise ValueError with the CLI's message.");
   m.def(
-      "read_measured", &read_measured_py, py::arg("path"),
+      "read_measured", &read_measured_py, py::arg("path"), py::kw_only(), py::arg("grid") = py::none(),
       "Reads measured reflectance as `aniso fit DATA` does (a MERL .binary, Cornell .brdf, RGL tensor .bsdf\n"
       "or CSV file of samples; Cornell spectra reduced to linear sRGB; an RGL file sampled on a grid of\n"
       "directions): {wi, wo: (N, 3) unit directions, value: (N, 3) f in 1/sr, weight: (N,), source, format,\n"
       "description (what was sampled, for an RGL file; else empty), warnings}. aniso.fit(wi=..., wo=..., value=..., weight=...)\n"
-      "on them fits what aniso.fit(path) fits.");
+      "on them fits what aniso.fit(path) fits. grid: an RGL file's sampling grid, as aniso.fit's.");
 }
 
 }  // namespace aniso::python

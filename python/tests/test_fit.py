@@ -53,6 +53,31 @@ def test_fit_of_an_rgl_file_equals_the_cli_and_read_measured_says_what_was_sampl
     assert abs(r.to_dict()["alpha_x"] - 0.2) < 0.01
 
 
+def test_grid_sets_an_rgl_files_sampling_as_the_clis_grid(tmp):
+    # grid=N as `aniso fit --grid N`: N theta_h x N/2 theta_d x N phi_d for a .bsdf file; refused,
+    # with the CLI's message, for data that have samples of their own, for odd or out-of-range N
+    # and for the arrays.
+    path = tmp / "ggx.bsdf"
+    rc, _, stderr = run_cli("export-rgl", "--material", '{"model": "ggx", "kd": 0.1, "f0": 0.5, "alpha": 0.2}', "--rgb",
+                            "-o", str(path))
+    assert rc == 0, stderr
+    d = aniso.read_measured(path, grid=8)
+    assert "8 theta_h (square-root spaced) x 4 theta_d x 8 phi_d" in d["description"]
+    assert len(d["weight"]) < len(aniso.read_measured(path)["weight"])
+    fitted, _ = cli_fit(tmp, str(path), "--model", "ggx", "--starts", "1", "--grid", "8")
+    r = aniso.fit(path, model="ggx", starts=1, progress=False, grid=8)
+    assert without_seconds(r.to_dict()) == without_seconds(fitted)
+    with pytest.raises(ValueError, match="grid applies to an RGL tensor file"):
+        aniso.fit(KRYLON, model="ggx", grid=8)
+    for bad in (7, 2, 258):
+        with pytest.raises(ValueError, match="grid: expected an even number"):
+            aniso.read_measured(path, grid=bad)
+    with pytest.raises(ValueError, match="grid: expected an integer"):
+        aniso.fit(path, model="ggx", grid=8.0)
+    with pytest.raises(ValueError, match="not to the arrays"):
+        aniso.fit(wi=d["wi"], wo=d["wo"], value=d["value"], model="ggx", grid=8)
+
+
 def test_fit_of_a_cornell_file_equals_the_cli(tmp):
     fitted, stdout = cli_fit(tmp, KRYLON, "--model", "ward", "--normalization", "duer", "--starts", "4", "--seed", "7")
     r = aniso.fit(KRYLON, model="ward", normalization="duer", starts=4, seed=7, progress=False)

@@ -379,6 +379,17 @@ SampleSet rgl_samples(const rgl::RglData& data, const std::string& source, const
   return set;
 }
 
+int check_rgl_fit_grid(const std::string& data_path, int64_t n, const std::string& what) {
+  if (std::filesystem::path(data_path).extension().string() != ".bsdf")
+    throw InputError(
+        fmt::format("{} applies to an RGL tensor file (.bsdf) only, which has no samples of its own; {} "
+                    "is sampled where it was measured",
+                    what, data_path));
+  if (n < 4 || n > 256) throw InputError(fmt::format("{}: expected an even number from 4 to 256, got {}", what, n));
+  if (n % 2 != 0) throw InputError(fmt::format("{}: expected an even number (theta_d gets half of it), got {}", what, n));
+  return int(n);
+}
+
 SampleSet read_measured(const std::string& path, int rgl_grid) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".csv") return read_samples_csv(path);

@@ -10,6 +10,7 @@
 // file, the line and the problem (the CLI exits 2 on it, docs/fitting.md lists the cases).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,11 @@ SampleSet rgl_samples(const rgl::RglData& data, const std::string& source, const
 // By extension: .csv, .brdf (Cornell), .binary (MERL, measured/merl.h), .bsdf (RGL tensor file,
 // sampled on rgl_sample_grid(isotropic, rgl_grid)).
 SampleSet read_measured(const std::string& path, int rgl_grid = 0);
+
+// The sampling grid asked of a fit (`aniso fit --grid N`, Python aniso.fit(grid=N)): N is even and
+// in [4, 256], and the data are an RGL tensor file (.bsdf), the one format without samples of its
+// own. Returns N; else an InputError naming `what` (the option as the caller spells it).
+int check_rgl_fit_grid(const std::string& data_path, int64_t n, const std::string& what);
 
 // w = (sin theta cos phi, sin theta sin phi, cos theta).
 Vec3d direction_from_angles(double theta, double phi);
