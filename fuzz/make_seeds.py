@@ -2,7 +2,7 @@
 """Writes the hand-made part of the seed corpus, fuzz/corpus/<target>/ (docs/testing.md).
 
 Run from the repository root: python3 fuzz/make_seeds.py. Standard library only. Files are named
-<what>.<ext>; the reproducers of issue 13 are named issue13-*. Files that fuzzing found (named
+<what>.<ext>; the reproducers of defects found by review are named defect-*. Files that fuzzing found (named
 crash-*, regression-*) are added by hand and never rewritten here. The image and tangent-map seeds
 start with the target's selector byte (fuzz_image.cpp, fuzz_tangent_map.cpp).
 Not written here: image/render-16x16.exr is byte 2 followed by the output of
@@ -40,39 +40,39 @@ materials = {
     "empty": "{}",
     "not-object": "[1, 2, 3]",
     # Issue 13, high: the kernel computed max|C|^n before the scale (inf / NaN).
-    "issue13-lafortune-scale-1e-300": '{"model": "lafortune", "lobes": [{"cz": 100, "n": 160, "scale": 1e-300}]}',
-    "issue13-lafortune-scale-0": '{"model": "lafortune", "lobes": [{"cz": 100, "n": 160, "scale": 0}]}',
-    "issue13-lafortune-float-n37": '{"model": "lafortune", "lobes": [{"cz": 100, "n": 37, "scale": 1e-300}]}',
+    "defect-lafortune-scale-1e-300": '{"model": "lafortune", "lobes": [{"cz": 100, "n": 160, "scale": 1e-300}]}',
+    "defect-lafortune-scale-0": '{"model": "lafortune", "lobes": [{"cz": 100, "n": 160, "scale": 0}]}',
+    "defect-lafortune-float-n37": '{"model": "lafortune", "lobes": [{"cz": 100, "n": 37, "scale": 1e-300}]}',
     # Issue 13, low.
-    "issue13-eta1-k0": '{"model": "metal", "eta": 1, "k": 0, "lobe": {"model": "ggx", "alpha": 0.3}}',
-    "issue13-duplicate-kd-2-first": '{"model": "lambert", "kd": 2, "kd": 0.5}',
-    "issue13-duplicate-kd-2-last": '{"model": "lambert", "kd": 0.5, "kd": 2}',
-    "issue13-duplicate-model": '{"model": "ward", "model": "lambert"}',
-    "issue13-tiny-1e-400": '{"model": "lambert", "kd": 1e-400}',
-    "issue13-minus-zero": '{"model": "lambert", "kd": -0.0}',
-    "issue13-key-nul": '{"model": "lambert", "k\\u0000d": 0.5}',
-    "issue13-key-control": '{"model": "lambert", "\\u001b[31mkd": 0.5}',
-    "issue13-number-overflow": '{"model": "lambert", "kd": 1e999}',
+    "defect-eta1-k0": '{"model": "metal", "eta": 1, "k": 0, "lobe": {"model": "ggx", "alpha": 0.3}}',
+    "defect-duplicate-kd-2-first": '{"model": "lambert", "kd": 2, "kd": 0.5}',
+    "defect-duplicate-kd-2-last": '{"model": "lambert", "kd": 0.5, "kd": 2}',
+    "defect-duplicate-model": '{"model": "ward", "model": "lambert"}',
+    "defect-tiny-1e-400": '{"model": "lambert", "kd": 1e-400}',
+    "defect-minus-zero": '{"model": "lambert", "kd": -0.0}',
+    "defect-key-nul": '{"model": "lambert", "k\\u0000d": 0.5}',
+    "defect-key-control": '{"model": "lambert", "\\u001b[31mkd": 0.5}',
+    "defect-number-overflow": '{"model": "lambert", "kd": 1e999}',
     # Issue 11: half of an anisotropic pair.
-    "issue11-half-pair": '{"model": "ashikhmin-shirley", "rd": 0.1, "rs": 0.2, "n_u": 10}',
-    "issue11-duplicate-alpha": '{"alpha_x": 0.1, "alpha_x": 0.5}',
+    "defect-half-pair": '{"model": "ashikhmin-shirley", "rd": 0.1, "rs": 0.2, "n_u": 10}',
+    "defect-duplicate-alpha": '{"alpha_x": 0.1, "alpha_x": 0.5}',
 }
 for name, text in materials.items():
     put("material", name + ".json", text)
 # Issue 13, high: 200,000 levels of nesting crashed with SIGSEGV (400 KB).
-put("material", "issue13-deep-nesting.json", '{"model": "lambert", "zz": ' + "[" * 200000 + "]" * 200000 + "}")
+put("material", "defect-deep-nesting.json", '{"model": "lambert", "zz": ' + "[" * 200000 + "]" * 200000 + "}")
 
 # --- eval_line: first byte even = vector lines, odd = --angles lines ----------------------------
 vec = {
     "basic": "0 0 1 0 0 1\n0.3 0.1 0.9 -0.2 0.4 0.8\n0 0 -1 0 0 1\n# comment\n\n",
-    "issue13-grazing-1e-170": "1 0 1e-170 -1 0 1e-170\n",
-    "issue13-mirror-1e-120": "1 0 1e-120 -1 0 1e-120\n1 0 1e-100 -1 0 1e-100\n",
-    "issue13-float-1e-15": "1 0 1e-15 1 0 1e-15\n1 0 1e-12 1 0 1e-12\n",
-    "issue13-subnormal-1e-310": "1 0 1e-310 -1 0 1e-310\n1e-310 0 1 0 0 1\n",
-    "issue13-huge-1e200": "1e200 1e200 1e200 0 0 1\n",
-    "issue13-form-feed": "\f\n\v\n \t\r\n0 0 1 0 0 1\n",
-    "issue13-octal": "010 0 1 0 0 1\n",
-    "issue13-nan-inf": "nan 0 1 0 0 1\ninf 0 1 0 0 1\n0x1p3 0 1 0 0 1\n",
+    "defect-grazing-1e-170": "1 0 1e-170 -1 0 1e-170\n",
+    "defect-mirror-1e-120": "1 0 1e-120 -1 0 1e-120\n1 0 1e-100 -1 0 1e-100\n",
+    "defect-float-1e-15": "1 0 1e-15 1 0 1e-15\n1 0 1e-12 1 0 1e-12\n",
+    "defect-subnormal-1e-310": "1 0 1e-310 -1 0 1e-310\n1e-310 0 1 0 0 1\n",
+    "defect-huge-1e200": "1e200 1e200 1e200 0 0 1\n",
+    "defect-form-feed": "\f\n\v\n \t\r\n0 0 1 0 0 1\n",
+    "defect-octal": "010 0 1 0 0 1\n",
+    "defect-nan-inf": "nan 0 1 0 0 1\ninf 0 1 0 0 1\n0x1p3 0 1 0 0 1\n",
     "zero-vector": "0 0 0 0 0 1\n",
     "too-many": "0 0 1 0 0 1 7\n",
     "too-few": "0 0 1 0 0\n",

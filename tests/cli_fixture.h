@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include "input_error_text.h"
+
 namespace aniso {
 
 namespace fs = std::filesystem;
@@ -34,8 +36,6 @@ inline std::string shell_quote(const std::string& s) {
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
 }
-
-inline bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
 
 // A fresh directory (mkdtemp) per test; run() writes stdin, stdout and stderr as files there.
 class Cli : public ::testing::Test {

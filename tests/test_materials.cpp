@@ -29,6 +29,7 @@
 #include "aniso/io/params.h"
 #include "aniso/io/presets.h"
 #include "aniso/stats/albedo.h"
+#include "input_error_text.h"
 #include "io/json_read.h"
 #include "test_util.h"
 
@@ -50,18 +51,6 @@ std::string parse_error_of(const json& j) {
   }
   return "";
 }
-
-// The message of the InputError that `fn` raises ("(no error)" if it raises none).
-std::string error_of(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
 
 // A few directions in the upper hemisphere, including the mirror configuration (h = n), normal
 // incidence and grazing angles, plus random ones.
@@ -616,7 +605,7 @@ TEST(JsonRead, DuplicateKeysAreErrorsNamingKeyAndPath) {
 
 TEST(JsonRead, DeepNestingIsRejectedNotACrash) {
   // 200,000 levels of arrays: an error naming the depth, not a stack overflow in a recursive copy
-  // (fuzz/corpus/material/issue13-deep-nesting.json).
+  // (fuzz/corpus/material/defect-deep-nesting.json).
   std::string deep = R"({"model": "lambert", "zz": )";
   deep += std::string(200000, '[') + std::string(200000, ']') + "}";
   const std::string msg = error_of([&] { load_material(deep); });

@@ -14,6 +14,7 @@
 #include "aniso/render/geometry.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
+#include "input_error_text.h"
 
 namespace aniso::render {
 namespace {
@@ -27,15 +28,8 @@ json base_scene() {
 }
 
 std::string scene_error(const json& j, const std::string& base_dir = "") {
-  try {
-    parse_scene(j, "s.json", base_dir);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return error_of([&] { parse_scene(j, "s.json", base_dir); });
 }
-
-bool has(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
 
 class ObjDir {
  public:
@@ -80,8 +74,8 @@ TEST(SceneObj, NumbersThatAreNotFiniteDecimalsNameTheFileAndLine) {
                         Case{"vt", "expected the numbers of a \"vt\" line (u [v [w]]), got 0"},
                         Case{"v", "expected the numbers of a \"v\" line (x y z [w], or x y z r g b), got 0"}}) {
     const std::string err = d.error_for("v 0 0 0\n" + c.line + "\nv 1 0 0\nv 0 1 0\nf 1 3 4\n");
-    EXPECT_TRUE(has(err, "s.json: objects[0].file: " + d.dir() + "/m.obj: line 2: \"" + c.line + "\": ")) << err;
-    EXPECT_TRUE(has(err, c.expect)) << err << "\n  expected: " << c.expect;
+    EXPECT_TRUE(contains(err, "s.json: objects[0].file: " + d.dir() + "/m.obj: line 2: \"" + c.line + "\": ")) << err;
+    EXPECT_TRUE(contains(err, c.expect)) << err << "\n  expected: " << c.expect;
   }
 }
 
@@ -90,7 +84,7 @@ TEST(SceneBounds, DocumentedLimitsThemselvesAreAccepted) {
   j["objects"][0]["radius"] = 1e15;
   EXPECT_EQ(scene_error(j), "(no error)");
   j["objects"][0]["radius"] = 1.0000001e15;
-  EXPECT_TRUE(has(scene_error(j), "objects[0].radius")) << scene_error(j);
+  EXPECT_TRUE(contains(scene_error(j), "objects[0].radius")) << scene_error(j);
   j = base_scene();
   j["objects"] = json::array({{{"shape", "torus"}, {"center", {0, 0, 0}}, {"major_radius", 1e15}, {"material", "clay"}}});
   EXPECT_EQ(scene_error(j), "(no error)");
@@ -98,7 +92,7 @@ TEST(SceneBounds, DocumentedLimitsThemselvesAreAccepted) {
   j["environment"] = {{"type", "sky"}, {"sun_radius_deg", 0.05}, {"resolution", 16}};
   EXPECT_EQ(scene_error(j), "(no error)");
   j["environment"]["sun_radius_deg"] = 0.0499999;
-  EXPECT_TRUE(has(scene_error(j), "sun_radius_deg")) << scene_error(j);
+  EXPECT_TRUE(contains(scene_error(j), "sun_radius_deg")) << scene_error(j);
   j = base_scene();
   j["lights"] = json::array({{{"type", "sphere"}, {"center", {0, 5, 0}}, {"radius", 1e15}, {"radiance", 1}}});
   EXPECT_EQ(scene_error(j), "(no error)");
@@ -113,7 +107,7 @@ TEST(SceneBounds, EnvironmentMapScaleOf1e12IsAccepted) {
   j["environment"] = {{"type", "map"}, {"file", "env.hdr"}, {"scale", 1e12}};
   EXPECT_EQ(scene_error(j, d.dir()), "(no error)");
   j["environment"]["scale"] = 1.0001e12;
-  EXPECT_TRUE(has(scene_error(j, d.dir()), "environment.scale")) << scene_error(j, d.dir());
+  EXPECT_TRUE(contains(scene_error(j, d.dir()), "environment.scale")) << scene_error(j, d.dir());
 }
 
 TEST(SceneBounds, RectangleSizeInfiniteInFloatIsRefused) {
@@ -124,7 +118,7 @@ TEST(SceneBounds, RectangleSizeInfiniteInFloatIsRefused) {
                                {"u", {1, 0, 0}},
                                {"size", {1e39, 1}},
                                {"material", "clay"}}});
-  EXPECT_TRUE(has(scene_error(j), "objects[0].size: expected [width, height], two numbers in (0, 1e15]")) << scene_error(j);
+  EXPECT_TRUE(contains(scene_error(j), "objects[0].size: expected [width, height], two numbers in (0, 1e15]")) << scene_error(j);
   j["objects"][0]["size"] = {1e15, 2};
   EXPECT_EQ(scene_error(j), "(no error)");
 }
@@ -136,13 +130,13 @@ TEST(SceneText, NameAndDescriptionMustBeStrings) {
   j["objects"][0]["name"] = "ball";
   EXPECT_EQ(scene_error(j), "(no error)");
   j["name"] = 5;
-  EXPECT_TRUE(has(scene_error(j), "name: expected a string (free text), got")) << scene_error(j);
+  EXPECT_TRUE(contains(scene_error(j), "name: expected a string (free text), got")) << scene_error(j);
   j["name"] = "ok";
   j["description"] = json::array({1});
-  EXPECT_TRUE(has(scene_error(j), "description: expected a string")) << scene_error(j);
+  EXPECT_TRUE(contains(scene_error(j), "description: expected a string")) << scene_error(j);
   j["description"] = "ok";
   j["objects"][0]["name"] = json::object();
-  EXPECT_TRUE(has(scene_error(j), "objects[0].name: expected a string")) << scene_error(j);
+  EXPECT_TRUE(contains(scene_error(j), "objects[0].name: expected a string")) << scene_error(j);
 }
 
 // A triangle's normal is finite and unit for any finite edges: |e1 x e2| overflows float for edges

@@ -9,21 +9,11 @@
 #include <gtest/gtest.h>
 
 #include "aniso/io/input_error.h"
+#include "input_error_text.h"
 #include "io/text_input.h"
 
 namespace aniso {
 namespace {
-
-std::string error_of(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-bool contains(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
 
 TEST(NumberRule, DecimalOnlyUnderflowToZeroOverflowRejected) {
   EXPECT_EQ(parse_decimal("010").value(), 10.0);
