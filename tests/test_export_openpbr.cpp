@@ -245,6 +245,23 @@ TEST_F(ExportOpenPbrCli, WritesTheNodedefsNamesAndTypes) {
   }
 }
 
+// Both MaterialX targets: every element name valid (source/MaterialXCore/Util.cpp:25-28, letters,
+// digits, '_', ':'), for a material name with a '-' in it.
+TEST_F(ExportOpenPbrCli, MaterialXNamesAreValid) {
+  for (const char* to : {"materialx", "openpbr"}) {
+    const std::string out = (dir_ / "m.mtlx").string();
+    const Result r = run({"export", "--to", to, "--material", "gold", "--name", "brushed-gold 2", "-o", out});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string x = read_file(out);
+    static const std::regex name_attr(R"re(\sname="([^"]*)")re");
+    int names = 0;
+    for (auto it = std::sregex_iterator(x.begin(), x.end(), name_attr); it != std::sregex_iterator(); ++it, ++names)
+      EXPECT_TRUE(std::regex_match((*it)[1].str(), std::regex("[A-Za-z0-9_:]+"))) << (*it)[1];
+    EXPECT_GE(names, 3) << x;
+    EXPECT_TRUE(contains(x, "name=\"brushed_gold_2\"")) << x;
+  }
+}
+
 // ---- a scene object's tangent angle -------------------------------------------------------------
 
 // Each target's rotation input (or note) for the composed angle A: Blender Anisotropic Rotation
