@@ -358,6 +358,7 @@ constexpr const char* kAS = R"({"model": "ashikhmin-shirley", "rd": 0.3, "rs": 0
 TEST(ExportFit, StandardMaterialsPerTarget) {
   const std::vector<Pinned> pinned = {
 #include "export_pinned.inc"
+#include "export_pinned_openpbr.inc"
   };
   const bool print = std::getenv("ANISO_EXPORT_PRINT") != nullptr;
   for (const char* material : {kWard, kAS, "matte-steel", "brushed-gold"}) {

@@ -1,5 +1,5 @@
 // apps/aniso/cmd_export_targets.cpp: `aniso export --to TARGET` (docs/export.md): a material in the
-// native format of Blender, Mitsuba 3, pbrt-v4, MaterialX or glTF, with the target's conventions
+// native format of Blender, Mitsuba 3, pbrt-v4, MaterialX (standard_surface, OpenPBR) or glTF, with the target's conventions
 // (include/aniso/export/targets.h) and a report of how close it is (include/aniso/export/export.h).
 //
 // Everything is computed before anything is written; each file goes through the one atomic writer
@@ -7,24 +7,87 @@
 // written, a .bin this command created is removed again, so a failed export leaves nothing.
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "aniso/export/export.h"
 #include "aniso/io/materials.h"
+#include "aniso/render/scene.h"
 #include "commands.h"
+#include "io/json_read.h"
 
 namespace aniso {
 
 namespace {
 
 struct ExportArgs {
-  std::string to, material, output, name, metric = "l2cos", help_target, preview;
+  std::string to, material, output, name, metric = "l2cos", help_target, preview, scene, object;
   int starts = 4, grid = 6;
   double blender_version = 4.3;
   uint64_t seed = 1;
   bool list = false;
 };
+
+// --scene FILE --object NAME|INDEX: that object's material and its tangent's angle_deg (docs/scenes.md,
+// "Tangents"), which export_material composes with the material's rotation_deg. The scene is read
+// (and validated) by the renderer's own reader; the angle is read from the document in double
+// precision (the renderer keeps it in float radians). A field or map is no single turn of dp/du:
+// only its angle_deg travels, with a note.
+struct SceneObject {
+  MaterialDesc desc;
+  std::string label, name;  // name: the object's "name", else its material's
+  double angle_deg = 0.0;
+  std::vector<std::string> notes;
+};
+SceneObject scene_object(const std::string& path, const std::string& which) {
+  const render::Scene scene = render::load_scene(path);
+  const nlohmann::json doc = parse_json_text(read_text_file(path, "a scene file"), path);
+  const nlohmann::json& objects = doc.at("objects");
+  size_t index = objects.size();
+  if (!which.empty() && which.find_first_not_of("0123456789") == std::string::npos) {
+    index = which.size() < 10 ? std::stoul(which) : objects.size();
+    if (index >= objects.size())
+      throw InputError(
+          fmt::format("--object {}: {} has {} objects (indices 0 to {})", which, path, objects.size(), objects.size() - 1));
+  } else {
+    std::string names;
+    for (size_t i = 0; i < objects.size(); ++i) {
+      const auto it = objects[i].find("name");
+      const std::string n = it != objects[i].end() && it->is_string() ? it->get<std::string>() : std::string();
+      if (!n.empty()) names += (names.empty() ? "\"" : ", \"") + n + "\"";
+      if (n != which) continue;
+      if (index != objects.size())
+        throw InputError(
+            fmt::format("--object {}: {} has several objects of that name (objects[{}] and objects[{}]): "
+                        "give the index",
+                        which, path, index, i));
+      index = i;
+    }
+    if (index == objects.size())
+      throw InputError(
+          fmt::format("--object {}: {} has no object of that name (its named objects: {}); give a name or "
+                      "an index from 0 to {}",
+                      which, path, names.empty() ? "none" : names, objects.size() - 1));
+  }
+  SceneObject o;
+  o.desc = *scene.objects[index].material_desc;
+  o.label = fmt::format("{} objects[{}] ({})", path, index, scene.objects[index].material_name);
+  const nlohmann::json& obj = objects[index];
+  o.name = obj.contains("name") && obj["name"].is_string() && !obj["name"].get<std::string>().empty()
+               ? obj["name"].get<std::string>()
+               : scene.objects[index].material_name;
+  if (const auto t = obj.find("tangent"); t != obj.end()) {
+    if (const auto a = t->find("angle_deg"); a != t->end()) o.angle_deg = a->get<double>();
+    for (const char* key : {"field", "map"})
+      if (t->contains(key))
+        o.notes.push_back(
+            fmt::format("the scene object's tangent {} is no single turn of dp/du: only its angle_deg travels; give the mesh "
+                        "tangents that follow the {} in the target",
+                        key, key));
+  }
+  return o;
+}
 
 void run_export(const ExportArgs& a) {
   using namespace exporter;
@@ -42,7 +105,12 @@ void run_export(const ExportArgs& a) {
   if (a.to.empty()) throw InputError(fmt::format("--to is required: one of {} (--list-targets)", target_names()));
   const TargetInfo* info = find_target(a.to);
   if (!info) throw InputError(fmt::format("--to: unknown target \"{}\"; the targets are {}", a.to, target_names()));
-  if (a.material.empty()) throw InputError("--material is required (a preset name, a JSON file or inline JSON)");
+  if (!a.scene.empty() && !a.material.empty())
+    throw InputError("--scene and --material: give one (with --scene, --object names the object whose material is exported)");
+  if (!a.scene.empty() && a.object.empty()) throw InputError("--scene needs --object NAME|INDEX (the object to export)");
+  if (a.scene.empty() && !a.object.empty()) throw InputError("--object needs --scene FILE");
+  if (a.material.empty() && a.scene.empty())
+    throw InputError("--material is required (a preset name, a JSON file or inline JSON), or --scene with --object");
   if (info->target == Target::Gltf && (a.output.empty() || a.output == "-"))
     throw InputError("--to gltf writes two files (.gltf and .bin): give -o FILE.gltf");
   ExportOptions o;
@@ -55,12 +123,20 @@ void run_export(const ExportArgs& a) {
   FitOptionText metric_only;
   metric_only.metric = a.metric;
   o.metric = parse_fit_options(metric_only).metric;  // `aniso fit`'s check and message
-  const MaterialDesc desc = load_material(a.material);
+  std::optional<SceneObject> object;
+  if (!a.scene.empty()) object = scene_object(a.scene, a.object);
+  const MaterialDesc desc = object ? object->desc : load_material(a.material);
   (void)build_material<double>(desc);
+  if (object) {
+    o.tangent_angle_deg = object->angle_deg;
+    o.extra_notes = object->notes;
+    if (o.name.empty()) o.name = object->name;
+  }
+  const std::string label = object ? object->label : a.material;
   namespace fs = std::filesystem;
   std::string bin_name;
   if (info->target == Target::Gltf) bin_name = fs::path(a.output).stem().string() + ".bin";
-  const ExportResult r = export_material(desc, a.material, o, bin_name);
+  const ExportResult r = export_material(desc, label, o, bin_name);
   const bool to_stdout = a.output.empty() || a.output == "-";
   if (!a.preview.empty()) {
     if (!a.preview.ends_with(".png")) throw InputError(fmt::format("--preview {}: expected a .png file", a.preview));
@@ -98,9 +174,13 @@ void add_export_target_command(CLI::App& app) {
   auto a = std::make_shared<ExportArgs>();
   auto* cmd = app.add_subcommand("export",
                                  "write the material for a renderer: blender, mitsuba3, pbrt-v4, materialx, "
-                                 "gltf (docs/export.md)");
-  cmd->add_option("--to", a->to, "target: blender | mitsuba3 | pbrt-v4 | materialx | gltf");
+                                 "openpbr, gltf (docs/export.md)");
+  cmd->add_option("--to", a->to, "target: blender | mitsuba3 | pbrt-v4 | materialx | openpbr | gltf");
   cmd->add_option("--material,-m", a->material, "preset name, JSON file or inline JSON");
+  cmd->add_option("--scene", a->scene,
+                  "a scene file (docs/scenes.md): export the material of --object, its tangent angle_deg composed with "
+                  "the material's rotation_deg");
+  cmd->add_option("--object", a->object, "with --scene: the object's name or index in objects");
   cmd->add_option("-o,--output", a->output, "output file (default: stdout; glTF needs a file)");
   cmd->add_option("--name", a->name, "material name in the file (default: from the source)");
   cmd->add_option("--metric", a->metric, "fitted path: l2cos (default) or log");

@@ -96,7 +96,7 @@ void bind_export(py::module_& m) {
       py::arg("material"), py::kw_only(), py::arg("to"), py::arg("path") = py::none(), py::arg("name") = py::none(),
       py::arg("metric") = "l2cos", py::arg("starts") = 4, py::arg("seed") = 1,
       "The material in a renderer's own format, as `aniso export --to` (docs/export.md): to = \"blender\",\n"
-      "\"mitsuba3\", \"pbrt-v4\", \"materialx\" or \"gltf\". Returns {report, text, files}: the report (target\n"
+      "\"mitsuba3\", \"pbrt-v4\", \"materialx\", \"openpbr\" or \"gltf\". Returns {report, text, files}: the report (target\n"
       "model, parameters, exact or fitted, errors, notes) as a dict and as text, and the files (\"\" the main\n"
       "file's text, a glTF's .bin as bytes under its name). With path, writes them too (atomically; an\n"
       "OSError leaves nothing). A bad material or target raises ValueError.");

@@ -136,7 +136,7 @@ def test_save_image_errors(tmp):
 
 def test_export_to_a_renderer_equals_the_cli(tmp):
     """aniso.export writes what `aniso export --to` writes (docs/export.md), and returns the report."""
-    for to, ext in (("pbrt-v4", "pbrt"), ("mitsuba3", "xml"), ("gltf", "gltf")):
+    for to, ext in (("pbrt-v4", "pbrt"), ("mitsuba3", "xml"), ("openpbr", "mtlx"), ("gltf", "gltf")):
         out = tmp / f"cli.{ext}"
         rc, _, err = run_cli("export", "--to", to, "--material", "gold", "-o", str(out))
         assert rc == 0, err

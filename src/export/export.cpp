@@ -51,6 +51,15 @@ constexpr TargetInfo kTargets[] = {
      "= the reflectivity F0 and specular_color = the edge colour of Gulbrandsen's artistic IOR (mx_artistic_ior), "
      "matched to the source's n, k; dielectrics: base_color = the diffuse albedo, specular_IOR from F0. The tangent is "
      "the geometry's Tworld rotated by specular_rotation (a fraction of a turn)."},
+    {Target::OpenPbr, "openpbr", ".mtlx",
+     "OpenPBR Surface (MaterialX open_pbr_surface, 1.39): F82-tint metals, tangent from the geometry",
+     "Writes a MaterialX 1.39 document with an open_pbr_surface shader and a surfacematerial. Metals: base_metalness 1, "
+     "base_color = F0 and specular_color = the F82 edge tint matching the source's reflectance at cos = 1/7; "
+     "dielectrics: base_color = the diffuse albedo (Lambert: base_diffuse_roughness 0), specular_ior from F0. "
+     "specular_roughness and specular_roughness_anisotropy by the OpenPBR mapping (alpha_t = r^2 sqrt(2 / (1 + (1 - "
+     "a)^2)), alpha_b = (1 - a) alpha_t). OpenPBR has no rotation input: the anisotropy follows geometry_tangent "
+     "(Tworld by default); a rotation is written as a rotate3d of the world tangent about the world normal feeding "
+     "geometry_tangent."},
     {Target::Gltf, "gltf", ".gltf", "glTF 2.0 with KHR_materials_anisotropy: a .gltf and a .bin sphere with tangents",
      "Writes FILE.gltf and a .bin beside it: a UV sphere with NORMAL and TANGENT (dp/du, w = +1) and one material "
      "(pbrMetallicRoughness plus KHR_materials_anisotropy: anisotropyStrength, anisotropyRotation in radians, "
@@ -568,6 +577,90 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
   return g;
 }
 
+// --- GGX -> OpenPBR -----------------------------------------------------------------------------------
+
+namespace {
+
+// open_pbr_surface (targets.h, the OpenPBR section): the larger alpha along the (turned) tangent;
+// r^4 = (ax^2 + ay^2) / 2 and a = 1 - ay / ax invert openpbr_alpha.
+TargetBrdf openpbr_model(const GgxSource& g, json& p, std::vector<std::string>& notes) {
+  TargetBrdf m;
+  double ax = g.alpha_x, ay = g.alpha_y;
+  const double extra = major_first(ax, ay);
+  double rough = std::pow((ax * ax + ay * ay) / 2.0, 0.25);
+  const double aniso = ax > 0.0 ? std::clamp(1.0 - ay / ax, 0.0, 1.0) : 0.0;
+  if (rough > 1.0) notes.push_back("roughness above 1 clamped to 1"), rough = 1.0;
+  const glm::dvec2 a = openpbr_safe_alpha(openpbr_alpha(rough, aniso));
+  if (a.x < openpbr_alpha(rough, aniso).x)
+    notes.push_back(
+        fmt::format("alpha along the tangent {:.4g} above 1: MaterialX clamps it to 1", openpbr_alpha(rough, aniso).x));
+  m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+  m.tangent_turn_deg = extra;
+  // mx_generalized_schlick_bsdf.glsl:46, mx_dielectric_bsdf.glsl:45: G2 at mx_average_alpha.
+  m.lobe.masking = Masking::HeightCorrelatedMeanAlpha;
+  p["base_weight"] = 1.0, p["specular_weight"] = 1.0, p["base_diffuse_roughness"] = 0.0;
+  p["specular_roughness"] = rough, p["specular_roughness_anisotropy"] = aniso;
+  // rotate3d turns clockwise about its axis (mx_rotate_vector3.glsl:12), as for standard_surface's
+  // specular_rotation (standard_surface.mtlx:157-161): amount = -angle degrees.
+  const double angle = g.rotation_deg + extra;
+  p["geometry_tangent_rotate3d_deg"] = 360.0 * wrap_turn(-angle / 360.0);
+  if (g.conductor || no_diffuse(g)) {
+    const glm::dvec3 f0 =
+        glm::clamp(g.conductor ? glm::dvec3(F_Conductor(1.0, RGBT<double>(g.eta), RGBT<double>(g.k))) : g.f0, 0.0, 1.0);
+    glm::dvec3 tint(1.0);
+    if (g.conductor) tint = cycles_tint_for(f0, glm::dvec3(F_Conductor(1.0 / 7.0, RGBT<double>(g.eta), RGBT<double>(g.k))));
+    m.name = "OpenPBR Surface, base_metalness 1 (MaterialX GLSL: F82-tint Fresnel, G2 at the mean alpha)";
+    m.lobe.fresnel = FresnelModel::F82Tint;
+    m.lobe.f0 = f0;
+    m.lobe.f82_b = cycles_f82tint_b(f0, tint);
+    p["base_metalness"] = 1.0, p["base_color"] = j3(f0), p["specular_color"] = j3(tint);
+    if (g.conductor)
+      notes.push_back(
+          "the conductor's n, k become F0 (base_color) and the F82 edge tint (specular_color) matching its "
+          "reflectance at cos = 1/7: the Fresnel curve is close, not equal");
+    double lowest = 1.0;
+    for (int i = 0; i <= 200; ++i) {
+      const double x = i / 200.0, s = 1.0 - x;
+      const glm::dvec3 F = f0 + (glm::dvec3(1.0) - f0) * std::pow(s, 5.0) - m.lobe.f82_b * (x * std::pow(s, 6.0));
+      lowest = std::min({lowest, F.x, F.y, F.z});
+    }
+    if (lowest < 0.0)
+      notes.push_back(
+          fmt::format("this F82 curve dips to {:.3g}: MaterialX does not clamp it (a negative reflectance there), the target "
+                      "model clamps it to 0",
+                      lowest));
+  } else {
+    const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
+    m.name = "OpenPBR Surface, dielectric (exact Fresnel, G2 at the mean alpha) layered over Lambert";
+    m.lobe.fresnel = FresnelModel::Dielectric;
+    m.lobe.eta = glm::dvec3(eta);
+    m.diffuse = glm::clamp(g.kd, 0.0, 1.0);
+    m.diffuse_times_openpbr_throughput = true;
+    p["base_metalness"] = 0.0, p["base_color"] = j3(m.diffuse), p["specular_color"] = j3(glm::dvec3(1.0));
+    p["specular_ior"] = eta;
+    notes.push_back(fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of specular_ior {:.4g} closest to its curve",
+                                luminance_avg(g.f0), eta));
+    notes.push_back(
+        "OpenPBR layers the specular over the diffuse: the diffuse is scaled by 1 - the specular's directional "
+        "albedo at the view (mx_dielectric_bsdf.glsl:47-49, mx_layer_bsdf.glsl:5), which the target model does "
+        "and aniso's GGX (a sum) does not");
+    if (max3(g.f0) - std::min({g.f0.x, g.f0.y, g.f0.z}) > 1e-3)
+      notes.push_back("the coloured dielectric F0 is written as its mean (specular_ior)");
+  }
+  notes.push_back(
+      "MaterialX's GGX lobes add a multiple-scattering energy compensation (mx_ggx_energy_compensation) that the "
+      "target model leaves out of the specular lobe; renderers with their own OpenPBR (OSL closures) use their own");
+  notes.push_back(
+      angle != 0.0 ? fmt::format("OpenPBR has no rotation input: the anisotropy follows geometry_tangent, written as the world "
+                                 "tangent turned by rotate3d {:.9g} degrees about the world normal ({:.9g} degrees towards the "
+                                 "bitangent)",
+                                 p["geometry_tangent_rotate3d_deg"].get<double>(), angle)
+                   : "OpenPBR has no rotation input: the anisotropy follows geometry_tangent (Tworld, dp/du)");
+  return m;
+}
+
+}  // namespace
+
 // --- GGX -> each target ----------------------------------------------------------------------------
 
 TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vector<std::string>* notes_out,
@@ -775,6 +868,7 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
           "(mx_ggx_energy_compensation, mx_conductor_bsdf.glsl:40) that the target model leaves out");
       break;
     }
+    case Target::OpenPbr: m = openpbr_model(g, p, notes); break;
     case Target::Gltf: {
       const double extra = major_first(ax, ay);
       // README.md:88-100: at = mix(ab, 1, s^2), ab = roughness^2.
@@ -1030,8 +1124,18 @@ std::string write_pbrt(const std::string& name, const json& p, const std::string
   return s;
 }
 
+// A MaterialX element name: letters, digits, '_' and ':' only (MaterialX source/MaterialXCore/
+// Util.cpp:25-28, invalidNameChar, which Element::validate checks), the rest replaced by '_' as
+// createValidName does.
+std::string materialx_name(std::string_view s) {
+  std::string o(s.empty() ? std::string_view("material") : s);
+  for (char& c : o)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != ':') c = '_';
+  return o;
+}
+
 std::string write_materialx(const std::string& name, const json& p, const std::string& comment) {
-  const std::string id = identifier(name);
+  const std::string id = materialx_name(name);
   std::string s = "<?xml version=\"1.0\"?>\n<materialx version=\"1.38\">\n  <!--\n" + xml_comment_safe(comment) + "  -->\n";
   s += fmt::format("  <standard_surface name=\"SR_{}\" type=\"surfaceshader\">\n", xml_escape(id));
   const auto f = [&](const char* k) {
@@ -1052,6 +1156,52 @@ std::string write_materialx(const std::string& name, const json& p, const std::s
   s += "  </standard_surface>\n";
   s += fmt::format("  <surfacematerial name=\"{}\" type=\"material\">\n", xml_escape(id));
   s += fmt::format("    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SR_{}\" />\n", xml_escape(id));
+  s += "  </surfacematerial>\n</materialx>\n";
+  return s;
+}
+
+// A MaterialX 1.39 document (open_pbr_surface's nodedef is version 1.1.1 in MaterialX 1.39's
+// libraries/bxdf/open_pbr_surface.mtlx:2-6); input names and types of its nodedef (lines 8-25, 86).
+// A turned tangent: tangent and normal (world space) into rotate3d and normalize, as
+// standard_surface.mtlx:153-164 builds its own, into geometry_tangent.
+std::string write_openpbr(const std::string& name, const json& p, const std::string& comment) {
+  const std::string id = materialx_name(name);
+  std::string s = "<?xml version=\"1.0\"?>\n<materialx version=\"1.39\">\n  <!--\n" + xml_comment_safe(comment) + "  -->\n";
+  const double turn = num(p, "geometry_tangent_rotate3d_deg");
+  if (turn != 0.0) {
+    s += fmt::format(
+        "  <tangent name=\"T_{0}\" type=\"vector3\">\n    <input name=\"space\" type=\"string\" value=\"world\" />\n  "
+        "</tangent>\n"
+        "  <normal name=\"N_{0}\" type=\"vector3\">\n    <input name=\"space\" type=\"string\" value=\"world\" />\n  </normal>\n"
+        "  <rotate3d name=\"T_{0}_rotate\" type=\"vector3\">\n"
+        "    <input name=\"in\" type=\"vector3\" nodename=\"T_{0}\" />\n"
+        "    <input name=\"amount\" type=\"float\" value=\"{1:.9g}\" />\n"
+        "    <input name=\"axis\" type=\"vector3\" nodename=\"N_{0}\" />\n  </rotate3d>\n"
+        "  <normalize name=\"T_{0}_rotate_normalize\" type=\"vector3\">\n"
+        "    <input name=\"in\" type=\"vector3\" nodename=\"T_{0}_rotate\" />\n  </normalize>\n",
+        id, turn);
+  }
+  s += fmt::format("  <open_pbr_surface name=\"SR_{}\" type=\"surfaceshader\">\n", id);
+  const auto f = [&](const char* k) {
+    s += fmt::format("    <input name=\"{}\" type=\"float\" value=\"{:.9g}\" />\n", k, num(p, k));
+  };
+  const auto c = [&](const char* k) {
+    s += fmt::format("    <input name=\"{}\" type=\"color3\" value=\"{}\" />\n", k, fmt3(col(p, k)));
+  };
+  f("base_weight");
+  c("base_color");
+  f("base_diffuse_roughness");
+  f("base_metalness");
+  f("specular_weight");
+  c("specular_color");
+  f("specular_roughness");
+  if (p.contains("specular_ior")) f("specular_ior");
+  f("specular_roughness_anisotropy");
+  if (turn != 0.0)
+    s += fmt::format("    <input name=\"geometry_tangent\" type=\"vector3\" nodename=\"T_{}_rotate_normalize\" />\n", id);
+  s += "  </open_pbr_surface>\n";
+  s += fmt::format("  <surfacematerial name=\"{}\" type=\"material\">\n", id);
+  s += fmt::format("    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SR_{}\" />\n", id);
   s += "  </surfacematerial>\n</materialx>\n";
   return s;
 }
@@ -1303,6 +1453,7 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   ExportResult res;
   const SampleSet samples = sample_source(source, o.grid);
   res.ggx = ggx_source(desc, samples, o);
+  res.ggx.rotation_deg += o.tangent_angle_deg;  // the surface's turn composed with the material's
   json params;
   std::vector<std::string> notes, notes_before;
   if (!res.ggx.exact) {
@@ -1319,7 +1470,7 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
     const MitsubaPrincipled mp = principled_params(source.principled);
     notes = principled_differences(mp);
     notes_before.clear();  // the GGX path's refinement: not what is written
-    res.model = mitsuba_principled_model(mp, 0.0, rotation_of(desc), params, notes);
+    res.model = mitsuba_principled_model(mp, 0.0, rotation_of(desc) + o.tangent_angle_deg, params, notes);
     mitsuba_origin = "exact: the source is aniso's principled; Mitsuba 3's principled takes the same parameters";
   } else if (info->target == Target::Mitsuba3 && !res.ggx.conductor && !no_diffuse(res.ggx)) {
     // A GGX with a diffuse part: Mitsuba 3's principled (metallic 0, base_color kd, specular from
@@ -1358,7 +1509,13 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   r.parameters = params;
   r.notes = notes;
   r.notes.insert(r.notes.end(), notes_before.begin(), notes_before.end());
-  if (res.ggx.exact && (res.ggx.rotation_deg != 0.0))
+  r.notes.insert(r.notes.end(), o.extra_notes.begin(), o.extra_notes.end());
+  if (o.tangent_angle_deg != 0.0)
+    r.notes.push_back(
+        fmt::format("the surface's tangent angle {:.9g} degrees composed with the material's rotation_deg {:.9g}: {:.9g} degrees "
+                    "carried to the target's orientation",
+                    o.tangent_angle_deg, rotation_of(desc), rotation_of(desc) + o.tangent_angle_deg));
+  else if (res.ggx.exact && (res.ggx.rotation_deg != 0.0))
     r.notes.push_back(fmt::format("rotation_deg {:.9g} carried to the target's orientation", res.ggx.rotation_deg));
   r.errors = target_errors(res.model, samples);
   if (info->target == Target::Blender && res.ggx.conductor && o.blender_version >= 4.3) {
@@ -1388,6 +1545,7 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
     case Target::MaterialX:
       res.files.push_back({"", write_materialx(name, params, comment_block(r, source_label, "    "))});
       break;
+    case Target::OpenPbr: res.files.push_back({"", write_openpbr(name, params, comment_block(r, source_label, "    "))}); break;
     case Target::Gltf: {
       const std::string bin_name = bin_name_in.empty() ? identifier(name) + ".bin" : bin_name_in;
       write_gltf(name, params, r, source_label, bin_name, res.files);

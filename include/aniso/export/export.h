@@ -31,7 +31,7 @@
 
 namespace aniso::exporter {
 
-enum class Target { Blender, Mitsuba3, PbrtV4, MaterialX, Gltf };
+enum class Target { Blender, Mitsuba3, PbrtV4, MaterialX, OpenPbr, Gltf };
 
 struct TargetInfo {
   Target target;
@@ -75,6 +75,11 @@ struct ExportOptions {
   double blender_version = 4.3;
   // Fitted path: the samples (at most) the alphas are refined on with the target model.
   int refine_samples = 4000;
+  // The surface's own turn of the tangent about the normal (a scene object's tangent.angle_deg,
+  // docs/scenes.md), degrees towards the bitangent: added to the material's rotation_deg, as the
+  // renderer composes them (io/params.cpp, kOrientation), and written into the target's rotation.
+  double tangent_angle_deg = 0.0;
+  std::vector<std::string> extra_notes;  // added to the report's notes (what the caller could not carry)
 };
 
 struct ExportReport {

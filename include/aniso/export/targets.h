@@ -17,6 +17,10 @@
 //   MaterialX   AcademySoftwareFoundation/MaterialX @ 4177b2cb: libraries/pbrlib/genglsl/
 //               mx_roughness_anisotropy.glsl, mx_conductor_bsdf.glsl, mx_artistic_ior.glsl,
 //               lib/mx_microfacet_specular.glsl; libraries/bxdf/standard_surface.mtlx.
+//   OpenPBR     AcademySoftwareFoundation/MaterialX @ 4177b2cb: libraries/bxdf/open_pbr_surface.mtlx,
+//               libraries/pbrlib/genglsl/mx_generalized_schlick_bsdf.glsl, mx_dielectric_bsdf.glsl,
+//               mx_layer_bsdf.glsl, lib/mx_microfacet_specular.glsl; AcademySoftwareFoundation/OpenPBR
+//               @ f8d6d947: index.html (the specification).
 //   glTF        KhronosGroup/glTF @ 77b44be7: extensions/2.0/Khronos/KHR_materials_anisotropy/README.md,
 //               KHR_materials_specular/README.md.
 //
@@ -82,6 +86,10 @@ struct TargetBrdf {
   glm::dvec3 diffuse{0.0};
   bool diffuse_times_one_minus_f = false;
   bool diffuse_times_one_minus_max_f = false;
+  // OpenPBR's dielectric base (open_pbr_surface.mtlx:400-403, a `layer` of the specular over the
+  // diffuse; mx_layer_bsdf.glsl:5): the diffuse times the specular's throughput at the view direction,
+  // openpbr_dielectric_throughput(wo.z, sqrt(alpha_x alpha_y), lobe.eta.x).
+  bool diffuse_times_openpbr_throughput = false;
   // The target's tangent, turned from aniso's x axis towards y by this angle (the targets that want
   // the larger alpha along the tangent turn it by 90 degrees instead of swapping the alphas); f()
   // takes directions in aniso's frame.
@@ -265,6 +273,58 @@ inline void materialx_artistic_from_ior(const glm::dvec3& n, const glm::dvec3& k
   edge = glm::clamp((n_max - n) / glm::max(n_max - n_min, 1e-12), 0.0, 1.0);
 }
 
+// --- OpenPBR (MaterialX open_pbr_surface) -------------------------------------------------------
+
+// open_pbr_surface.mtlx:608-654 (NG_open_pbr_anisotropy: invert, square, add 1, divide 2 by it,
+// sqrt, times roughness^2; alpha_y = (1 - anisotropy) alpha_x), the OpenPBR specification's
+// Eq. openpbr-anisotropy-formula (index.html:412-415):
+//   alpha_t = r^2 sqrt(2 / (1 + (1 - a)^2)),  alpha_b = (1 - a) alpha_t,
+// so alpha_t^2 + alpha_b^2 = 2 r^4 whatever a. The node clamps nothing (a is [0, 1] by its ui range
+// only; a < 0 stretches along the bitangent); the BSDFs clamp each alpha to [M_FLOAT_EPS, 1]
+// (mx_generalized_schlick_bsdf.glsl:30, mx_dielectric_bsdf.glsl:28), which openpbr_safe_alpha does.
+inline glm::dvec2 openpbr_alpha(double roughness, double anisotropy) {
+  const double inv = 1.0 - anisotropy, at = roughness * roughness * std::sqrt(2.0 / (1.0 + inv * inv));
+  return {at, inv * at};
+}
+inline glm::dvec2 openpbr_safe_alpha(const glm::dvec2& a) { return glm::clamp(a, 1e-8, 1.0); }
+
+// mx_microfacet_specular.glsl:91-108, mx_ggx_dir_albedo_analytic (the GLSL generator's default,
+// DIRECTIONAL_ALBEDO_ANALYTIC, MaterialXGenShader/GenOptions.h:89): a rational fit of the GGX lobe's
+// directional albedo, F0 A + F90 B.
+inline double materialx_ggx_dir_albedo(double NdotV, double alpha, double F0, double F90) {
+  const double x = NdotV, y = alpha, x2 = x * x, y2 = y * y;
+  const auto r = [&](double c0, double c1, double c2, double c3, double c4, double c5, double c6, double c7, double c8) {
+    return c0 + c1 * x + c2 * y + c3 * x * y + c4 * x2 + c5 * y2 + c6 * x2 * y + c7 * x * y2 + c8 * x2 * y2;
+  };
+  const double rx = r(0.1003, -0.6303, 9.748, -2.038, 29.34, -8.245, -26.44, 19.99, -5.448);
+  const double ry = r(0.9345, -2.323, 2.229, -3.748, 1.424, -0.7684, 1.436, 0.2913, 0.6286);
+  const double rz = r(1.0, -1.765, 8.263, 11.53, 28.96, -7.507, -36.11, 15.86, 33.37);
+  const double rw = r(1.0, 0.2281, 15.94, -55.83, 13.08, 41.26, 54.9, 300.2, -285.1);
+  const double A = std::clamp(rx / rz, 0.0, 1.0), B = std::clamp(ry / rw, 0.0, 1.0);
+  return F0 * A + F90 * B;
+}
+
+// The throughput of open_pbr_surface's dielectric reflection (mx_dielectric_bsdf.glsl:23-49): with
+// NdotV = clamp(wo.z, M_FLOAT_EPS, 1) and F0 = mx_ior_to_f0(ior) = ((ior - 1) / (ior + 1))^2,
+//   comp = 1 + Fss (1 - Ess) / Ess, Fss = F0 + (1 - F0) / 21, Ess = albedo(NdotV, alpha, 1, 1)
+//          (mx_ggx_energy_compensation and mx_fresnel_average, mx_microfacet_specular.glsl:503-521),
+//   throughput = 1 - albedo(NdotV, alpha, F0, 1) comp   (weight 1),
+// which the `layer` multiplies the diffuse base by (mx_layer_bsdf.glsl:5).
+inline double openpbr_dielectric_throughput(double cos_o, double avg_alpha, double ior) {
+  const double NdotV = std::clamp(cos_o, 1e-8, 1.0), f0 = ((ior - 1.0) / (ior + 1.0)) * ((ior - 1.0) / (ior + 1.0));
+  const double ess = materialx_ggx_dir_albedo(NdotV, avg_alpha, 1.0, 1.0), fss = f0 + (1.0 - f0) / 21.0;
+  const double comp = 1.0 + fss * (1.0 - ess) / ess;
+  return 1.0 - materialx_ggx_dir_albedo(NdotV, avg_alpha, f0, 1.0) * comp;
+}
+
+// The metal's Fresnel, F82-tint (OpenPBR index.html:541-558; mx_fresnel_hoffman_schlick,
+// mx_microfacet_specular.glsl:201-209, with color90 1 and exponent 5, the generalized_schlick_bsdf
+// defaults, pbrlib_defs.mtlx:103-104):
+//   a = mix(F0, 1, (1 - 1/7)^5) (1 - F82) / (1/7 (1 - 1/7)^6),  F = mix(F0, 1, (1 - x)^5) - a x (1 - x)^6,
+// F0 = base_weight base_color, F82 = specular_color. a is Cycles' B (cycles_f82tint_b) term for
+// term, so the target model uses cycles_f82tint_b and cycles_f82; cycles_f82 clamps F to [0, 1],
+// MaterialX does not (the exporter notes when the written curve leaves [0, 1]).
+
 // --- glTF (KHR_materials_anisotropy) ------------------------------------------------------------
 
 // README.md:88-100, 156-157: alpha = roughness^2 (the material's alphaRoughness);
@@ -330,6 +390,7 @@ inline glm::dvec3 TargetBrdf::f(const Vec3d& wi_in, const Vec3d& wo_in) const {
   glm::dvec3 d = diffuse * kInvPi<double>;
   if (diffuse_times_one_minus_f) d *= glm::dvec3(1.0) - F;
   if (diffuse_times_one_minus_max_f) d *= 1.0 - std::max({F.x, F.y, F.z});
+  if (diffuse_times_openpbr_throughput) d *= openpbr_dielectric_throughput(wo.z, std::sqrt(ax * ay), lobe.eta.x);
   return out + d;
 }
 
