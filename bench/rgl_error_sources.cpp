@@ -11,7 +11,7 @@
 //
 //   aniso_rgl_error_sources [--colour N] [--theta-i N] [--phi-i N] [--ndf N] [--d auto|lobe|retro]
 //                           [--placement blend|sigma] [--thetas T0 T1 T2 T3 T4] [--only NAME,...]
-//                           [--decompose]
+//                           [--decompose] [--material JSON|PRESET]   (one material instead of the table's)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -130,7 +130,7 @@ struct Case {
 };
 
 int run(int argc, char** argv) {
-  const std::vector<Case> cases = {
+  std::vector<Case> cases = {
       {"ward_vector", R"({"model":"ward","kd":0.1,"ks":0.3,"alpha":0.15})", false, 0},
       {"ward_angle_duer", R"({"model":"ward","kd":0.1,"ks":0.3,"alpha":0.15,"form":"angle","normalization":"duer"})", false, 0},
       {"ward_aniso",
@@ -146,7 +146,7 @@ int run(int argc, char** argv) {
   };
   rgl::ExportOptions o;
   o.spectral = false;
-  std::string only;
+  std::string only, material;
   double thetas[5] = {0, 20, 40, 60, 80};
   bool decompose = false;
   for (int i = 1; i < argc; ++i) {
@@ -170,7 +170,10 @@ int run(int argc, char** argv) {
       only = "," + value() + ",";
     else if (a == "--decompose")
       decompose = true;
-    else if (a == "--thetas")
+    else if (a == "--material") {
+      material = value();
+      cases = {{material.c_str(), material.c_str(), false, 0}};
+    } else if (a == "--thetas")
       for (double& t : thetas) t = std::atof(value().c_str());
     else if (a == "--d") {
       const std::string v = value();
