@@ -231,6 +231,24 @@ TEST(RglExport, EveryWrittenFilePassesPbrtAndMitsubaRules) {
     }
 }
 
+// D of a model without a closed form (docs/rgl.md, step 2): Auto writes the file of the estimate that
+// reproduces f better, byte for byte, and says which. matte-steel's forward lobes (Lafortune, cxy =
+// -1.1) have no retro-reflection beyond 44 degrees: the lobe's mean shape wins there (measured at
+// the default grids: 18 % L1 at 80 degrees against 30 %).
+TEST(RglExport, AutoKeepsTheBetterEstimateOfD) {
+  rgl::BrdfSource src = rgl::brdf_source(build_material<double>(load_material("matte-steel")));
+  src.description = "matte-steel";
+  rgl::ExportOptions o = small_options();
+  rgl::ExportReport rep;
+  const std::vector<uint8_t> chosen = rgl::serialize_tensor(rgl::export_rgl(src, o, &rep));
+  EXPECT_NE(rep.d_method.find("lobe's mean shape"), std::string::npos) << rep.d_method;
+  EXPECT_NE(rep.d_method.find("chosen by the round trip"), std::string::npos) << rep.d_method;
+  o.d_estimate = rgl::ExportOptions::DEstimate::LobeAverage;
+  EXPECT_EQ(chosen, rgl::serialize_tensor(rgl::export_rgl(src, o)));
+  o.d_estimate = rgl::ExportOptions::DEstimate::RetroReflection;
+  EXPECT_NE(chosen, rgl::serialize_tensor(rgl::export_rgl(src, o)));
+}
+
 // pbrt-v4's PiecewiseLinear2D: invert(sample(u)) = u and the sample's pdf equals evaluate() at the
 // sampled point, for a conditional (2-parameter) table between its slices.
 TEST(RglPL2D, SampleInvertAndEvaluateAgree) {
@@ -327,7 +345,7 @@ INSTANTIATE_TEST_SUITE_P(
             false,
             0,
             0.05,
-            0.08,
+            0.05,
             0.02},
         RoundTripCase{"ward_approx_balanced_aniso",
                       {{"model", "ward"},
@@ -339,16 +357,16 @@ INSTANTIATE_TEST_SUITE_P(
                        {"normalization", "balanced"}},
                       false,
                       0,
-                      0.08,
-                      0.16,
-                      0.03},
+                      0.065,
+                      0.125,
+                      0.02},
         RoundTripCase{"ashikhmin_shirley",
                       {{"model", "ashikhmin-shirley"}, {"rd", {0.2, 0.3, 0.4}}, {"rs", 0.1}, {"n", 100.0}},
                       false,
                       0,
                       0.05,
-                      0.2,
-                      0.07},
+                      0.065,
+                      0.02},
         RoundTripCase{"ggx_iso", kGGXIso, false, 0, 0.05, 0.05, 0.02},
         RoundTripCase{"ggx_aniso_0.05x0.3", kGGXAniso, false, 0, 0.05, 0.05, 0.02},
         RoundTripCase{"ggx_aniso_rotated_30deg", kGGXAniso, false, M_PI / 6, 0.05, 0.10, 0.05},
@@ -361,12 +379,12 @@ INSTANTIATE_TEST_SUITE_P(
                          {{"cxy", -1.0}, {"cz", 1.0}, {"n", 180.0}}}}},
                       false,
                       0,
-                      0.18,
-                      0.6,
-                      0.08},
-        RoundTripCase{"matte_steel_preset", "matte-steel", false, 0, 0.18, 0.65, 0.09},
+                      0.08,
+                      0.26,
+                      0.03},
+        RoundTripCase{"matte_steel_preset", "matte-steel", false, 0, 0.08, 0.24, 0.02},
         RoundTripCase{"gold_ggx_metal", "gold", false, 0, 0.05, 0.05, 0.02},
-        RoundTripCase{"brushed_gold", "brushed-gold", false, 0, 0.05, 0.11, 0.02},
+        RoundTripCase{"brushed_gold", "brushed-gold", false, 0, 0.05, 0.09, 0.02},
         RoundTripCase{"merl_table_of_ward",
                       {{"model", "ward"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", 0.2}, {"alpha", 0.25}},
                       true,

@@ -48,7 +48,10 @@ DEFAULT_MODELS = "ward,ashikhmin-shirley,ggx,lafortune:1,lafortune:3"
 # The fit options passed through to aniso.fit, with the values fit_many uses by default (those of
 # `aniso fit`, except threads: one per task, the pool runs tasks side by side).
 FIT_OPTIONS = {"anisotropic": "auto", "allow_energy_gain": False, "metric": "l2cos", "loss": "none", "loss_scale": 0.0,
-               "starts": 6, "seed": 1, "max_iterations": 200, "threads": 1}
+               "starts": 6, "seed": 1, "max_iterations": 200, "threads": 1, "grid": None}
+# The extension of the files that `grid` applies to: RGL tensor files, which have no samples of
+# their own (aniso.fit(grid=), `aniso fit --grid`: check_rgl_fit_grid in measured/samples.h).
+RGL_EXTENSION = ".bsdf"
 
 CSV_COLUMNS = ["material", "model", "status", "l2cos", "l2cos_r", "l2cos_g", "l2cos_b", "log", "log_r", "log_g", "log_b",
                "relative_l2cos", "largest_albedo", "seconds", "best_start", "iterations", "samples", "parameters", "input",
@@ -149,10 +152,35 @@ def _file_sha256(path):
     return h.hexdigest()
 
 
+def check_grid(grid, what="grid"):
+    """grid as aniso.fit's (the rules and messages of check_rgl_fit_grid, measured/samples.cpp):
+    None, or an even integer from 4 to 256."""
+    if grid is None:
+        return None
+    if isinstance(grid, bool) or not isinstance(grid, int):
+        raise FitDbError(f"{what}: expected an integer or None, got {type(grid).__name__}")
+    if grid < 4 or grid > 256:
+        raise FitDbError(f"{what}: expected an even number from 4 to 256, got {grid}")
+    if grid % 2 != 0:
+        raise FitDbError(f"{what}: expected an even number (theta_d gets half of it), got {grid}")
+    return grid
+
+
+def _options_for(path, options):
+    """The options of one input: grid (an RGL file's sampling grid) only for a .bsdf file; the
+    other readers' samples are where they were measured, and their pairs' keys and rows do not
+    name it."""
+    if options.get("grid") is None or os.fspath(path).endswith(RGL_EXTENSION):
+        return options
+    return {k: v for k, v in options.items() if k != "grid"}
+
+
 def _check_options(fit_options, model_kwargs):
     """Runs each model's options through aniso.fit's own checks (the CLI's messages) on a tiny data
-    set before anything is scheduled: a bad option is one error, not one failure per pair."""
+    set before anything is scheduled: a bad option is one error, not one failure per pair. (grid,
+    which aniso.fit refuses for arrays, is checked by check_grid.)"""
     import aniso
+    fit_options = {k: v for k, v in fit_options.items() if k != "grid"}
     wi = aniso.direction(np.radians([10.0, 30.0, 50.0, 20.0]), np.radians([0.0, 40.0, 90.0, 200.0]))
     wo = aniso.direction(np.radians([20.0, 40.0, 10.0, 60.0]), np.radians([180.0, 220.0, 270.0, 10.0]))
     value = np.full((4, 3), 0.2)
@@ -553,6 +581,8 @@ def _canonical_options(options):
     column from Python and from the command line: loss_scale a float, the counts integers (1.0 is
     1); anything else is left for aniso.fit to accept or refuse with its message."""
     out = dict(options)
+    if out.get("grid") is None:  # no key: the resume keys and options of runs without grid stay as they were
+        out.pop("grid", None)
     if isinstance(out.get("anisotropic"), bool):  # aniso.fit's True / False are "yes" / "no"
         out["anisotropic"] = "yes" if out["anisotropic"] else "no"
     for k, v in out.items():
@@ -566,7 +596,7 @@ def _canonical_options(options):
 
 
 def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=None, shared_fs=False, force=False,
-             retries=2, progress=None, on_result=None, dataframe=True, **fit_options):
+             retries=2, progress=None, on_result=None, dataframe=True, grid=None, **fit_options):
     """Fits every model to every measured file: the rows of results.csv (docs/fit-db.md).
 
     inputs: files or folders (.binary, .brdf, .bsdf, .csv, folders searched recursively). models: specs
@@ -591,11 +621,15 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
     unknown = set(fit_options) - set(FIT_OPTIONS)
     if unknown:
         raise FitDbError(f"unknown option(s) {', '.join(sorted(unknown))}: expected {', '.join(FIT_OPTIONS)}")
-    options = _canonical_options(dict(FIT_OPTIONS, **fit_options))
+    check_grid(grid)  # before the canonical spelling, which would take 8.0 for 8 (aniso.fit refuses it)
+    options = _canonical_options(dict(FIT_OPTIONS, **fit_options, grid=grid))
     model_list = parse_models(models)
     labels = [label for label, _ in model_list]
     _check_options(options, model_list)
     files = find_inputs(inputs)
+    if options.get("grid") is not None and not any(os.fspath(p).endswith(RGL_EXTENSION) for _, p in files):
+        raise FitDbError("grid applies to RGL tensor files (.bsdf) only, which have no samples of their own; "
+                         "none of the inputs is one")
     version = aniso.__version__
     folder = _Folder(out) if out is not None else None
 
@@ -606,11 +640,12 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
         except OSError as e:
             sha = ""
             for label, _ in model_list:
-                rows[(name, label)] = _row(name, label, path, sha, options, version,
+                rows[(name, label)] = _row(name, label, path, sha, _options_for(path, options), version,
                                            {"status": "failed", "error": f"{path}: cannot read the file: {e.strerror}"})
             continue
+        file_options = _options_for(path, options)
         for label, kwargs in model_list:
-            key = _pair_key(sha, label, kwargs, options, version)
+            key = _pair_key(sha, label, kwargs, file_options, version)
             if folder is not None and not force:
                 row = folder.done(name, label, key)
                 if row is not None:
@@ -619,7 +654,7 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
             tasks.append({"material": name, "label": label, "key": key, "sha": sha, "path": path,
                           "id": _pair_id(name, label).replace("/", "_"),
                           "task": {"path": os.path.abspath(path) if shared_fs or client is None else path,
-                                   "model_kwargs": kwargs, "fit_options": options}})
+                                   "model_kwargs": kwargs, "fit_options": file_options}})
     total = len(files) * len(model_list)
     display = _Progress(total, len(rows), progress is True or (progress is None and sys.stderr.isatty()))
     display.failed = sum(1 for r in rows.values() if r["status"] != "ok")
@@ -630,7 +665,7 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
         with lock:
             if (t["material"], t["label"]) in rows:
                 return
-            row = _row(t["material"], t["label"], t["path"], t["sha"], options, version, result)
+            row = _row(t["material"], t["label"], t["path"], t["sha"], t["task"]["fit_options"], version, result)
             if result["status"] == "ok" and folder is not None:
                 result["fitted"]["fit"]["data"] = t["path"]
                 folder.store(t["material"], t["label"], t["key"], row, result["fitted"])
@@ -715,6 +750,9 @@ def _parser(prog):
     fo.add_argument("--starts", default="6")
     fo.add_argument("--seed", default="1")
     fo.add_argument("--max-iterations", default="200")
+    fo.add_argument("--grid", metavar="N",
+                    help="the sampling grid of the .bsdf (RGL) inputs: N theta_h x N/2 theta_d x N phi_d, N even, 4 to 256 "
+                         "(as aniso fit --grid; the other files are fitted at their own samples)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
     return p
 
@@ -741,6 +779,12 @@ def main(argv=None, prog="aniso fit-db"):
             return 2
     client = cluster = None
     try:
+        if a.grid is not None:
+            try:
+                grid = int(a.grid)
+            except ValueError:
+                raise FitDbError(f"--grid: expected an even number from 4 to 256, got \"{a.grid}\"") from None
+            options["grid"] = check_grid(grid, "--grid")
         if a.threads is not None and (a.workers is not None or a.scheduler):
             raise FitDbError("--threads sizes the local pool: with --workers or --scheduler Dask's workers run the tasks")
         if a.workers is not None and a.workers < 1:

@@ -262,3 +262,51 @@ def test_model_specs_and_rows_without_pandas(db):
         assert list(rows["model"]) == ["ward"]
     except ImportError:
         assert isinstance(rows, list) and rows[0]["model"] == "ward" and rows[0]["status"] == "ok"
+
+
+def test_grid_sets_the_sampling_of_the_rgl_inputs_only(db, tmp):
+    # grid=N / --grid N as aniso.fit's: the .bsdf inputs are sampled on that grid (the same numbers
+    # as aniso.fit(path, grid=N)); the other files are fitted at their own samples, and their
+    # keys and options do not name it. Refused with aniso.fit's messages when out of range or odd,
+    # and when no input is a .bsdf file.
+    _, paths = db
+    bsdf = tmp / "ggx.bsdf"
+    rc, _, stderr = run_cli("export-rgl", "--material", '{"model": "ggx", "kd": 0.1, "f0": 0.5, "alpha": 0.2}', "--rgb",
+                            "--resolution", "8", "--theta-i", "4", "--ndf", "16", "-o", str(bsdf))
+    assert rc == 0, stderr
+    rows = fit_many_quiet([str(bsdf), str(paths[0])], "ggx", out=tmp / "out", workers=2, grid=8, **OPTIONS)
+    assert [r["status"] for r in rows] == ["ok", "ok"], [r["error"] for r in rows]
+    assert json.loads(rows[0]["options"])["grid"] == 8 and "grid" not in json.loads(rows[1]["options"])
+    r = aniso.fit(bsdf, model="ggx", progress=False, grid=8, **OPTIONS)
+    with open(tmp / "out" / rows[0]["file"]) as f:
+        fitted = json.load(f)
+    assert "8 theta_h (square-root spaced)" in fitted["fit"]["sampled"]
+    fitted["fit"].pop("data")
+    expected = r.to_dict()
+    expected["fit"].pop("data", None)
+    assert without_seconds(fitted) == without_seconds(expected)
+    other = fit_many_quiet([str(paths[0])], "ggx", **OPTIONS)
+    assert other[0]["parameters"] == rows[1]["parameters"]
+    # The command line: the same keys as the Python call (both pairs resumed, nothing fitted again),
+    # and the same rows after a fit from scratch.
+    before = csv_rows(tmp / "out" / "results.csv", drop=())
+    rc, out, err = run_fit_db(str(bsdf), str(paths[0]), "-o", str(tmp / "out"), "--models", "ggx", "--grid", "8", "-q",
+                              *CLI_OPTIONS)
+    assert rc == 0, err
+    assert csv_rows(tmp / "out" / "results.csv", drop=()) == before  # the seconds too: nothing was fitted again
+    rc, out, err = run_fit_db(str(bsdf), str(paths[0]), "-o", str(tmp / "cli"), "--models", "ggx", "--grid", "8", "-q",
+                              *CLI_OPTIONS)
+    assert rc == 0, err
+    drop = ("seconds", "file", "input")
+    assert csv_rows(tmp / "cli" / "results.csv", drop) == csv_rows(tmp / "out" / "results.csv", drop)
+    for args, expected in [(["--grid", "7"], "--grid: expected an even number (theta_d gets half of it), got 7"),
+                           (["--grid", "2"], "--grid: expected an even number from 4 to 256, got 2"),
+                           (["--grid", "x"], "--grid: expected an even number from 4 to 256, got \"x\"")]:
+        rc, out, err = run_fit_db(str(bsdf), "-o", str(tmp / "o"), "--models", "ggx", *args)
+        assert rc == 2 and out == "" and err.startswith("aniso: error: ") and expected in err, (args, err)
+    rc, _, err = run_fit_db(str(paths[0]), "-o", str(tmp / "o"), "--models", "ggx", "--grid", "8")
+    assert rc == 2 and "grid applies to RGL tensor files (.bsdf) only" in err, err
+    with pytest.raises(ValueError, match="grid: expected an even number from 4 to 256, got 258"):
+        aniso.fit_many([str(bsdf)], "ggx", grid=258)
+    with pytest.raises(ValueError, match="grid: expected an integer or None, got float"):
+        aniso.fit_many([str(bsdf)], "ggx", grid=8.0)

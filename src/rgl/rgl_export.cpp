@@ -145,7 +145,98 @@ bool is_isotropic(const BrdfSource& src) {
   return true;
 }
 
-std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& opt, ExportReport* report) {
+namespace {
+
+// The density of the vndf warp for one incident direction w, D(m) <w, m>+ times the Jacobian
+// 2 pi^2 u_theta sin(theta_m) on the N x N (u_theta, u_phi) grid (the vndf table's slice; the
+// readers normalise it). Isotropic tables measure phi_m from phi of w.
+void vndf_slice(const PL2D& ndf, bool iso, const Vec3d& w, double phi_w, int N, float* out) {
+  for (int y = 0; y < N; ++y)
+    for (int x = 0; x < N; ++x) {
+      const double ut = node(x, N), up = node(y, N), th = u2theta(ut);
+      const Vec3d m = dir(th, u2phi(up) + (iso ? phi_w : 0.0));
+      const double d = ndf.evaluate(float(ut), float(up), nullptr);
+      out[size_t(y) * N + x] = float(d * std::max(0.0, glm::dot(w, m)) * 2.0 * kPiD * kPiD * ut * std::sin(th));
+    }
+}
+
+// theta_i placed where the readers' linear blend between neighbouring slices errs. A slice of the
+// colour table holds c(u) = f(wi, wo) cos(theta_i) 4 sigma(wo) / D(m) over the warp's square,
+// and the cosine-weighted L1 of f at wo is the plain integral of |c_blend(u) - c(u)| du over that
+// square (the warp maps du to D <wo, m> / sigma dm, and dwi = 4 <wo, m> dm). The error of
+// linear interpolation in theta with spacing h is h^2 |c''| / 8, so spacing the slices as
+// |c''|^(-1/2) equalises it (de Boor, "A Practical Guide to Splines", Ch. II, the optimal knots of
+// piecewise-linear interpolation). c is evaluated on a 16 x 16 grid of the exact single-slice warp
+// at 90 elevations (8 azimuths when anisotropic), |c''| by second differences relative to the
+// slice's mass (its albedo); the density is mixed with a uniform share `uniform` so that no
+// interval grows without bound where the estimate is small.
+std::vector<float> place_theta_by_blend_error(const BrdfSource& src, const PL2D& ndf, const PL2D& sigma, bool iso, int N,
+                                              double theta_max, int count, double uniform) {
+  const int K = 90, nc = 16, nphi = iso ? 1 : 8;
+  const size_t per = size_t(nphi) * nc * nc;
+  std::vector<double> content(size_t(K) * per, 0.0), mass(size_t(K), 0.0);
+  std::vector<float> v(size_t(N) * N);
+  for (int k = 0; k < K; ++k) {
+    const double th_o = theta_max * k / (K - 1);
+    for (int j = 0; j < nphi; ++j) {
+      const double ph_o = iso ? 0.0 : u2phi((j + 0.5) / nphi);
+      const Vec3d wo = dir(th_o, ph_o);
+      vndf_slice(ndf, iso, wo, ph_o, N, v.data());
+      PL2DTables warp;
+      warp.build(v.data(), N, N, {}, true, true);
+      const double sig = sigma.evaluate(rgl_theta2u(float(th_o)), rgl_phi2u(float(ph_o)), nullptr);
+      for (int y = 0; y < nc; ++y)
+        for (int x = 0; x < nc; ++x) {
+          const PL2DSample s = warp.view.sample(float((x + 0.5) / nc), float((y + 0.5) / nc), nullptr);
+          if (!s.finite()) continue;
+          const Vec3d m = dir(rgl_u2theta(s.x), rgl_u2phi(s.y) + (iso ? ph_o : 0.0));
+          const Vec3d wi = 2.0 * glm::dot(wo, m) * m - wo;
+          const double d = ndf.evaluate(s.x, s.y, nullptr);
+          if (!(wi.z > 0.0 && d > 0.0)) continue;
+          const double c = luminance_of(glm::max(src.f(wi, wo), glm::dvec3(0.0))) * wi.z * 4.0 * sig / d;
+          if (!std::isfinite(c)) continue;
+          content[size_t(k) * per + (size_t(j) * nc + size_t(y)) * nc + size_t(x)] = c;
+          mass[size_t(k)] += c;
+        }
+    }
+  }
+  // sqrt of the relative second difference per step: the error density's square root.
+  std::vector<double> rho(size_t(K), 0.0);
+  for (int k = 1; k + 1 < K; ++k) {
+    double dd = 0.0;
+    for (size_t q = 0; q < per; ++q)
+      dd += std::abs(content[size_t(k - 1) * per + q] - 2.0 * content[size_t(k) * per + q] + content[size_t(k + 1) * per + q]);
+    const double ref = std::max(mass[size_t(k)], 1e-3 * std::max(mass[size_t(k - 1)], mass[size_t(k + 1)]));
+    rho[size_t(k)] = ref > 0.0 ? std::sqrt(dd / ref) : 0.0;
+  }
+  rho.front() = rho[1];
+  rho.back() = rho[size_t(K - 2)];
+  double total = 0.0;
+  for (int k = 0; k + 1 < K; ++k) total += 0.5 * (rho[size_t(k)] + rho[size_t(k + 1)]);
+  // Cumulative density over the K - 1 intervals: (1 - uniform) of the error density, uniform of
+  // the angle (all uniform when the estimate is 0: a constant f).
+  const double w_err = total > 0.0 ? 1.0 - uniform : 0.0;
+  std::vector<double> cum(size_t(K), 0.0);
+  for (int k = 1; k < K; ++k)
+    cum[size_t(k)] = cum[size_t(k - 1)] + w_err * 0.5 * (rho[size_t(k - 1)] + rho[size_t(k)]) / std::max(total, 1e-300) +
+                     (1.0 - w_err) / (K - 1);
+  std::vector<float> theta(static_cast<size_t>(count));
+  for (int q = 0; q < count; ++q) {
+    const double target = cum.back() * q / (count - 1);
+    const size_t k = std::min(size_t(std::lower_bound(cum.begin(), cum.end(), target) - cum.begin()), size_t(K - 1));
+    double t = theta_max * double(k) / (K - 1);
+    if (k > 0 && cum[k] > cum[k - 1]) t = theta_max * (double(k - 1) + (target - cum[k - 1]) / (cum[k] - cum[k - 1])) / (K - 1);
+    theta[size_t(q)] = float(t);
+  }
+  theta.front() = 0.f;
+  theta.back() = float(theta_max);
+  for (int q = 1; q < count; ++q)  // strictly increasing (the readers' rule), in float
+    theta[size_t(q)] = std::max(theta[size_t(q)], std::nextafter(theta[size_t(q - 1)], 2.f));
+  return theta;
+}
+
+// The tables of one file, D as opt.d_estimate names it (LobeAverage, else the retro-reflection).
+std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOptions& opt, ExportReport* report) {
   const double t0 = cpu_seconds();
   const bool iso = is_isotropic(src);
   const int N = opt.ndf;
@@ -182,6 +273,44 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
       S[k] = (1.0 - u) * sigma_ggx(m_dir[k], ax, ay) + u * sigma_uniform(m_dir[k]);
     }
     d_method = u > 0 ? fmt::format("exact GGX D and sigma, {:.2f} uniform for the diffuse part", u) : "exact GGX D and sigma";
+  } else if (opt.d_estimate == ExportOptions::DEstimate::LobeAverage) {
+    // The lobe's shape over the viewing directions: under the microfacet model f = D G2 F /
+    // (4 cos_i cos_o) (Walter et al. 2007, Eq. 20), so 4 f(wi, wo) cos_i cos_o estimates D(m)
+    // (times G2 F) from every wo whose mirror about m, wi, is above the horizon. Averaged over wo
+    // at 0 to 80 degrees (and 8 azimuths when anisotropic), weighted by cos_i cos_o (where G2 and
+    // the estimate's spread are small). One D serves every slice: where it follows f at all
+    // viewing angles, c = f cos_i 4 sigma / D varies little over each slice's square and from
+    // one slice to the next, which the colour grid and the readers' blend between slices need.
+    std::vector<double> wsum(D.size(), 0.0);
+    std::fill(D.begin(), D.end(), 0.0);
+    const int n_th = 9, n_ph = iso ? 1 : 8;
+    for (int a = 0; a < n_ph; ++a)
+      for (int b = 0; b < n_th; ++b) {
+        const Vec3d wo = dir(kPiD / 180.0 * 10.0 * b, iso ? 0.0 : u2phi((a + 0.5) / n_ph));
+        for (size_t k = 0; k < D.size(); ++k) {
+          const double om = glm::dot(wo, m_dir[k]);
+          const Vec3d wi = 2.0 * om * m_dir[k] - wo;
+          if (!(om > 0.0) || !(wi.z > 1e-3)) continue;
+          const double est = 4.0 * std::max(0.0, luminance_of(src.f(wi, wo))) * wi.z * wo.z;
+          if (!std::isfinite(est)) continue;
+          D[k] += wi.z * wo.z * est;
+          wsum[k] += wi.z * wo.z;
+        }
+      }
+    for (size_t k = 0; k < D.size(); ++k) D[k] = wsum[k] > 0.0 ? D[k] / wsum[k] : 0.0;
+    if (iso)  // one value per theta_m: the mean over the row
+      for (int i = 0; i < N; ++i) {
+        double sum = 0.0;
+        for (int j = 0; j < nphi_q; ++j) sum += D[size_t(j) * N + i];
+        for (int j = 0; j < nphi_q; ++j) D[size_t(j) * N + i] = sum / nphi_q;
+      }
+    double norm = 0.0;  // integral of D cos(theta_m) = 1 (the projected area of the macrosurface)
+    for (size_t k = 0; k < D.size(); ++k) norm += w_quad[k] * D[k] * m_dir[k].z;
+    if (norm > 0.0 && std::isfinite(norm))
+      for (double& d : D) d /= norm;
+    else
+      std::fill(D.begin(), D.end(), 1.0 / kPiD);  // f = 0 wherever it was looked at: uniform D
+    d_method = "the lobe's mean shape over viewing angles 0 to 80 degrees, 2% uniform";
   } else {
     // Dupuy, Heitz, Iehl, Poulin & Ostromoukhov 2015, "Extracting Microfacet-based BRDF Parameters
     // from Arbitrary Materials with Power Iterations", Eq. 6-8: under the microfacet model the
@@ -211,8 +340,11 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
       }
       for (size_t k = 0; k < D.size(); ++k) D[k] = next[k] / norm;
     }
+    d_method = fmt::format("power iteration on the retro-reflection ({} steps), 2% uniform", opt.power_iterations);
+  }
+  if (!src.ggx_alpha) {
     // 2 % of the uniform distribution: every half vector keeps a positive density, so the vndf
-    // warp reaches wherever f > 0 even when the retro-reflection is 0 there (a forward lobe).
+    // warp reaches wherever f > 0 even where the estimate is 0 (a forward lobe).
     for (double& d : D) d = 0.98 * d + 0.02 / kPiD;
     if (iso)
       for (int i = 0; i < N; ++i) {
@@ -221,7 +353,6 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
       }
     else
       for (size_t k = 0; k < D.size(); ++k) S[k] = sigma_of(m_dir[k]);
-    d_method = fmt::format("power iteration on the retro-reflection ({} steps), 2% uniform", opt.power_iterations);
   }
   // Stored tables: rows x N. Isotropic: the phi = 0 column repeated in 2 rows.
   std::vector<float> ndf_t(size_t(rows) * N), sigma_t(size_t(rows) * N);
@@ -235,11 +366,11 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
   ndf_pl.build(ndf_t.data(), N, rows, {}, false, false);
   sigma_pl.build(sigma_t.data(), N, rows, {}, false, false);
 
-  // theta_i: placed by inverting s(theta) = (theta / theta_max + (sigma(0) - sigma(theta)) /
-  // (sigma(0) - sigma(theta_max))) / 2, half uniform in angle, half uniform in projected area
-  // (dense where sigma changes, near grazing for smooth materials). theta_max = 89 degrees: at
-  // 90 the cosine factors of f vanish or diverge (Ward's 1 / sqrt(cos cos)); the readers use the
-  // last slice beyond it (sampling.h:1494 clamps the weight).
+  // theta_i on [0, theta_max], theta_max = 89 degrees: at 90 the cosine factors of f vanish or
+  // diverge (Ward's 1 / sqrt(cos cos)); the readers use the last slice beyond it (sampling.h:1494
+  // clamps the weight). Placed by the error of the readers' blend (place_theta_by_blend_error), or
+  // by inverting s(theta) = (theta / theta_max + (sigma(0) - sigma(theta)) / (sigma(0) -
+  // sigma(theta_max))) / 2, half uniform in angle, half uniform in projected area.
   const double theta_max = 89.0 * kPiD / 180.0;
   auto sigma_avg = [&](double th) {
     double s = 0.0;
@@ -248,7 +379,9 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
     return s / np;
   };
   std::vector<float> theta_i(size_t(opt.theta_i));
-  {
+  if (opt.placement == ExportOptions::Placement::BlendError) {
+    theta_i = place_theta_by_blend_error(src, ndf_pl.view, sigma_pl.view, iso, N, theta_max, opt.theta_i, opt.placement_uniform);
+  } else {
     const int fine = 2048;
     std::vector<double> s(fine + 1), th(fine + 1);
     const double s0 = sigma_avg(0.0), s1 = sigma_avg(theta_max);
@@ -289,17 +422,8 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
   const size_t vslice = size_t(N) * N;
   std::vector<float> vndf_t(n_phi * n_theta * vslice);
   for (size_t a = 0; a < n_phi; ++a)
-    for (size_t b = 0; b < n_theta; ++b) {
-      const Vec3d w = dir(theta_i[b], phi_i[a]);
-      float* out = vndf_t.data() + (a * n_theta + b) * vslice;
-      for (int y = 0; y < N; ++y)
-        for (int x = 0; x < N; ++x) {
-          const double ut = node(x, N), up = node(y, N), th = u2theta(ut);
-          const Vec3d m = dir(th, u2phi(up) + (iso ? phi_i[a] : 0.0));
-          const double d = ndf_pl.view.evaluate(float(ut), float(up), nullptr);
-          out[size_t(y) * N + x] = float(d * std::max(0.0, glm::dot(w, m)) * 2.0 * kPiD * kPiD * ut * std::sin(th));
-        }
-    }
+    for (size_t b = 0; b < n_theta; ++b)
+      vndf_slice(ndf_pl.view, iso, dir(theta_i[b], phi_i[a]), phi_i[a], N, vndf_t.data() + (a * n_theta + b) * vslice);
   PL2DTables vndf_pl;
   vndf_pl.build(vndf_t.data(), N, N, {phi_i, theta_i}, true, true);
 
@@ -414,6 +538,86 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
     report->seconds = cpu_seconds() - t0;
   }
   return fields;
+}
+
+// How well a written file reproduces src: the mean over viewing directions (elevations 10, 30, 50,
+// 65, 75 and 85 degrees; 4 azimuths when anisotropic) of the cosine-weighted relative L1 of f plus
+// the albedo's relative error, by importance sampling (half the file's own sampler, half cosine;
+// 1000 samples, fixed seeds). Only f of the source is needed.
+double roundtrip_score(const BrdfSource& src, const std::vector<TensorField>& fields) {
+  const std::shared_ptr<RglData> d = rgl_from_tensor(parse_tensor(serialize_tensor(fields), "candidate.bsdf"));
+  const RglT<double> k = rgl_kernel<double>(*d);
+  double sum = 0.0;
+  int count = 0;
+  const int np = d->isotropic ? 1 : 4;
+  for (const double th_deg : {10.0, 30.0, 50.0, 65.0, 75.0, 85.0})
+    for (int a = 0; a < np; ++a) {
+      const Vec3d wo = dir(th_deg * kPiD / 180.0, 2.0 * kPiD * (a + 0.25) / np);
+      Rng rng(4321 + uint64_t(th_deg) * 11 + uint64_t(a));
+      double diff = 0.0, ref = 0.0, a_src = 0.0, a_file = 0.0;
+      for (int n = 0; n < 1000; ++n) {
+        const Vec2T<double> u(rng.uniform(), rng.uniform());
+        Vec3d wi;
+        if (n % 2 == 0) {
+          const BSDFSampleT<double> s = k.sample(wo, rng.uniform(), u);
+          if (!s.valid) continue;
+          wi = s.wi;
+        } else {
+          wi = sample_cosine_hemisphere(u);
+        }
+        const double pdf = 0.5 * k.pdf(wi, wo) + 0.5 * cosine_hemisphere_pdf(wi.z);
+        if (!(pdf > 0.0) || !(wi.z > 0.0)) continue;
+        const glm::dvec3 fs = glm::max(src.f(wi, wo), glm::dvec3(0.0)), ff = k.f(wi, wo);
+        const double w = wi.z / pdf;
+        diff += (std::abs(ff.x - fs.x) + std::abs(ff.y - fs.y) + std::abs(ff.z - fs.z)) * w;
+        ref += (fs.x + fs.y + fs.z) * w;
+        a_src += luminance_of(fs) * w;
+        a_file += luminance_of(ff) * w;
+      }
+      sum += (ref > 0.0 ? diff / ref : 0.0) + (a_src > 0.0 ? std::abs(a_file - a_src) / a_src : 0.0);
+      ++count;
+    }
+  return sum / count;
+}
+}  // namespace
+
+std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& opt, ExportReport* report) {
+  if (src.ggx_alpha || opt.d_estimate != ExportOptions::DEstimate::Auto) return export_tables(src, opt, report);
+  // Neither estimate of D wins for every model (docs/rgl.md, "Where the error comes from"): the
+  // lobe's mean shape follows forward and grazing lobes (Lafortune, Ashikhmin-Shirley), the
+  // retro-reflection suits tables whose grazing values are least like a microfacet lobe (a MERL
+  // table). Both files are written (RGB) and the one that reproduces f better is kept.
+  const double t0 = cpu_seconds();
+  ExportOptions o = opt;
+  o.spectral = false;
+  std::vector<TensorField> best;
+  ExportReport best_report;
+  ExportOptions::DEstimate pick = ExportOptions::DEstimate::LobeAverage;
+  double best_score = 0.0, other_score = 0.0;
+  for (const ExportOptions::DEstimate e : {ExportOptions::DEstimate::LobeAverage, ExportOptions::DEstimate::RetroReflection}) {
+    o.d_estimate = e;
+    ExportReport r;
+    std::vector<TensorField> fields = export_tables(src, o, &r);
+    const double score = roundtrip_score(src, fields);
+    if (best.empty() || score < best_score) {
+      other_score = best.empty() ? other_score : best_score;
+      best = std::move(fields), best_report = r, best_score = score, pick = e;
+    } else {
+      other_score = score;
+    }
+  }
+  if (opt.spectral) {
+    o = opt;
+    o.d_estimate = pick;
+    best = export_tables(src, o, &best_report);
+  }
+  if (report) {
+    *report = best_report;
+    report->d_method +=
+        fmt::format(" (chosen by the round trip: error {:.2f} % against {:.2f} %)", 100.0 * best_score, 100.0 * other_score);
+    report->seconds = cpu_seconds() - t0;
+  }
+  return best;
 }
 
 SourceModel source_model(const MaterialD& m) {

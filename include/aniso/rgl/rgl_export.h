@@ -20,18 +20,26 @@ namespace aniso::rgl {
 struct ExportOptions {
   bool spectral = true;  // spectra + wavelengths (pbrt-v4, spectral Mitsuba) or rgb (Mitsuba RGB variants)
   int colour = 32;       // colour and luminance grid n x n on the VNDF-warped square
-  int theta_i = 16;      // incident elevations (placed by inverting sigma)
+  int theta_i = 16;      // incident elevations (placed by `placement`)
   int phi_i = 17;        // incident azimuths over [-pi, pi] (anisotropic materials only)
   int ndf = 64;          // ndf, sigma and vndf grid, n x n over (u_theta, u_phi)
+  // D of the models without a closed form (every one but GGX): the lobe's mean shape over the
+  // viewing angles, or the retro-reflection's power iteration (Dupuy et al. 2015); Auto writes
+  // both and keeps the file that reproduces f better (docs/rgl.md, step 2).
+  enum class DEstimate { Auto, LobeAverage, RetroReflection } d_estimate = DEstimate::Auto;
   int power_iterations = 8;
+  // theta_i placement: by the error of the readers' linear blend between slices (default), or by
+  // the projected area sigma alone (half uniform in angle, half uniform in sigma).
+  enum class Placement { BlendError, ProjectedArea } placement = Placement::BlendError;
+  double placement_uniform = 0.3;  // share of the uniform density in the blend-error placement
 };
 
 struct BrdfSource {
   // f(wi, wo) without the cosine, aniso's convention (aniso/brdf/material.h).
   std::function<glm::dvec3(const Vec3d& wi, const Vec3d& wo)> f;
   // The microfacet distribution when it is known exactly (GGX with alpha_x, alpha_y), mixed with a
-  // uniform distribution of weight `uniform_weight` for a diffuse part; absent: D from
-  // retro-reflection by power iteration (Dupuy et al. 2015).
+  // uniform distribution of weight `uniform_weight` for a diffuse part; absent: D estimated from
+  // f (ExportOptions::d_estimate).
   std::optional<glm::dvec2> ggx_alpha;
   double uniform_weight = 0.0;
   std::string description;  // written verbatim (the material JSON and the aniso version)
@@ -44,7 +52,7 @@ struct BrdfSource {
 
 struct ExportReport {
   bool isotropic = true;
-  std::string d_method;  // "exact GGX" or "power iteration (N steps)"
+  std::string d_method;  // how D was made ("exact GGX D and sigma", the estimate and its round-trip errors)
   std::string spectra;   // how the spectra of a spectral file were made
   double seconds = 0.0;  // CPU time of the export
 };
