@@ -1,0 +1,207 @@
+#!/usr/bin/env python3
+"""aniso's RGL tensor files (.bsdf) rendered by pbrt-v4 itself (docs/rgl.md, "In pbrt-v4").
+
+    /usr/bin/python3 bench/pbrt-v4/compare.py --aniso build/release/bin/aniso --pbrt PATH/TO/pbrt
+        [--out DIR] [--spp N] [--size N] [--cases a,b,...]
+
+pbrt-v4 is not a Debian package: build it from its sources (docs/rgl.md says how it was done here)
+and pass its `pbrt` executable. For each case the material is written with `aniso export-rgl`
+(spectral: the only kind pbrt-v4 reads), and the same scene (bench/cycles/sphere-lambert.json's
+unit sphere, camera, uniform environment and sphere light) is rendered three ways: pbrt-v4 with
+`Material "measured"` on the file, aniso with the file as a material (its pbrt-v4-faithful reader,
+`RglT`) and aniso with the source material. The first pair says whether pbrt-v4 reads and renders
+the file as aniso does (format, frame, spectral colour); the second what the file itself costs in
+accuracy (docs/rgl.md, "Accuracy"). The `lambert` case renders pbrt-v4's own `diffuse` material
+against aniso's Lambert: it checks the scene conversion alone (camera, lights, film).
+
+The scene conversion, each line from pbrt-v4's sources (github.com/mmp/pbrt-v4 @ 5f7a6068):
+- Axes: pbrt-v4's camera space is left-handed (cameras.h, CameraTransform; the pbrt-v4 file
+  format's documented convention); `Scale -1 1 1` before `LookAt` mirrors it so that aniso's
+  right-handed y-up world renders unmirrored (the check: the `lambert` case, lit from the left).
+- `Camera "perspective" "float fov"`: the angle of the shorter image axis (cameras.cpp:364-383,
+  the screen window spans [-1, 1] on the shorter axis): the images here are square, so aniso's
+  vertical `fov_deg`.
+- `PixelFilter "box"` with radius 0.5: each pixel's square, aniso's pixel average (filters.h,
+  BoxFilter).
+- `Film "rgb"`, `.pfm` (util/image.cpp:1008-1009, rows written bottom to top, 1789), sensor
+  "cie1931" with ISO 100 and exposure 1: imaging ratio 1 (film.cpp, PixelSensor::Create), linear
+  sRGB.
+- Lights given as `"rgb L"`: an RGBIlluminantSpectrum scaled by 1 / SpectrumToPhotometric of the
+  colour space's illuminant (lights.cpp:266 for area lights' `L`, 1556 for a uniform infinite
+  light), so that an RGB radiance renders as that RGB: the uniform environment as `LightSource
+  "infinite"`, the sphere light as `AreaLightSource "diffuse"` on a `Shape "sphere"` (black
+  `diffuse` material), sampled in solid angle (shapes.h, Sphere::Sample(ctx, u)).
+- The sphere: pbrt-v4's `Sphere` has its pole along object z and dp/du = (-phi_max y, phi_max x, 0)
+  (shapes.h, Sphere::InteractionFromIntersection): z x p. `Rotate -90 1 0 0` takes object z to
+  world y, so dp/du = y x n, aniso's sphere tangent (docs/scenes.md, "Objects"). MeasuredBxDF's
+  frame is Frame::FromXZ(dp/du, n) (bsdf.h, BSDF::BSDF), x along dp/du, as aniso's.
+- `Sampler "independent"`: pbrt-v4's default samplers are as unbiased; this one reads none of the
+  tables a source build may lack (see docs/rgl.md).
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+try:
+    import numpy as np
+except ImportError:
+    print("SKIP: numpy is not installed for %s (Debian's python3-numpy)" % sys.executable)
+    sys.exit(77)
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+
+# name -> (aniso material, what it shows)
+CASES = {
+    "lambert": ({"model": "lambert", "kd": 0.5}, "the scene conversion (pbrt-v4's own diffuse)"),
+    "ggx-aniso": ({"model": "ggx", "f0": 1, "alpha_x": 0.05, "alpha_y": 0.3},
+                  "anisotropic GGX, exact D (full phi_i grid)"),
+    "ggx-rotated": ({"model": "ggx", "f0": [0.9, 0.6, 0.3], "kd": [0.1, 0.2, 0.3], "alpha_x": 0.08, "alpha_y": 0.3,
+                     "rotation_deg": 30}, "coloured anisotropic GGX with diffuse, tangent rotated 30 degrees"),
+    "gold": ("gold", "metal with measured n, k spectra (isotropic GGX 0.1)"),
+    "brushed-gold": ("brushed-gold", "anisotropic Ward metal + directional diffuse (D by power iteration)"),
+    "ward-iso": ({"model": "ward", "kd": 0.1, "ks": 0.3, "alpha": 0.15}, "isotropic Ward (power iteration)"),
+}
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        if f.readline().strip() != b"PF":
+            raise SystemExit("%s: not a colour PFM" % path)
+        w, h = (int(x) for x in f.readline().split())
+        scale = float(f.readline())
+        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
+    return data.reshape(h, w, 3)[::-1].astype(np.float64)  # row 0 = the image's top
+
+
+def run(cmd, log):
+    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    with open(log, "a") as f:
+        f.write("$ " + " ".join(cmd) + "\n" + r.stdout + "\n")
+    if r.returncode != 0:
+        raise SystemExit("failed (%d): %s\n%s" % (r.returncode, " ".join(cmd), r.stdout[-2000:]))
+    return r.stdout
+
+
+def pbrt_scene(scene, size, spp, material_lines, out_pfm):
+    cam = scene["camera"]
+    env = scene["environment"]
+    if env.get("type") != "uniform":
+        raise SystemExit("only a uniform environment is converted")
+    lines = [
+        "# written by bench/pbrt-v4/compare.py from an aniso scene (its docstring has each convention)",
+        "Scale -1 1 1",
+        "LookAt %g %g %g  %g %g %g  %g %g %g" % tuple(cam["position"] + cam["look_at"] + cam.get("up", [0, 1, 0])),
+        'Camera "perspective" "float fov" [ %g ]' % cam["fov_deg"],
+        'Sampler "independent" "integer pixelsamples" [ %d ]' % spp,
+        'Integrator "path" "integer maxdepth" [ %d ]' % scene.get("integrator", {}).get("max_depth", 8),
+        'PixelFilter "box" "float xradius" [ 0.5 ] "float yradius" [ 0.5 ]',
+        'Film "rgb" "integer xresolution" [ %d ] "integer yresolution" [ %d ] "string filename" [ "%s" ]'
+        % (size, size, out_pfm),
+        "WorldBegin",
+        'LightSource "infinite" "rgb L" [ %g %g %g ]' % ((env["radiance"],) * 3),
+    ]
+    for l in scene["lights"]:
+        if l["type"] != "sphere":
+            raise SystemExit("only sphere lights are converted")
+        lines += ["AttributeBegin", "  Translate %g %g %g" % tuple(l["center"]),
+                  '  AreaLightSource "diffuse" "rgb L" [ %g %g %g ]' % ((l["radiance"],) * 3),
+                  '  Material "diffuse" "rgb reflectance" [ 0 0 0 ]',
+                  '  Shape "sphere" "float radius" [ %g ]' % l["radius"], "AttributeEnd"]
+    for o in scene["objects"]:
+        if o["shape"] != "sphere":
+            raise SystemExit("only spheres are converted")
+        lines += ["AttributeBegin", "  Translate %g %g %g" % tuple(o["center"]), "  Rotate -90 1 0 0"]
+        lines += ["  " + m for m in material_lines]
+        lines += ['  Shape "sphere" "float radius" [ %g ]' % o["radius"], "AttributeEnd"]
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--aniso", required=True)
+    ap.add_argument("--pbrt", required=True)
+    ap.add_argument("--out", default=None, help="keep the files here (default: a temporary directory)")
+    ap.add_argument("--spp", type=int, default=256)
+    ap.add_argument("--size", type=int, default=96)
+    ap.add_argument("--cases", default=",".join(CASES))
+    a = ap.parse_args()
+    out = a.out or tempfile.mkdtemp(prefix="aniso-pbrt-")
+    os.makedirs(out, exist_ok=True)
+    log = os.path.join(out, "log.txt")
+    with open(os.path.join(ROOT, "bench", "cycles", "sphere-lambert.json")) as f:
+        base = json.load(f)
+    print("%-13s %9s %9s %9s %9s %9s %9s   %s" % ("case", "mean pbrt", "mean file", "mean src", "pbrt/file",
+                                               "rel.RMSE", "noise", "what"))
+    rows = []
+    for name in a.cases.split(","):
+        material, what = CASES[name]
+        scene = json.loads(json.dumps(base))
+        scene["film"] = {"width": a.size, "height": a.size, "spp": a.spp}
+        mat_json = os.path.join(out, name + ".json")
+        with open(mat_json, "w") as f:
+            json.dump(material, f)
+        src = material if isinstance(material, str) else mat_json
+        if name == "lambert":
+            pbrt_material = ['Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]']
+            file_material = material
+        else:
+            bsdf = os.path.join(out, name + ".bsdf")
+            run([a.aniso, "export-rgl", "--material", src, "-o", bsdf, "--spectral"], log)
+            pbrt_material = ['Material "measured" "string filename" [ "%s" ]' % bsdf]
+            file_material = {"model": "rgl", "file": bsdf}
+        images = {}
+        for kind, mat, seed in (("file", file_material, 7), ("file2", file_material, 8), ("src", material, 7)):
+            scene["objects"][0]["material"] = mat
+            sj = os.path.join(out, "%s-aniso-%s.json" % (name, kind))
+            with open(sj, "w") as f:
+                json.dump(scene, f)
+            pfm = os.path.join(out, "%s-aniso-%s.pfm" % (name, kind))
+            run([a.aniso, "render", sj, "-o", pfm, "--seed", str(seed)], log)
+            images[kind] = read_pfm(pfm)
+        pfm = os.path.join(out, "%s-pbrt.pfm" % name)
+        pscene = os.path.join(out, "%s.pbrt" % name)
+        with open(pscene, "w") as f:
+            f.write(pbrt_scene(scene, a.size, a.spp, pbrt_material, pfm))
+        run([a.pbrt, "--seed", "7", pscene], log)
+        images["pbrt"] = read_pfm(pfm)
+        # The sphere's pixels only (the environment around it is the same constant in both).
+        mask = images["src"].sum(axis=2) != 3 * base["environment"]["radiance"]
+        p, fl, fl2, s = (images[k][mask] for k in ("pbrt", "file", "file2", "src"))
+        rmse = float(np.sqrt(np.mean((p - fl) ** 2)) / np.mean(fl))
+        # The noise floor: two aniso renders of the file with different seeds differ by this much.
+        noise = float(np.sqrt(np.mean((fl2 - fl) ** 2)) / np.mean(fl))
+        rows.append((name, images))
+        print("%-13s %9.5f %9.5f %9.5f %9.4f %9.4f %9.4f   %s" % (name, p.mean(), fl.mean(), s.mean(),
+                                                              p.mean() / fl.mean(), rmse, noise, what))
+        print("%-13s per channel pbrt / file: %s" % ("", " ".join("%.4f" % x for x in p.mean(axis=0) / fl.mean(axis=0))))
+    picture(rows, os.path.join(out, "pbrt-v4-vs-aniso.png"))
+    print("files in %s" % out)
+
+
+def picture(rows, path):
+    """One row per case: pbrt-v4 on the file, aniso on the file, aniso on the source material,
+    and 4 |pbrt-v4 - aniso file| (exposure 1, clamp, sRGB)."""
+    from PIL import Image, ImageDraw
+
+    tiles = []
+    for name, im in rows:
+        row = [im["pbrt"], im["file"], im["src"], 4 * np.abs(im["pbrt"] - im["file"])]
+        tiles.append(np.concatenate(row, axis=1))
+    img = np.concatenate(tiles, axis=0)
+    img = np.clip(img, 0, 1)
+    img = np.where(img <= 0.0031308, 12.92 * img, 1.055 * img ** (1 / 2.4) - 0.055)
+    pil = Image.fromarray((img * 255 + 0.5).astype(np.uint8))
+    d = ImageDraw.Draw(pil)
+    size = rows[0][1]["pbrt"].shape[0]
+    for r, (name, _) in enumerate(rows):
+        for c, label in enumerate(("pbrt-v4", "aniso: file", "aniso: source", "4 |diff|")):
+            d.text((c * size + 3, r * size + 2), name + ": " + label if c == 0 else label, fill=(255, 255, 0))
+    pil.save(path)
+
+
+if __name__ == "__main__":
+    main()
