@@ -912,17 +912,18 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
 // --- reports -----------------------------------------------------------------------------------------
 
 json ExportReport::to_json() const {
-  return {{"target", target},
-          {"target_model", target_model},
-          {"path", exact ? "exact" : "fitted"},
-          {"origin", origin},
-          {"parameters", parameters},
-          {"error", {{"l2cos", errors.l2cos_all}, {"log", errors.log_all}, {"relative_l2cos", errors.relative_l2cos}}},
-          {"max_albedo_difference",
-           {{"value", max_albedo_difference}, {"theta_o_deg", albedo_theta_deg}, {"phi_o_deg", albedo_phi_deg}}},
-          {"samples", samples},
-          {"blender_version", blender_version},
-          {"notes", notes}};
+  json j = {{"target", target},
+            {"target_model", target_model},
+            {"path", exact ? "exact" : "fitted"},
+            {"origin", origin},
+            {"parameters", parameters},
+            {"error", {{"l2cos", errors.l2cos_all}, {"log", errors.log_all}, {"relative_l2cos", errors.relative_l2cos}}},
+            {"max_albedo_difference",
+             {{"value", max_albedo_difference}, {"theta_o_deg", albedo_theta_deg}, {"phi_o_deg", albedo_phi_deg}}},
+            {"samples", samples},
+            {"notes", notes}};
+  if (!blender_version.empty()) j["blender_version"] = blender_version;  // --to blender only
+  return j;
 }
 
 std::string ExportReport::text(std::string_view pre) const {
