@@ -619,7 +619,7 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
       const glm::dvec2 a = cycles_principled_alpha(rough, aniso);
       // Blender before 3.5: the Principled BSDF v1 (targets.h, "Blender 3.4"): separable Smith G,
       // the interpolated Fresnel, Burley's diffuse; 3.4's bsdf_microfacet_ggx_fresnel_setup
-      // saturates both alphas (bsdf_microfacet.h:316-317).
+      // saturates both alphas (bsdf_microfacet.h:315-316).
       const bool v1 = blender_version < 3.5;
       m.lobe.alpha_x = v1 ? std::min(a.x, 1.0) : a.x, m.lobe.alpha_y = v1 ? std::min(a.y, 1.0) : a.y;
       m.tangent_turn_deg = extra;

@@ -163,10 +163,10 @@ inline glm::dvec3 cycles_tint_for(const glm::dvec3& f0, const glm::dvec3& f_at_8
 }
 
 // --- Blender 3.4: the Principled BSDF v1 --------------------------------------------------------
-// Blender 3.4.1, intern/cycles/kernel/svm/closure.h, case CLOSURE_BSDF_PRINCIPLED_ID (lines 114-355):
+// Blender 3.4.1, intern/cycles/kernel/svm/closure.h, case CLOSURE_BSDF_PRINCIPLED_ID (lines 114-488):
 //   diffuse_weight = (1 - metallic)(1 - transmission)                                 (line 169)
 //   diffuse: weight base_color diffuse_weight, bsdf_principled_diffuse_setup(FULL)     (lines 226-239)
-//   specular (lines 311-342): ior = 2 / (1 - safe_sqrtf(0.08 specular)) - 1  (the IOR input is
+//   specular (lines 300-348): ior = 2 / (1 - safe_sqrtf(0.08 specular)) - 1  (the IOR input is
 //     for transmission only); aspect = safe_sqrtf(1 - 0.9 anisotropic), alpha_x = r^2 / aspect,
 //     alpha_y = r^2 aspect; m_cdlum = 0.3 R + 0.6 G + 0.1 B, m_ctint = base_color / m_cdlum;
 //     cspec0 = specular 0.08 mix(1, m_ctint, specular_tint) (1 - metallic) + base_color metallic;
