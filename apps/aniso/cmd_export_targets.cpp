@@ -23,7 +23,7 @@ namespace {
 
 struct ExportArgs {
   std::string to, material, output, name, metric = "l2cos", help_target, preview, scene, object;
-  int starts = 4, grid = 6;
+  int starts = 4, grid = 6, preview_size = 256;
   double blender_version = 4.3;
   uint64_t seed = 1;
   bool list = false;
@@ -139,7 +139,8 @@ void run_export(const ExportArgs& a) {
   const ExportResult r = export_material(desc, label, o, bin_name);
   const bool to_stdout = a.output.empty() || a.output == "-";
   if (!a.preview.empty()) {
-    if (!a.preview.ends_with(".png")) throw InputError(fmt::format("--preview {}: expected a .png file", a.preview));
+    if (!a.preview.ends_with(".png") && !a.preview.ends_with(".pfm") && !a.preview.ends_with(".exr"))
+      throw InputError(fmt::format("--preview {}: expected a .png file (or .pfm / .exr: linear radiance)", a.preview));
     if (fs::is_directory(a.preview)) throw InputError(fmt::format("--preview {}: is a directory", a.preview));
   }
   if (r.files.size() == 2) {
@@ -162,7 +163,7 @@ void run_export(const ExportArgs& a) {
     MaterialDesc plain = desc;
     if (plain.params.values.count("rotation_deg")) plain.params.values["rotation_deg"] = 0.0;
     write_preview(a.preview, build_material<double>(plain), r.model, "source: " + desc.model,
-                  std::string(info->name) + (r.report.exact ? " (exact)" : " (fitted)"));
+                  std::string(info->name) + (r.report.exact ? " (exact)" : " (fitted)"), a.preview_size);
   }
   fmt::print(to_stdout ? stderr : stdout, "{}", r.report.text());
   if (!to_stdout) fmt::print("wrote {}{}\n", a.output, r.files.size() == 2 ? " and " + r.files[1].path : std::string());
@@ -190,9 +191,14 @@ void add_export_target_command(CLI::App& app) {
       ->check(CLI::Range(1, 12));
   cmd->add_option("--blender-version", a->blender_version,
                   "--to blender: the Blender whose model the report measures (default 4.3: conductors as the Metallic "
-                  "BSDF with n, k; 4.0: the Principled BSDF's F82 tint); the script adapts to the Blender running it")
+                  "BSDF with n, k; 4.0: the Principled BSDF's F82 tint; 3.4: the Principled BSDF v1); the script "
+                  "adapts to the Blender running it")
       ->check(CLI::Range(3.0, 10.0));
-  cmd->add_option("--preview", a->preview, "also write a PNG: the source (left) and the target model (right), shaded by aniso");
+  cmd->add_option("--preview", a->preview,
+                  "also write a PNG: the source (left) and the target model (right), shaded by aniso (.pfm / .exr: "
+                  "linear radiance, no labels)");
+  cmd->add_option("--preview-size", a->preview_size, "pixels of each sphere of --preview (default 256)")
+      ->check(CLI::Range(16, 2048));
   cmd->add_flag("--list-targets", a->list, "list the targets and exit");
   cmd->add_option("--help-target", a->help_target, "what a target's export writes and how to use it");
   cmd->callback([a] { run_command([&] { run_export(*a); }); });

@@ -30,7 +30,9 @@ constexpr TargetInfo kTargets[] = {
      "source and assigns it to the active object. The tangent comes from the object's active UV map (a Tangent node, "
      "dp/du as aniso's meshes), else Cycles' default. Run: blender -b scene.blend -P FILE, or exec(open(FILE).read()) "
      "after making the object. Blender 4.x: metals use the F82-tint Fresnel (Base Color = F0, Specular Tint = the "
-     "edge tint at 82 degrees); 3.4 has no edge tint (its Specular Tint is a float)."},
+     "edge tint at 82 degrees); 3.4 (the Principled BSDF v1: separable Smith G, Fresnel interpolated from Base "
+     "Color to white, Burley diffuse) has no edge tint: its Specular sets the curve's shape. The report measures "
+     "--blender-version (default 4.3) and gives the other versions' errors in its notes."},
     {Target::Mitsuba3, "mitsuba3", ".xml",
      "Mitsuba 3 roughconductor (GGX), principled, or blendbsdf of diffuse and roughconductor",
      "Writes a <scene version=\"3.0.0\"> holding one <bsdf> with id = the material name: a roughconductor with "
@@ -659,6 +661,33 @@ TargetBrdf openpbr_model(const GgxSource& g, json& p, std::vector<std::string>& 
   return m;
 }
 
+// Blender 3.4's metallic Principled: the Specular (in [0, 1]) whose interpolated Fresnel with cspec0
+// = f0 (cycles_v1_fresnel) is closest to the source's curve (the conductor's, or Schlick's with f0)
+// over the cosine: least squares on 64 points, golden-section search.
+double v1_metal_specular(const GgxSource& g, const glm::dvec3& f0) {
+  const auto cost = [&](double specular) {
+    const double ior = cycles_v1_ior(specular);
+    double e = 0.0;
+    for (int i = 0; i < 64; ++i) {
+      const double c = (i + 0.5) / 64.0;
+      const glm::dvec3 want = g.conductor ? glm::dvec3(F_Conductor(c, RGBT<double>(g.eta), RGBT<double>(g.k)))
+                                          : glm::dvec3(F_Schlick(RGBT<double>(g.f0), c));
+      const glm::dvec3 d = cycles_v1_fresnel(c, f0, ior) - want;
+      e += glm::dot(d, d);
+    }
+    return e;
+  };
+  const double r = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = 1e-4, b = 1.0, x1 = b - r * (b - a), x2 = a + r * (b - a), f1 = cost(x1), f2 = cost(x2);
+  for (int i = 0; i < 60; ++i) {
+    if (f1 < f2)
+      b = x2, x2 = x1, f2 = f1, x1 = b - r * (b - a), f1 = cost(x1);
+    else
+      a = x1, x1 = x2, f1 = f2, x2 = a + r * (b - a), f2 = cost(x2);
+  }
+  const double best = (a + b) / 2.0;
+  return cost(1.0) < cost(best) ? 1.0 : best;
+}
 }  // namespace
 
 // --- GGX -> each target ----------------------------------------------------------------------------
@@ -672,14 +701,19 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
   const glm::dvec3 cond_f0 = g.conductor ? glm::dvec3(F_Conductor(1.0, RGBT<double>(g.eta), RGBT<double>(g.k))) : g.f0;
   switch (t) {
     case Target::Blender: {
-      // Principled BSDF (closure.h @ 02e6985c): alpha_x = r^2 / aspect >= alpha_y = r^2 aspect.
-      // aspect^2 = alpha_y / alpha_x = 1 - 0.9 anisotropic, anisotropic <= 1.
+      // Principled BSDF (closure.h @ 02e6985c; 3.4.1: closure.h:321-325, the same formula):
+      // alpha_x = r^2 / aspect >= alpha_y = r^2 aspect, aspect^2 = alpha_y / alpha_x = 1 - 0.9
+      // anisotropic, anisotropic <= 1.
       const auto [extra, rough, aniso] = invert_aspect(ax, ay, 0.9, 1.0, "the Principled BSDF", notes);
       const double turn = wrap_turn((g.rotation_deg + extra) / 360.0);
       const glm::dvec2 a = cycles_principled_alpha(rough, aniso);
-      m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+      // Blender before 3.5: the Principled BSDF v1 (targets.h, "Blender 3.4"): separable Smith G,
+      // the interpolated Fresnel, Burley's diffuse; 3.4's bsdf_microfacet_ggx_fresnel_setup
+      // saturates both alphas (bsdf_microfacet.h:315-316).
+      const bool v1 = blender_version < 3.5;
+      m.lobe.alpha_x = v1 ? std::min(a.x, 1.0) : a.x, m.lobe.alpha_y = v1 ? std::min(a.y, 1.0) : a.y;
       m.tangent_turn_deg = extra;
-      m.lobe.masking = Masking::HeightCorrelated;
+      m.lobe.masking = v1 ? Masking::Separable : Masking::HeightCorrelated;
       p["Roughness"] = rough, p["Anisotropic"] = aniso, p["Anisotropic Rotation"] = turn;
       p["distribution"] = "GGX";
       if (g.conductor || no_diffuse(g)) {
@@ -690,12 +724,27 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
           const double c82 = 1.0 / 7.0;
           tint = cycles_tint_for(f0, glm::dvec3(F_Conductor(c82, RGBT<double>(g.eta), RGBT<double>(g.k))));
         }
-        m.name = "Cycles 4.x Principled BSDF, metallic (F82-tint Fresnel, height-correlated Smith G)";
-        m.lobe.fresnel = FresnelModel::F82Tint;
-        m.lobe.f0 = f0;
-        m.lobe.f82_b = cycles_f82tint_b(f0, tint);
-        p["Base Color"] = j3(f0), p["Metallic"] = 1.0, p["Specular Tint"] = j3(tint);
-        if (g.conductor && blender_version >= 4.3) {
+        // 3.4: cspec0 = Base Color; the curve's shape is the dielectric Fresnel at the Specular
+        // input's ior: the Specular in [0, 1] whose curve is closest to the source's (conductor or
+        // Schlick) over the cosine.
+        const double specular = v1_metal_specular(g, f0);
+        p["Base Color"] = j3(f0), p["Metallic"] = 1.0, p["Specular Tint"] = j3(tint), p["Specular"] = specular;
+        if (v1) {
+          m.name = "Cycles 3.4 Principled BSDF v1, metallic (interpolated Fresnel, separable Smith G)";
+          m.lobe.fresnel = FresnelModel::CyclesV1;
+          m.lobe.f0 = f0, m.lobe.eta = glm::dvec3(cycles_v1_ior(specular));
+          notes.push_back(
+              fmt::format("Blender 3.4: F = Base Color (1 - FH) + FH, FH the dielectric Fresnel of the Specular input's ior "
+                          "normalised to [F0, 1] (bsdf_util.h:94-105); Specular {:.4g} (ior {:.4g}) gives the curve closest to "
+                          "the source's",
+                          specular, cycles_v1_ior(specular)));
+        } else {
+          m.name = "Cycles 4.x Principled BSDF, metallic (F82-tint Fresnel, height-correlated Smith G)";
+          m.lobe.fresnel = FresnelModel::F82Tint;
+          m.lobe.f0 = f0;
+          m.lobe.f82_b = cycles_f82tint_b(f0, tint);
+        }
+        if (g.conductor && !v1 && blender_version >= 4.3) {
           // Blender 4.3+: the Metallic BSDF with fresnel_type PHYSICAL_CONDUCTOR takes n and k
           // (closure.h, CLOSURE_BSDF_PHYSICAL_CONDUCTOR: the same aspect mapping as the Principled
           // BSDF, bsdf_microfacet_setup_fresnel_conductor with ior = {n, k}): aniso's conductor exactly.
@@ -708,37 +757,56 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
               "script builds a Principled BSDF with F0 and the F82 tint matching the reflectance at cos = "
               "1/7 instead (--blender-version 4.0 reports that one; 3.4 has no tint)");
         } else if (g.conductor) {
+          p["IOR"] = j3(g.eta), p["Extinction"] = j3(g.k);  // the script's 4.3+ branch, whatever is reported
           notes.push_back(
               "the conductor's n, k become F0 and the F82 tint matching its reflectance at cos = 1/7 (the "
-              "script uses 4.3's Metallic BSDF with n, k where it exists; Blender 3.4 ignores the tint: its "
-              "Specular Tint is a float)");
+              "script uses 4.3's Metallic BSDF with n, k where it exists; Blender 3.4 has no tint: its "
+              "Specular Tint is a float, its Specular sets the curve's shape)");
         }
       } else {
         // Dielectric: F0 = F0_from_ior(IOR) 2 level (closure.h, "Apply IOR adjustment"), exact Fresnel.
         const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
         const double f0 = F_Conductor(1.0, eta, 0.0);
-        m.name = "Cycles 4.x Principled BSDF, dielectric (exact Fresnel, height-correlated G) + Lambert";
-        m.lobe.fresnel = FresnelModel::Dielectric;
-        m.lobe.eta = glm::dvec3(eta);
+        // 3.4: F0 = 0.08 Specular (closure.h:317, 333-334), Specular in [0, 1].
+        const double specular = std::clamp(luminance_avg(g.f0) / 0.08, 0.0, 1.0);
         m.diffuse = g.kd;
         p["Base Color"] = j3(g.kd), p["Metallic"] = 0.0, p["IOR"] = eta, p["Specular IOR Level"] = 0.5;
-        p["Specular"] = std::min(f0 / 0.08, 1.0);  // Blender 3.4: F0 = 0.08 Specular, Specular in [0, 1]
-        if (f0 > 0.08)
-          notes.push_back(fmt::format("Blender 3.4's Specular stops at 1 (F0 0.08); this F0 {:.4g} needs 4.x's IOR", f0));
-        notes.push_back(
-            fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of IOR {:.4g} closest to its "
-                        "curve (F0 {:.4g})",
-                        luminance_avg(g.f0), eta, f0));
-        notes.push_back(
-            "Cycles layers the diffuse under the specular (its weight times 1 - the specular albedo, "
-            "closure_layering_weight); the target model adds them as aniso's GGX does");
+        p["Specular"] = specular;
+        if (v1) {
+          m.name = "Cycles 3.4 Principled BSDF v1, dielectric (exact Fresnel, separable Smith G) + Burley diffuse";
+          m.lobe.fresnel = FresnelModel::CyclesV1;
+          m.lobe.f0 = cycles_v1_cspec0(g.kd, 0.0, specular, 0.0);
+          m.lobe.eta = glm::dvec3(cycles_v1_ior(specular));
+          m.burley_roughness = rough;
+          if (luminance_avg(g.f0) > 0.08)
+            notes.push_back(
+                fmt::format("Blender 3.4's Specular stops at 1 (F0 0.08); this F0 {:.4g} needs 4.x's IOR", luminance_avg(g.f0)));
+          notes.push_back(
+              "Blender 3.4: the Fresnel is the exact dielectric one at ior = 2 / (1 - sqrt(0.08 Specular)) - 1 "
+              "(closure.h:317), the diffuse Burley's with retro-reflection at the same Roughness "
+              "(bsdf_principled_diffuse.h:45-86), added to the specular");
+        } else {
+          m.name = "Cycles 4.x Principled BSDF, dielectric (exact Fresnel, height-correlated G) + Lambert";
+          m.lobe.fresnel = FresnelModel::Dielectric;
+          m.lobe.eta = glm::dvec3(eta);
+          if (f0 > 0.08)
+            notes.push_back(fmt::format("Blender 3.4's Specular stops at 1 (F0 0.08); this F0 {:.4g} needs 4.x's IOR", f0));
+          notes.push_back(
+              fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of IOR {:.4g} closest to its "
+                          "curve (F0 {:.4g})",
+                          luminance_avg(g.f0), eta, f0));
+          notes.push_back(
+              "Cycles layers the diffuse under the specular (its weight times 1 - the specular albedo, "
+              "closure_layering_weight); the target model adds them as aniso's GGX does");
+        }
         if (max3(g.f0) - std::min({g.f0.x, g.f0.y, g.f0.z}) > 1e-3)
-          notes.push_back("the coloured dielectric F0 is written as its mean (Specular IOR Level)");
+          notes.push_back("the coloured dielectric F0 is written as its mean (Specular IOR Level; 3.4: Specular)");
       }
-      notes.push_back(
-          "Blender 3.4: the same node and inputs except Specular (3.4's F0 = 0.08 Specular) for Specular "
-          "IOR Level; 3.4's Cycles evaluates its own masking and the Principled v1 Fresnel, which the "
-          "target model (4.x) does not reproduce");
+      notes.push_back(v1 ? "the target model is Blender 3.4's Principled BSDF v1 (separable Smith G, interpolated Fresnel, "
+                           "Burley diffuse), distribution GGX (set by the script; Multiscatter GGX adds the energy of the "
+                           "lobe's multiple bounces, which the single-scattering model leaves out)"
+                         : "the target model is Blender 4.x's Principled BSDF; Blender 3.4's (Principled v1: separable "
+                           "Smith G, interpolated Fresnel, Burley diffuse) is reported in a note");
       break;
     }
     case Target::Mitsuba3:
@@ -935,22 +1003,25 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
 // --- reports -----------------------------------------------------------------------------------------
 
 json ExportReport::to_json() const {
-  return {{"target", target},
-          {"target_model", target_model},
-          {"path", exact ? "exact" : "fitted"},
-          {"origin", origin},
-          {"parameters", parameters},
-          {"error", {{"l2cos", errors.l2cos_all}, {"log", errors.log_all}, {"relative_l2cos", errors.relative_l2cos}}},
-          {"max_albedo_difference",
-           {{"value", max_albedo_difference}, {"theta_o_deg", albedo_theta_deg}, {"phi_o_deg", albedo_phi_deg}}},
-          {"samples", samples},
-          {"notes", notes}};
+  json j = {{"target", target},
+            {"target_model", target_model},
+            {"path", exact ? "exact" : "fitted"},
+            {"origin", origin},
+            {"parameters", parameters},
+            {"error", {{"l2cos", errors.l2cos_all}, {"log", errors.log_all}, {"relative_l2cos", errors.relative_l2cos}}},
+            {"max_albedo_difference",
+             {{"value", max_albedo_difference}, {"theta_o_deg", albedo_theta_deg}, {"phi_o_deg", albedo_phi_deg}}},
+            {"samples", samples},
+            {"notes", notes}};
+  if (!blender_version.empty()) j["blender_version"] = blender_version;  // --to blender only
+  return j;
 }
 
 std::string ExportReport::text(std::string_view pre) const {
   std::string s;
   const auto line = [&](const std::string& l) { s += std::string(pre) + l + "\n"; };
   line(fmt::format("aniso export, target {}: {}", target, target_model));
+  if (!blender_version.empty()) line(fmt::format("  the numbers below hold for {}", blender_version));
   line(fmt::format("  {}", origin));
   line(fmt::format("  parameters: {}", parameters.dump()));
   line(fmt::format("  error of the export against the source ({} samples): l2cos {:.4g} (relative {:.3g}), log {:.4g}", samples,
@@ -1013,7 +1084,9 @@ std::string write_blender(const std::string& name, const json& p, const std::str
   }
   s += "else:\n";
   if (metallic)
-    s += "    pass  # 3.4: no edge tint (its Specular Tint is a float that tints the dielectric F0)\n";
+    s += fmt::format(
+        "    put(\"Specular\", {:.9g})  # 3.4: the ior of the Fresnel curve's shape (no edge tint: Specular Tint is a float)\n",
+        num(p, "Specular"));
   else
     s += fmt::format("    put(\"Specular\", {:.9g})  # F0 = 0.08 Specular\n", num(p, "Specular"));
   if (p.contains("Extinction")) {
@@ -1302,6 +1375,12 @@ void write_preview(const std::string& path, const MaterialD& source, const Targe
         }
         img.set(side * size + px, py, RGB(float(c.x), float(c.y), float(c.z)));
       }
+  if (!path.ends_with(".png")) {
+    // .pfm / .exr: the linear radiance of both spheres, without labels (the Blender check of
+    // tests/blender_export_render.py compares it with Cycles' rendering, pixel by pixel).
+    render::write_image(path, img);
+    return;
+  }
   const render::DisplayImage shaded = render::tonemap(img, {});
   render::DisplayImage out(w, h, 255);
   render::blit(out, shaded, 0, 0);
@@ -1340,40 +1419,145 @@ SphereMesh uv_sphere(int rings, int segments) {
 }
 
 // The fitted path, last step: the target's own model (its masking, its Fresnel) against the source,
-// over the roughness. The GGX fit is aniso's (height-correlated Smith, Schlick); the target model
-// differs (Mitsuba 3's separable G, MaterialX's G2 at the mean alpha, exact Fresnel curves), so the
-// alphas are searched again with the written model itself: factors 0.6 to 1.5 on each alpha (a
-// 9 x 9 log grid, then 7 x 7 around the best), on at most o.refine_samples of the samples, in the
-// chosen metric.
+// over the roughness and the colours. The GGX fit is aniso's (height-correlated Smith, Schlick,
+// Lambert); the target model differs (Mitsuba 3's separable G, MaterialX's G2 at the mean alpha,
+// exact Fresnel curves, Blender 3.4's Burley diffuse and interpolated Fresnel), so the alphas are
+// searched again with the written model itself: factors 0.6 to 1.5 on each alpha (a 9 x 9 log grid,
+// then 7 x 7 around the best), on at most o.refine_samples of the samples, in the chosen metric. At
+// each alpha pair the colours (kd and F0 of the Schlick GGX, per channel, which every target writes
+// as its diffuse colour and its F0 / specular / base colour) are re-solved by weighted least squares
+// in the target model (relinearise), and kept when that lowers the error.
 GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& all, const ExportOptions& o) {
   SampleSet data;
   const size_t stride = std::max<size_t>(1, all.samples.size() / size_t(std::max(o.refine_samples, 100)));
   for (size_t i = 0; i < all.samples.size(); i += stride) data.samples.push_back(all.samples[i]);
-  const auto err = [&](double fx, double fy, GgxSource& out) {
-    out = g;
-    out.alpha_x = std::clamp(g.alpha_x * fx, 1e-3, 1.0), out.alpha_y = std::clamp(g.alpha_y * fy, 1e-3, 1.0);
-    return metric_of(target_errors(target_model(t, out, nullptr, nullptr, o.blender_version), data), o.metric);
+  const auto model = [&](const GgxSource& x) { return target_model(t, x, nullptr, nullptr, o.blender_version); };
+  const auto error = [&](const GgxSource& x) { return metric_of(target_errors(model(x), data), o.metric); };
+  // The other metric, which a re-solve of the colours may not raise: the report gives both, and a
+  // change that trades one for the other is not an improvement.
+  const FitMetric other = o.metric == FitMetric::L2Cos ? FitMetric::Log : FitMetric::L2Cos;
+  // The colours a conductor does not have (its eta, k are the source's); a source without a diffuse
+  // part keeps none (a diffuse colour would change what the target writes: a metal becomes a
+  // dielectric), one with a diffuse part keeps some (kd >= 1e-5, above no_diffuse's 1e-6).
+  const bool has_kd = !no_diffuse(g);
+  std::vector<int> vars;  // 0..2 kd, 3..5 f0
+  if (!g.conductor)
+    for (int v = has_kd ? 0 : 3; v < 6; ++v) vars.push_back(v);
+  const auto get = [](GgxSource& x, int v) -> double& { return v < 3 ? x.kd[v] : x.f0[v - 3]; };
+  const size_t n_s = data.samples.size();
+  std::vector<glm::dvec3> f0v(n_s), f1v(n_s);
+  const auto eval_all = [&](const GgxSource& x, std::vector<glm::dvec3>& out) {
+    const TargetBrdf m = model(x);
+    for (size_t i = 0; i < n_s; ++i) out[i] = m.f(data.samples[i].wi, data.samples[i].wo);
   };
-  GgxSource best = g, trial;
-  double best_err = err(1.0, 1.0, trial), bx = 0.0, by = 0.0;
-  const double lo = std::log(0.6), hi = std::log(1.5);
-  constexpr int n = 9;
-  const double step = (hi - lo) / (n - 1);
-  for (int i = 0; i < n; ++i)
+  // One Gauss-Newton step on the l2cos residuals (f - v) cos_i, weight w, over the colours, with
+  // forward-difference columns: exact for the targets whose model is affine in them (the diffuse
+  // colour everywhere; Schlick, F82-tint and 3.4's interpolated Fresnel in F0), a linearisation for
+  // the others (an exact Fresnel fitted to Schlick's curve). Clamped to [0, 1] (kd >= 1e-5 where the
+  // source has one); returns x unchanged when the step does not lower the error.
+  const auto relinearise = [&](const GgxSource& x, double ex) {
+    if (vars.empty()) return std::pair{x, ex};
+    const int n = int(vars.size());
+    eval_all(x, f0v);
+    std::vector<std::vector<glm::dvec3>> J(n, std::vector<glm::dvec3>(n_s));
     for (int j = 0; j < n; ++j) {
-      const double x = lo + i * step, y = lo + j * step, e = err(std::exp(x), std::exp(y), trial);
-      if (e < best_err) best_err = e, best = trial, bx = x, by = y;
+      GgxSource y = x;
+      double& v = get(y, vars[j]);
+      const double h = v > 0.5 ? -1e-4 : 1e-4;
+      v += h;
+      eval_all(y, f1v);
+      for (size_t i = 0; i < n_s; ++i) J[j][i] = (f1v[i] - f0v[i]) / h;
     }
-  for (int i = -3; i <= 3; ++i)
-    for (int j = -3; j <= 3; ++j) {
-      const double e = err(std::exp(bx + i * step / 3), std::exp(by + j * step / 3), trial);
-      if (e < best_err) best_err = e, best = trial;
+    double A[6][6] = {}, b[6] = {};
+    for (size_t i = 0; i < n_s; ++i) {
+      const MeasuredSample& sm = data.samples[i];
+      const double c2w = sm.weight * sm.wi.z * sm.wi.z;
+      const glm::dvec3 r = sm.value - f0v[i];
+      for (int j = 0; j < n; ++j) {
+        b[j] += c2w * glm::dot(J[j][i], r);
+        for (int k = j; k < n; ++k) A[j][k] += c2w * glm::dot(J[j][i], J[k][i]);
+      }
     }
-  // Kept only if it is better on every sample, not just on the subset it was searched on.
-  const auto full = [&](const GgxSource& x) {
-    return metric_of(target_errors(target_model(t, x, nullptr, nullptr, o.blender_version), all), o.metric);
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < j; ++k) A[j][k] = A[k][j];
+    // Gaussian elimination with partial pivoting; a singular system (a colour the target ignores,
+    // such as the F0 channels a grey IOR averages) gets a small ridge first.
+    double trace = 0.0;
+    for (int j = 0; j < n; ++j) trace += A[j][j];
+    for (int j = 0; j < n; ++j) A[j][j] += 1e-9 * trace / n + 1e-300;
+    double d[6];
+    for (int j = 0; j < n; ++j) d[j] = b[j];
+    for (int c = 0; c < n; ++c) {
+      int piv = c;
+      for (int r = c + 1; r < n; ++r)
+        if (std::abs(A[r][c]) > std::abs(A[piv][c])) piv = r;
+      std::swap(A[c], A[piv]), std::swap(d[c], d[piv]);
+      if (!(std::abs(A[c][c]) > 0.0)) return std::pair{x, ex};
+      for (int r = c + 1; r < n; ++r) {
+        const double f = A[r][c] / A[c][c];
+        for (int k = c; k < n; ++k) A[r][k] -= f * A[c][k];
+        d[r] -= f * d[c];
+      }
+    }
+    for (int c = n - 1; c >= 0; --c) {
+      for (int k = c + 1; k < n; ++k) d[c] -= A[c][k] * d[k];
+      d[c] /= A[c][c];
+    }
+    GgxSource y = x;
+    for (int j = 0; j < n; ++j) {
+      double& v = get(y, vars[j]);
+      v = std::clamp(v + d[j], vars[j] < 3 ? 1e-5 : 0.0, 1.0);
+      if (!std::isfinite(v)) return std::pair{x, ex};
+    }
+    const FitErrors fy = target_errors(model(y), data);
+    if (metric_of(fy, o.metric) < ex && metric_of(fy, other) <= metric_of(target_errors(model(x), data), other))
+      return std::pair{y, metric_of(fy, o.metric)};
+    return std::pair{x, ex};
   };
-  return full(best) < full(g) ? best : g;
+  // The alpha search, with the colours re-solved at each pair or (colours = false) kept.
+  const auto search = [&](bool colours) {
+    const auto err = [&](double fx, double fy, GgxSource& out) {
+      out = g;
+      out.alpha_x = std::clamp(g.alpha_x * fx, 1e-3, 1.0), out.alpha_y = std::clamp(g.alpha_y * fy, 1e-3, 1.0);
+      if (!colours) return error(out);
+      auto [y, e] = relinearise(out, error(out));
+      out = y;
+      return e;
+    };
+    GgxSource best = g, trial;
+    double best_err = err(1.0, 1.0, trial), bx = 0.0, by = 0.0;
+    best = trial;
+    const double lo = std::log(0.6), hi = std::log(1.5);
+    constexpr int n = 9;
+    const double step = (hi - lo) / (n - 1);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double x = lo + i * step, y = lo + j * step, e = err(std::exp(x), std::exp(y), trial);
+        if (e < best_err) best_err = e, best = trial, bx = x, by = y;
+      }
+    for (int i = -3; i <= 3; ++i)
+      for (int j = -3; j <= 3; ++j) {
+        const double e = err(std::exp(bx + i * step / 3), std::exp(by + j * step / 3), trial);
+        if (e < best_err) best_err = e, best = trial;
+      }
+    // A second step at the best alphas (the linearisation of an exact Fresnel).
+    return colours ? relinearise(best, best_err).first : best;
+  };
+  // Kept only if better on every sample, not just on the subset searched: the alphas alone when
+  // they lower the chosen metric, the colours too when that is no worse in either metric.
+  const auto full = [&](const GgxSource& x) { return target_errors(model(x), all); };
+  const FitErrors e_g = full(g);
+  const GgxSource alphas = search(false);
+  const FitErrors e_a = full(alphas);
+  const bool alphas_better = metric_of(e_a, o.metric) < metric_of(e_g, o.metric);
+  const GgxSource& base = alphas_better ? alphas : g;
+  const FitErrors& e_base = alphas_better ? e_a : e_g;
+  if (vars.empty()) return base;
+  const GgxSource both = search(true);
+  const FitErrors e_b = full(both);
+  const bool both_better =
+      metric_of(e_b, o.metric) < metric_of(e_base, o.metric) && metric_of(e_b, other) <= metric_of(e_base, other);
+  return both_better ? both : base;
 }
 
 namespace {
@@ -1461,6 +1645,9 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
     if (refined.alpha_x != res.ggx.alpha_x || refined.alpha_y != res.ggx.alpha_y)
       notes_before.push_back(fmt::format("alphas refined with the target model: {:.4g} x {:.4g} (the GGX fit's {:.4g} x {:.4g})",
                                          refined.alpha_x, refined.alpha_y, res.ggx.alpha_x, res.ggx.alpha_y));
+    if (refined.kd != res.ggx.kd || refined.f0 != res.ggx.f0)
+      notes_before.push_back(fmt::format("colours re-solved in the target model: kd {} (the GGX fit's {}), F0 {} (the fit's {})",
+                                         fmt3(refined.kd), fmt3(res.ggx.kd), fmt3(refined.f0), fmt3(res.ggx.f0)));
     res.ggx = refined;
   }
   res.model = target_model(info->target, res.ggx, &params, &notes, o.blender_version);
@@ -1518,14 +1705,27 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   else if (res.ggx.exact && (res.ggx.rotation_deg != 0.0))
     r.notes.push_back(fmt::format("rotation_deg {:.9g} carried to the target's orientation", res.ggx.rotation_deg));
   r.errors = target_errors(res.model, samples);
-  if (info->target == Target::Blender && res.ggx.conductor && o.blender_version >= 4.3) {
-    // The other model the script may build (before 4.3): its error too.
-    const TargetBrdf older = target_model(Target::Blender, res.ggx, nullptr, nullptr, 4.0);
-    const FitErrors e = target_errors(older, samples);
-    r.notes.push_back(
-        fmt::format("Blender 4.0 to 4.2 (Principled BSDF, F82 tint): l2cos {:.4g} (relative {:.3g}), log "
-                    "{:.4g}",
-                    e.l2cos_all, e.relative_l2cos, e.log_all));
+  if (info->target == Target::Blender) {
+    // The numbers hold for one Blender (o.blender_version); the script builds a different model in
+    // the others: their errors too, for the same written values.
+    const bool cond = res.ggx.conductor;
+    const auto span = [cond](double v) {
+      return v < 3.5   ? std::string("Blender 3.4 (Principled BSDF v1)")
+             : !cond   ? std::string("Blender 4.x (Principled BSDF)")
+             : v < 4.3 ? std::string("Blender 4.0 to 4.2 (Principled BSDF)")
+                       : std::string("Blender 4.3 and later (Metallic BSDF)");
+    };
+    r.blender_version = span(o.blender_version);
+    std::vector<double> others;
+    if (o.blender_version >= 3.5) others.push_back(3.4);
+    if (o.blender_version < 3.5 || (cond && o.blender_version >= 4.3)) others.push_back(4.0);
+    if (cond && o.blender_version < 4.3) others.push_back(4.3);
+    for (const double v : others) {
+      const TargetBrdf other = target_model(Target::Blender, res.ggx, nullptr, nullptr, v);
+      const FitErrors e = target_errors(other, samples);
+      r.notes.push_back(fmt::format("{}: {}: l2cos {:.4g} (relative {:.3g}), log {:.4g}", span(v), other.name, e.l2cos_all,
+                                    e.relative_l2cos, e.log_all));
+    }
   }
   r.samples = samples.samples.size();
   r.max_albedo_difference = max_albedo_difference(source, res.model, &r.albedo_theta_deg, &r.albedo_phi_deg);

@@ -71,7 +71,8 @@ struct ExportOptions {
   // 20736 before the horizon cut). Tests use n = 3.
   int grid = 6;
   // --to blender: the version the report's target model is (the script itself adapts to the
-  // Blender that runs it): 4.3 and later use the Metallic BSDF with n, k for conductors.
+  // Blender that runs it): 4.3 and later use the Metallic BSDF with n, k for conductors; before
+  // 3.5 (3.4, Debian 12's) the Principled BSDF v1 (targets.h, "Blender 3.4").
   double blender_version = 4.3;
   // Fitted path: the samples (at most) the alphas are refined on with the target model.
   int refine_samples = 4000;
@@ -92,6 +93,10 @@ struct ExportReport {
   double albedo_theta_deg = 0.0, albedo_phi_deg = 0.0;  // where it is largest
   size_t samples = 0;
   std::vector<std::string> notes;  // what differs, how to orient the mesh, ...
+  // --to blender: the Blender versions the numbers hold for ("Blender 3.4 (Principled BSDF v1)",
+  // "Blender 4.0 to 4.2 (Principled BSDF)", "Blender 4.3 and later"); the other versions' errors
+  // for the same script are in the notes. Empty for the other targets.
+  std::string blender_version;
 
   nlohmann::json to_json() const;
   // A few lines for the terminal and, prefixed, for the file's comment.
@@ -142,7 +147,11 @@ TargetBrdf target_model(Target t, const GgxSource& g, nlohmann::json* parameters
 // A picture for the docs and `--preview`: two spheres, the source (left) and the written target
 // model (right), shaded by aniso with the same two directional lights, tangent dp/du of a sphere
 // whose u runs around the vertical axis (aniso's meshes), viewed orthographically along -z.
-// Each sphere `size` pixels; PNG through render::write_png.
+// Each sphere `size` pixels; PNG through render::write_png, or (a .pfm or .exr path) the linear
+// radiance through render::write_image, without labels. The lights (directions to the light in the
+// view frame: x right, y up, z towards the viewer; irradiance at normal incidence): normalize(-0.5,
+// 0.6, 1) with 2.5, normalize(0.7, -0.3, 0.8) with 1; the tangent normalize(y x n). The Blender
+// check (tests/blender_export_render.py) builds the same scene in Cycles.
 void write_preview(const std::string& path, const MaterialD& source, const TargetBrdf& target, const std::string& left,
                    const std::string& right, int size = 256);
 

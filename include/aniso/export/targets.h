@@ -10,6 +10,10 @@
 //               intern/cycles/kernel/closure/bsdf_microfacet.h @ 014f6e43 (bsdf_aniso_D,
 //               bsdf_aniso_lambda, the height-correlated G in bsdf_microfacet_eval),
 //               intern/cycles/kernel/closure/bsdf_util.h (fresnel_f82tint_B, fresnel_f82).
+//   Blender 3.4 the kernel source Blender 3.4.1 ships for run-time GPU compiles (Debian 12's
+//               blender 3.4.1+dfsg-2: /usr/share/blender/scripts/addons/cycles/source/kernel/ =
+//               intern/cycles/kernel/ @ v3.4.1): svm/closure.h (Principled v1), closure/
+//               bsdf_microfacet.h, bsdf_util.h, bsdf_principled_diffuse.h, bsdf_microfacet_multi.h.
 //   Mitsuba 3   mitsuba-renderer/mitsuba3 @ b45b0a93: src/bsdfs/roughconductor.cpp,
 //               include/mitsuba/render/microfacet.h.
 //   pbrt-v4     mmp/pbrt-v4 @ 5f7a6068: src/pbrt/util/scattering.h (TrowbridgeReitzDistribution),
@@ -45,7 +49,7 @@ namespace aniso::exporter {
 // The Smith masking-shadowing each target multiplies D by.
 enum class Masking {
   HeightCorrelated,  // 1 / (1 + L(wi) + L(wo)): Cycles >= 3.5, pbrt-v4, glTF (Heitz 2014 Eq. 99)
-  Separable,         // G1(wi) G1(wo): Mitsuba 3 (microfacet.h:329-331)
+  Separable,         // G1(wi) G1(wo): Mitsuba 3 (microfacet.h:329-331), Cycles 3.4 (bsdf_microfacet.h:444)
   // MaterialX: the isotropic height-correlated G2 at the mean alpha sqrt(ax ay)
   // (mx_conductor_bsdf.glsl:23, 38; mx_microfacet_specular.glsl:82-88, 177-180)
   HeightCorrelatedMeanAlpha,
@@ -57,6 +61,9 @@ enum class FresnelModel {
   Conductor,   // the exact unpolarised conductor Fresnel with eta, k (Mitsuba 3, pbrt-v4, MaterialX)
   Dielectric,  // the exact dielectric Fresnel at the index ior (conductor Fresnel with k = 0)
   F82Tint,     // Cycles 4.x metallic: Schlick(f0) - b cos (1 - cos)^6, clamped to [0, 1]
+  // Cycles 3.4 Principled v1: cspec0 (1 - FH) + FH, FH the dielectric Fresnel at ior normalised to
+  // [F0(ior), 1] (cycles_v1_fresnel); cspec0 in f0, ior in eta.x.
+  CyclesV1,
 };
 
 struct TargetLobe {
@@ -90,6 +97,9 @@ struct TargetBrdf {
   // diffuse; mx_layer_bsdf.glsl:5): the diffuse times the specular's throughput at the view direction,
   // openpbr_dielectric_throughput(wo.z, sqrt(alpha_x alpha_y), lobe.eta.x).
   bool diffuse_times_openpbr_throughput = false;
+  // >= 0: the diffuse term is Cycles 3.4's Principled diffuse (Burley's, with retro-reflection, at
+  // this roughness: cycles_v1_principled_diffuse) instead of Lambert's.
+  double burley_roughness = -1.0;
   // The target's tangent, turned from aniso's x axis towards y by this angle (the targets that want
   // the larger alpha along the tangent turn it by 90 degrees instead of swapping the alphas); f()
   // takes directions in aniso's frame.
@@ -158,6 +168,50 @@ inline glm::dvec3 cycles_tint_for(const glm::dvec3& f0, const glm::dvec3& f_at_8
   const double s = 6.0 / 7.0, s5 = s * s * s * s * s;
   const glm::dvec3 schlick = f0 + (glm::dvec3(1.0) - f0) * s5;
   return glm::clamp(f_at_82 / schlick, 0.0, 1.0);
+}
+
+// --- Blender 3.4: the Principled BSDF v1 --------------------------------------------------------
+// Blender 3.4.1, intern/cycles/kernel/svm/closure.h, case CLOSURE_BSDF_PRINCIPLED_ID (lines 114-488):
+//   diffuse_weight = (1 - metallic)(1 - transmission)                                 (line 169)
+//   diffuse: weight base_color diffuse_weight, bsdf_principled_diffuse_setup(FULL)     (lines 226-239)
+//   specular (lines 300-348): ior = 2 / (1 - safe_sqrtf(0.08 specular)) - 1  (the IOR input is
+//     for transmission only); aspect = safe_sqrtf(1 - 0.9 anisotropic), alpha_x = r^2 / aspect,
+//     alpha_y = r^2 aspect; m_cdlum = 0.3 R + 0.6 G + 0.1 B, m_ctint = base_color / m_cdlum;
+//     cspec0 = specular 0.08 mix(1, m_ctint, specular_tint) (1 - metallic) + base_color metallic;
+//     distribution GGX (or roughness <= 0.075): bsdf_microfacet_ggx_fresnel_setup, else the
+//     multiscatter GGX (bsdf_microfacet_multi_ggx_fresnel_setup). The lobe's weight is 1 (no
+//     transmission) and the diffuse is added to it, not layered under it.
+// closure/bsdf_microfacet.h: bsdf_microfacet_ggx_fresnel_setup (lines 310-323) saturates cspec0 and
+//   both alphas; bsdf_microfacet_ggx_eval_reflect (lines 360-465) returns F G D / (4 cosNO) (the
+//   BRDF times cosNI) with G = G1o G1i, the separable Smith G1 of the anisotropic GGX
+//   (alphaO2 = cos^2 phi alpha_x^2 + sin^2 phi alpha_y^2, lines 422-441), and F = reflection_color
+//   (lines 236-250) = interpolate_fresnel_color(L, H, ior, fresnel_dielectric_cos(1, ior), cspec0).
+// closure/bsdf_util.h:94-105, interpolate_fresnel_color: FH = (fresnel_dielectric_cos(L.H, ior) -
+//   F0) / (1 - F0); cspec0 (1 - FH) + FH. For a dielectric with specular_tint 0, cspec0 = 0.08
+//   specular = F0(ior) and F is the exact dielectric Fresnel; for a metal (cspec0 = base_color) the
+//   curve rises from base_color to 1 with the dielectric's shape at the Specular input's ior.
+inline double cycles_v1_ior(double specular) { return 2.0 / (1.0 - std::sqrt(std::max(0.08 * specular, 0.0))) - 1.0; }
+inline glm::dvec3 cycles_v1_cspec0(const glm::dvec3& base_color, double metallic, double specular, double specular_tint) {
+  const double lum = 0.3 * base_color.x + 0.6 * base_color.y + 0.1 * base_color.z;
+  const glm::dvec3 ctint = lum > 0.0 ? base_color / lum : glm::dvec3(1.0);
+  const glm::dvec3 tmp = glm::dvec3(1.0 - specular_tint) + ctint * specular_tint;
+  return glm::clamp(specular * 0.08 * tmp * (1.0 - metallic) + base_color * metallic, 0.0, 1.0);
+}
+inline glm::dvec3 cycles_v1_fresnel(double cos_lh, const glm::dvec3& cspec0, double ior) {
+  const double F0 = F_Conductor(1.0, ior, 0.0);
+  const double FH = (F_Conductor(cos_lh, ior, 0.0) - F0) / (1.0 - F0);
+  return cspec0 * (1.0 - FH) + glm::dvec3(FH);
+}
+// closure/bsdf_principled_diffuse.h:45-86 (PRINCIPLED_DIFFUSE_FULL), as a BRDF times pi:
+//   FV, FL = (1 - cos)^5; (1 - FV / 2)(1 - FL / 2) + RR (FL + FV + FL FV (RR - 1)), RR = roughness
+//   (L.V + 1): Burley's 2012 diffuse with retro-reflection (2 cos_d^2 = L.V + 1).
+inline double cycles_v1_principled_diffuse(double roughness, const Vec3d& wi, const Vec3d& wo) {
+  const auto w5 = [](double c) {
+    const double m = std::clamp(1.0 - c, 0.0, 1.0);
+    return m * m * m * m * m;
+  };
+  const double FL = w5(wi.z), FV = w5(wo.z), RR = roughness * (glm::dot(wi, wo) + 1.0);
+  return (1.0 - 0.5 * FV) * (1.0 - 0.5 * FL) + RR * (FL + FV + FL * FV * (RR - 1.0));
 }
 
 // --- Mitsuba 3 principled ------------------------------------------------------------------------
@@ -356,6 +410,7 @@ inline glm::dvec3 TargetBrdf::fresnel(double c) const {
     case FresnelModel::Conductor: return F_Conductor(c, RGBT<double>(lobe.eta), RGBT<double>(lobe.k));
     case FresnelModel::Dielectric: return glm::dvec3(F_Conductor(c, lobe.eta.x, 0.0));
     case FresnelModel::F82Tint: return cycles_f82(c, lobe.f0, lobe.f82_b);
+    case FresnelModel::CyclesV1: return cycles_v1_fresnel(c, lobe.f0, lobe.eta.x);
   }
   return glm::dvec3(1.0);
 }
@@ -388,6 +443,7 @@ inline glm::dvec3 TargetBrdf::f(const Vec3d& wi_in, const Vec3d& wo_in) const {
   const glm::dvec3 F = fresnel(glm::dot(wi, h));
   glm::dvec3 out = lobe.weight * F * (D * G / (4.0 * wi.z * wo.z));
   glm::dvec3 d = diffuse * kInvPi<double>;
+  if (burley_roughness >= 0.0) d *= cycles_v1_principled_diffuse(burley_roughness, wi, wo);
   if (diffuse_times_one_minus_f) d *= glm::dvec3(1.0) - F;
   if (diffuse_times_one_minus_max_f) d *= 1.0 - std::max({F.x, F.y, F.z});
   if (diffuse_times_openpbr_throughput) d *= openpbr_dielectric_throughput(wo.z, std::sqrt(ax * ay), lobe.eta.x);
