@@ -49,7 +49,7 @@
 // only evaluated, never traced to), so the estimator stays unbiased, and for a constant
 // environment the BRDF-sampled sky no longer has a hole. (Cycles' point lamps are transparent
 // instead: a path that hits one continues behind it, blender/cycles v3.4.0 df60698d,
-// src/kernel/integrator/shade_light.h:84-97, so they do not occlude the sky at all.) Only lights
+// src/kernel/integrator/shade_light.h:83-100, so they do not occlude the sky at all.) Only lights
 // at least as bright as the environment in every channel (L >= Environment::max_radiance), so
 // that no sample is negative; under mis only (bsdf never light-samples, light samples the
 // environment too).
