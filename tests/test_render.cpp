@@ -232,7 +232,7 @@ TEST(RenderDirect, SphereLightInFrontOfAUniformSkyIsExactAndQuiet) {
     if (cos_t < sin_a + 0.05) return -1.0;
     return kd * ((L - Le) * sin_a * sin_a * cos_t + Le);
   };
-  double sum_got = 0, sum_ref = 0, sum_var = 0;
+  double sum_got = 0, sum_ref = 0, sum_var = 0, worst_var = 0;
   int pixels = 0;
   for (int y = 0; y < W; ++y)
     for (int x = 0; x < W; ++x) {
@@ -251,18 +251,23 @@ TEST(RenderDirect, SphereLightInFrontOfAUniformSkyIsExactAndQuiet) {
         m += v / seeds, m2 += v * v / seeds;
       }
       sum_got += m, sum_ref += ref;
-      sum_var += (m2 - m * m) * seeds / (seeds - 1);
+      const double var = (m2 - m * m) * seeds / (seeds - 1);
+      sum_var += var, worst_var = std::max(worst_var, var);
       ++pixels;
     }
   ASSERT_GT(pixels, 300);
-  const double ratio = sum_got / sum_ref, spread = std::sqrt(sum_var / pixels);
+  const double ratio = sum_got / sum_ref, spread = std::sqrt(sum_var / pixels), worst = std::sqrt(worst_var);
   RecordProperty("mean_ratio", std::to_string(ratio));
   RecordProperty("spread_rms", std::to_string(spread));
-  // Measured (419 pixels): mean ratio 0.99998, spread 2.4e-4 (before the control variate and the
-  // shadow-ray distance from the ray's origin: 1.00009 and 2.4e-3). Leaving the sky out behind the
-  // light, or counting it twice, moves the ratio by 0.34%.
+  RecordProperty("spread_worst", std::to_string(worst));
+  // Measured (419 pixels): mean ratio 0.99998, spread 2.4e-4 (RMS over the pixels), worst pixel
+  // 6.2e-4. Before the control variate, the shadow ray's length from its own origin and the
+  // concentric cone map: 1.00009, 2.4e-3 and 4.8e-3; with all but the shadow ray's length: 0.99988,
+  // 4.9e-4 and 4.6e-3 (the light shadowing itself at its rim: rare outliers). Leaving the sky out
+  // behind the light, or counting it twice, moves the ratio by 0.34%.
   EXPECT_NEAR(ratio, 1.0, 5e-4);
-  EXPECT_LT(spread, 6e-4);
+  EXPECT_LT(spread, 4e-4);
+  EXPECT_LT(worst, 1.5e-3);
 }
 
 // --- estimators ----------------------------------------------------------------------------------
