@@ -40,9 +40,10 @@
 // was most of the noise of a Lambert surface lit by a small sphere light and a uniform sky
 // (docs/benchmarks.md, "Cycles": 1.1e-3 per-pixel spread at 64 spp, 2.2e-4 with the sky off, 0
 // with the light off). Such a light is estimated with the environment behind it as a control
-// variate (Kalos & Whitlock 2008, "Monte Carlo Methods", Sec. 4.3; Veach's thesis, Sec. 2.5.3):
-// over the directions in which the light is the first thing seen, its radiance L is split into
-// E(w), the environment's radiance in that direction, plus L - E(w). A BRDF sample that hits the
+// variate (in the sense of Veach's thesis, Sec. 2.5.3, except that the part split off is not
+// integrated analytically but by the BRDF samples that already estimate the environment): over
+// the directions in which the light is the first thing seen, its radiance L is split into E(w),
+// the environment's radiance in that direction, plus L - E(w). A BRDF sample that hits the
 // light counts E(w) in full, as if it had passed through to the sky, and L - E(w) with the MIS
 // weight; next-event estimation counts L - E(w) with its MIS weight. The two still sum to L in
 // every direction that reaches the light (every scene, every geometry behind the light: E is
