@@ -118,6 +118,15 @@ def exact_lambert_light_term(doc, size):
     return value, ok
 
 
+def sphere_mask(doc, size):
+    """The pixels whose centre sees the (first) sphere."""
+    pos, d = camera_rays(doc, size)
+    obj = doc["objects"][0]
+    oc = pos - np.array(obj["center"], float)
+    b = np.einsum("ijk,k->ij", d, oc)
+    return b * b - (oc @ oc - float(obj["radius"]) ** 2) > 0
+
+
 def highlight_moments(img):
     """Centroid (x, y in pixels), major-axis angle (degrees from +x, image y down) and elongation
     (ratio of the principal standard deviations) of the luminance above 5% of its peak."""
@@ -188,7 +197,10 @@ def equal_quality(r, a):
     print("| scene | Cycles' light | Cycles: RMSE at %d spp, CPU s | aniso: spp for that RMSE, CPU s | Cycles / aniso |" % test_spp[1])
     print("|---|---|---|---|---|")
     for name in ("sphere-lambert.json", "sphere-ggx.json"):
-        path, _ = scene_variant(name, a.out, environment=True)
+        path, doc = scene_variant(name, a.out, environment=True)
+        # Lambert: the pixels wholly lit by the light (the exact-integral mask of the agreement part).
+        lit = exact_lambert_light_term(doc, size)[1] if "lambert" in name else None
+        rest = sphere_mask(doc, size) & ~lit if lit is not None else None
         res = {}
         for who in ("aniso", "point", "mesh"):
             def run(spp, seed):
@@ -210,6 +222,10 @@ def equal_quality(r, a):
             res[who] = (per_spp, errs, slope)
             print("  %s %s: %.3g CPU s per spp; RMSE %.4g at %d spp, %.4g at %d (log-log slope %.2f)" %
                   (name[7:-5], who, per_spp, errs[0], test_spp[0], errs[1], test_spp[1], slope), flush=True)
+            if lit is not None:
+                d2 = ((img - ref) ** 2).mean(axis=2)  # img: the last test count's image
+                print("    at %d spp: RMSE %.3g over the %d pixels wholly lit by the light, %.3g over the sphere's %d others" %
+                      (test_spp[-1], math.sqrt(d2[lit].mean()), lit.sum(), math.sqrt(d2[rest].mean()), rest.sum()), flush=True)
         pa, ea, sa = res["aniso"]
         for who in ("point", "mesh"):
             target = res[who][1][1]

@@ -285,6 +285,7 @@ Environment Environment::uniform(const RGB& radiance) {
   if (radiance == RGB(0.0f)) return e;  // black: is_black(), never sampled
   e.kind_ = Kind::Uniform;
   e.uniform_ = radiance;
+  e.max_radiance_ = radiance;
   e.luminance_integral_ = 4.0f * kPi * luminance(radiance);
   return e;
 }
@@ -333,6 +334,7 @@ Environment Environment::from_image(Image img, float scale, float rotation_deg) 
     float lo = INFINITY, hi = 0.0f;
     for (size_t i = size_t(c); i < img.rgb.size(); i += 3) lo = std::min(lo, img.rgb[i]), hi = std::max(hi, img.rgb[i]);
     if (hi > 0.0f) e.variation_ = std::max(e.variation_, (hi - lo) / hi);
+    e.max_radiance_[c] = hi;
   }
   e.kind_ = Kind::Map;
   e.luminance_integral_ = float(lum_sum * (2.0 * kPiD * kPiD) / (double(w) * double(h)));

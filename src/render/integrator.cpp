@@ -10,6 +10,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "aniso/core/sampling.h"
+
 namespace aniso::render {
 namespace {
 
@@ -25,27 +27,41 @@ struct LightSample {
   Vec3 wi{0.0f};      // towards the light
   RGB li{0.0f};       // radiance (area lights) or irradiance-like term (delta lights), before the BRDF
   float pdf = 0.0f;   // solid angle; 1 for delta lights
-  float dist = 0.0f;  // to the sampled point (infinity for directional lights)
+  float dist = 0.0f;  // to the light (where a sphere light is entered; infinity for directional lights)
   bool delta = false;
 };
 
-// Sphere seen from p: the cone of directions it subtends. sin^2 theta_max below sin^2(1.5 deg) uses
-// the Taylor expansion 1 - cos theta_max ~ sin^2 / 2, since 1 - cos cancels catastrophically in
-// float there (pbrt-v4 Sphere::Sample).
+// Sphere seen from p: the cone of directions it subtends, about the unit axis from p to the
+// centre. 1 - cos theta_max is written sin^2 / (1 + cos), equal to it but free of the cancellation
+// of 1 - cos in float for small cones (pbrt-v4 Sphere::Sample switches to the Taylor expansion
+// sin^2 / 2 below 1.5 degrees for the same reason).
 struct SphereCone {
-  float sin2_max = 0.0f, cos_max = 1.0f, one_minus_cos_max = 0.0f;
+  Vec3 axis{0.0f};
+  float dist = 0.0f;  // from p to the centre
+  float one_minus_cos_max = 0.0f;
   bool valid = false;
 };
 SphereCone sphere_cone(const Light& l, const Vec3& p) {
   SphereCone c;
-  const float d2 = glm::dot(p - l.position, p - l.position);
+  const Vec3 to_c = l.position - p;
+  const float d2 = glm::dot(to_c, to_c);
   const float r2 = l.radius * l.radius;
   if (!(d2 > r2)) return c;  // inside the light: it is not sampled (and not visible from inside)
-  c.sin2_max = r2 / d2;
-  c.cos_max = safe_sqrt(1.0f - c.sin2_max);
-  c.one_minus_cos_max = c.sin2_max < 0.00068523f ? 0.5f * c.sin2_max : 1.0f - c.cos_max;
-  c.valid = c.one_minus_cos_max > 0.0f;
+  const float sin2_max = r2 / d2;
+  c.one_minus_cos_max = sin2_max / (1.0f + safe_sqrt(1.0f - sin2_max));
+  c.dist = std::sqrt(d2);
+  c.axis = to_c / c.dist;
+  c.valid = c.one_minus_cos_max > 0.0f && std::isfinite(c.dist);
   return c;
+}
+
+// Distance along the unit direction w from o to where it enters the sphere light l, or, if it
+// passes by, to its closest approach to the centre: a shadow ray towards l stops short of this.
+// In double: near the rim the entry distance is the difference of nearly equal numbers.
+float sphere_entry_distance(const Light& l, const Vec3& o, const Vec3& w) {
+  const glm::dvec3 oc = glm::dvec3(o) - glm::dvec3(l.position), wd(w);
+  const double b = glm::dot(wd, oc), disc = b * b - (glm::dot(oc, oc) - double(l.radius) * double(l.radius));
+  return float(disc > 0.0 ? -b - std::sqrt(disc) : -b);
 }
 
 bool sample_light(const Light& l, const Vec3& p, const Vec2& u, LightSample* s) {
@@ -69,31 +85,32 @@ bool sample_light(const Light& l, const Vec3& p, const Vec2& u, LightSample* s) 
       s->delta = true;
       return true;
     case LightKind::Sphere: {
-      // Uniform in the cone of directions the sphere subtends (pbrt-v4 Sphere::Sample).
+      // Uniform in the cone of directions the sphere subtends (pbrt-v4 Sphere::Sample), the square
+      // mapped to the cone through the concentric disc (Shirley & Chiu 1997), as Mitsuba 3's
+      // square_to_uniform_cone (include/mitsuba/core/warp.h): a disc point of radius r, uniform
+      // in area, gives 1 - cos theta = r^2 (1 - cos theta_max) and phi = its angle. The density
+      // is that of pbrt's polar map (u.x -> cos theta, u.y -> phi); a stratum of the square stays
+      // a compact patch of the cone rather than a thin wedge.
       const SphereCone c = sphere_cone(l, p);
       if (!c.valid) return false;
-      float cos_t = (c.cos_max - 1.0f) * u.x + 1.0f, sin2_t = 1.0f - cos_t * cos_t;
-      if (c.sin2_max < 0.00068523f) {
-        sin2_t = c.sin2_max * u.x;
-        cos_t = std::sqrt(1.0f - sin2_t);
-      }
-      const float dc = glm::length(p - l.position);
-      const float sin_max = std::sqrt(c.sin2_max);
-      // Angle alpha at the centre between (p - c) and the sampled point on the sphere.
-      const float cos_a = sin2_t / sin_max + cos_t * safe_sqrt(1.0f - sin2_t / c.sin2_max);
-      const float sin_a = safe_sqrt(1.0f - cos_a * cos_a);
-      const float phi = 2.0f * kPi<float> * u.y;
-      const Vec3 axis = (p - l.position) / dc;
+      // The concentric map's radius is max(|2u - 1|) over the two coordinates: exact in float,
+      // and so is 1 - r.
+      const float r = std::max(std::fabs(2.0f * u.x - 1.0f), std::fabs(2.0f * u.y - 1.0f));
+      const Vec2 disc = sample_uniform_disk_concentric(u);
+      const float len = glm::length(disc);
+      const float cos_phi = len > 0.0f ? disc.x / len : 1.0f, sin_phi = len > 0.0f ? disc.y / len : 0.0f;
+      const float omc = c.one_minus_cos_max, r2 = r * r;
+      const float omc_t = r2 * omc;  // 1 - cos theta
+      const float cos_t = 1.0f - omc_t, sin_t = safe_sqrt(omc_t * (2.0f - omc_t));
       Vec3 t, b;
-      orthonormal_basis(axis, t, b);
-      const Vec3 n = sin_a * std::cos(phi) * t + sin_a * std::sin(phi) * b + cos_a * axis;
-      const Vec3 q = l.position + l.radius * n;
-      const Vec3 d = q - p;
-      s->dist = glm::length(d);
+      orthonormal_basis(c.axis, t, b);
+      s->wi = cos_t * c.axis + sin_t * (cos_phi * t + sin_phi * b);
+      // The radiance is the same everywhere on the light: only the direction and the distance to
+      // where it enters the sphere matter.
+      s->dist = sphere_entry_distance(l, p, s->wi);
       if (!(s->dist > 0.0f)) return false;
-      s->wi = d / s->dist;
       s->li = l.power;
-      s->pdf = 1.0f / (2.0f * kPi<float> * c.one_minus_cos_max);
+      s->pdf = 1.0f / (2.0f * kPi<float> * omc);
       s->delta = false;
       return true;
     }
@@ -197,6 +214,18 @@ PathTracer::PathTracer(const Scene& scene, const SceneGeometry& geometry) : scen
                 (scene.integrator.light_selection == LightSelection::Auto && candidates <= kAutoAllCandidates);
   if (sample_all_)
     for (float& p : light_prob_) p = p > 0.0f ? 1.0f : 0.0f;
+  // The environment behind a sphere light as a control variate (integrator.h): where BRDF
+  // sampling alone finds the environment, for lights next-event estimation samples, at least as
+  // bright as the environment in every channel (no negative sample).
+  env_behind_light_.assign(scene.lights.size(), 0);
+  if (env_by_bsdf_only && !scene.environment.is_black() && scene.integrator.strategy == Strategy::Mis) {
+    const RGB env_max = scene.environment.max_radiance();
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+      const Light& l = scene.lights[i];
+      env_behind_light_[i] = l.kind == LightKind::Sphere && light_prob_[i] > 0.0f && l.power.x >= env_max.x &&
+                             l.power.y >= env_max.y && l.power.z >= env_max.z;
+    }
+  }
 }
 
 int PathTracer::pick_light(float u) const {
@@ -258,7 +287,11 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
     if (hit.light >= 0) {
       const Light& l = scene_.lights[size_t(hit.light)];
       const float w = emitted_weight(prev_pdf > 0.0f ? light_prob_[size_t(hit.light)] * sphere_light_pdf(l, prev_p) : 0.0f);
-      if (w > 0.0f) add(beta * l.power * w, bounces >= 2);
+      // With the environment behind the light as a control variate (integrator.h), E(w) counts in
+      // full and only L - E(w) is weighted; on the camera ray (w = 1) the sum is L.
+      const RGB behind = env_behind_light_[size_t(hit.light)] ? env.eval(ray.d) : RGB(0.0f);
+      const RGB c = behind + (l.power - behind) * w;
+      if (c != RGB(0.0f)) add(beta * c, bounces >= 2);
       break;
     }
     if (bounces >= scene_.integrator.max_depth) break;
@@ -277,7 +310,11 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
     if (use_nee) {
       // light_pdf: the solid-angle density of the direction times the probability of its light
       // (1 for delta lights: then only the probability).
-      const auto add_direct = [&](const Vec3& wi_world, const RGB& li, float light_pdf, bool delta, float dist) {
+      // sphere: the sphere light sampled (else nullptr), whose distance is measured from the
+      // shadow ray's origin.
+      const auto add_direct = [&](const Vec3& wi_world, const RGB& li, float light_pdf, bool delta, float dist,
+                                  const Light* sphere) {
+        if (li == RGB(0.0f)) return;  // e.g. a light exactly as bright as the environment behind it
         // Light through the surface is blocked: wi must leave on the side of the geometric normal.
         if (!(glm::dot(wi_world, hit.ng) > 0.0f)) return;
         const Vec3 wi = frame.to_local(wi_world);
@@ -285,6 +322,13 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         const RGB f = m.f(wi, wo);
         if (f == RGB(0.0f)) return;
         const Vec3 o = SceneGeometry::offset_origin(hit.p, hit.ng, wi_world);
+        // A sphere light's distance from o, not from hit.p: near the light's rim the ray is
+        // almost tangent to it, and the offset (2e-4 for a unit scene) moves where a ray along
+        // wi enters the sphere by some 30 times as much. Measured from hit.p, samples near the rim
+        // of a light seen at 8 degrees ended past the entry point and were shadowed by the light
+        // itself: 1.5e-4 of its light lost, in rare outliers that were most of the per-pixel spread
+        // of a Lambert sphere's direct light at 64 spp (docs/benchmarks.md, "Cycles").
+        if (sphere) dist = sphere_entry_distance(*sphere, o, wi_world);
         ++*rays;
         const float tmax = std::isinf(dist) ? INFINITY : dist * (1.0f - 1e-3f);
         if (record) record->push_back({Ray{o, wi_world}, tmax, true});
@@ -299,10 +343,15 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         const float p_choice = light_prob_[i];
         if (i < scene_.lights.size()) {
           LightSample ls;
-          if (sample_light(scene_.lights[i], hit.p, ul, &ls)) add_direct(ls.wi, ls.li, ls.pdf * p_choice, ls.delta, ls.dist);
+          if (sample_light(scene_.lights[i], hit.p, ul, &ls)) {
+            // L - E(w) with the environment behind the light as a control variate (integrator.h).
+            if (env_behind_light_[i]) ls.li -= env.eval(ls.wi);
+            const Light& l = scene_.lights[i];
+            add_direct(ls.wi, ls.li, ls.pdf * p_choice, ls.delta, ls.dist, l.kind == LightKind::Sphere ? &l : nullptr);
+          }
         } else {
           const EnvSample es = env.sample(ul);
-          if (es.pdf > 0.0f) add_direct(es.w, es.radiance, es.pdf * p_choice, false, INFINITY);
+          if (es.pdf > 0.0f) add_direct(es.w, es.radiance, es.pdf * p_choice, false, INFINITY, nullptr);
         }
       };
       if (sample_all_) {

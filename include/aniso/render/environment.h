@@ -114,6 +114,9 @@ class Environment {
   // the integrator does not light-sample such an environment (integrator.h, "Environment").
   static constexpr float kNearlyConstant = 0.02f;
   bool nearly_constant() const { return kind_ != Kind::None && variation_ <= kNearlyConstant; }
+  // The largest radiance it sends, per channel, over all directions (texels): eval(w) <= this in
+  // every channel for every w. Black: 0.
+  RGB max_radiance() const { return max_radiance_; }
   RGB eval(const Vec3& w) const;   // radiance arriving from direction w
   float pdf(const Vec3& w) const;  // density of sample() producing w (solid angle)
   // Both at once (one lookup of w on the map): {eval(w), pdf(w)}, bit for bit.
@@ -141,6 +144,7 @@ class Environment {
   float rotation_rad_ = 0.0f;
   float luminance_integral_ = 0.0f;
   float variation_ = 0.0f;  // max over channels of (max - min) / max over the texels (0: uniform)
+  RGB max_radiance_{0.0f};  // per channel, over the texels (uniform: the radiance)
   std::shared_ptr<const Distribution2D> dist_;
 };
 

@@ -34,6 +34,27 @@
 // `light->is_enabled = has_portal || (light->use_mis && shader->has_surface_spatial_varying)`).
 // Under the light strategy it stays a candidate (nothing else would find it).
 //
+// A sphere light in front of such an environment. BRDF sampling is then the only technique for
+// the environment, and a sphere light is a hole in it: a BRDF sample that hits the light gets
+// the light's radiance (MIS-weighted) but not the environment's, a rare all-or-nothing event that
+// was most of the noise of a Lambert surface lit by a small sphere light and a uniform sky
+// (docs/benchmarks.md, "Cycles": 1.1e-3 per-pixel spread at 64 spp, 2.2e-4 with the sky off, 0
+// with the light off). Such a light is estimated with the environment behind it as a control
+// variate (in the sense of Veach's thesis, Sec. 2.5.3, except that the part split off is not
+// integrated analytically but by the BRDF samples that already estimate the environment): over
+// the directions in which the light is the first thing seen, its radiance L is split into E(w),
+// the environment's radiance in that direction, plus L - E(w). A BRDF sample that hits the
+// light counts E(w) in full, as if it had passed through to the sky, and L - E(w) with the MIS
+// weight; next-event estimation counts L - E(w) with its MIS weight. The two still sum to L in
+// every direction that reaches the light (every scene, every geometry behind the light: E is
+// only evaluated, never traced to), so the estimator stays unbiased, and for a constant
+// environment the BRDF-sampled sky no longer has a hole. (Cycles' point lamps are transparent
+// instead: a path that hits one continues behind it, blender/cycles v3.4.0 df60698d,
+// src/kernel/integrator/shade_light.h:83-100, so they do not occlude the sky at all.) Only lights
+// at least as bright as the environment in every channel (L >= Environment::max_radiance), so
+// that no sample is negative; under mis only (bsdf never light-samples, light samples the
+// environment too).
+//
 // Fireflies (both off by default: the image is then unbiased).
 // - integrator.clamp C: every contribution of indirect light (next-event estimation from the
 //   second vertex on, emission found by a ray from the second vertex on) is scaled down so that
@@ -172,6 +193,9 @@ class PathTracer {
   const SceneGeometry& geo_;
   std::vector<float> light_prob_, light_cdf_;  // lights, then the environment
   bool sample_all_ = false;                    // every candidate at every vertex (light_prob_ all 1)
+  // Per light: estimated with the environment behind it as a control variate ("A sphere light in
+  // front of such an environment" above).
+  std::vector<uint8_t> env_behind_light_;
   // The camera's basis and screen scales, fixed per scene (camera_ray).
   Vec3 cam_fwd_{0.0f}, cam_right_{0.0f}, cam_up_{0.0f};
   float cam_tan_half_ = 0.0f, cam_aspect_ = 1.0f;
