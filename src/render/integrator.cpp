@@ -319,7 +319,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
     SurfaceHit hit;
     ++*rays;
     if (record) record->push_back({ray, INFINITY, false});
-    if (!geo_.intersect(ray, INFINITY, &hit)) {
+    if (!geo_.intersect(ray, INFINITY, &hit, SceneGeometry::HitUV::WhereRead)) {
       if (!env.is_black()) {
         const Environment::Lookup e = env.lookup(ray.d);
         const float w = emitted_weight(prev_pdf > 0.0f ? env_prob * e.pdf : 0.0f);
