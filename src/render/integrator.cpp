@@ -156,7 +156,8 @@ constexpr size_t kSamplingWeightsSize = std::max({
 
 // A material at one shading point, wo fixed: its f, pdf and sample as Material's (bit for bit),
 // with the model's wo-dependent weights computed once here and shared by every next-event pdf and
-// the BRDF sample of the vertex (four uses per vertex with two lights and the sky).
+// the BRDF sample of the vertex (four uses with two lights and the sky, each sampled at every
+// vertex as light_selection "auto" does for so few emitters).
 class MaterialAtWo {
  public:
   MaterialAtWo(const Material& m, const Vec3& wo) : m_(m), o_(m.rotation.to_model(wo)) {
