@@ -866,6 +866,50 @@ TEST(RenderShade, RectangleUFollowsItsUKey) {
   EXPECT_NEAR(h.uv.x, 0.5f, 1e-6f);
 }
 
+// HitUV::WhereRead (the path tracer's choice) skips the (u, v) where nothing reads them and changes
+// nothing else of the hit; an object with a tangent map gets them as with HitUV::Always.
+TEST(RenderShade, WhereReadSkipsOnlyUnreadUvs) {
+  const auto both = [](const json& object, const Ray& ray, float t, const std::string& base_dir = "") {
+    json j = {{"camera", {{"position", {0, 0, 10}}, {"look_at", {0, 0, 0}}}}, {"objects", json::array({object})}};
+    const Scene sc = parse_scene(j, "test scene", base_dir);
+    SceneGeometry geo(sc);
+    std::pair<SurfaceHit, SurfaceHit> h;
+    geo.shade(0, 0, 0.0f, 0.0f, ray, t, &h.first, SceneGeometry::HitUV::Always);
+    geo.shade(0, 0, 0.0f, 0.0f, ray, t, &h.second, SceneGeometry::HitUV::WhereRead);
+    EXPECT_EQ(h.first.p, h.second.p);
+    EXPECT_EQ(h.first.ng, h.second.ng);
+    EXPECT_EQ(h.first.frame.n, h.second.frame.n);
+    EXPECT_EQ(h.first.frame.t, h.second.frame.t);
+    EXPECT_EQ(h.first.frame.b, h.second.frame.b);
+    return h;
+  };
+  const Ray down{{0.3f, 0.4f, 5.0f}, {0, 0, -1}};
+  for (const json& object :
+       {json{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", "gold"}},
+        json{{"shape", "disc"}, {"center", {0, 0, 0}}, {"normal", {0, 0, 1}}, {"radius", 1.0}, {"material", "gold"}},
+        json{{"shape", "rectangle"},
+             {"center", {0, 0, 0}},
+             {"normal", {0, 0, 1}},
+             {"u", {1, 0, 0}},
+             {"size", {2, 2}},
+             {"material", "gold"}}}) {
+    const float t = object["shape"] == "sphere" ? 5.0f - std::sqrt(1.0f - 0.25f) : 5.0f;
+    const auto [always, where_read] = both(object, down, t);
+    EXPECT_GT(always.uv.x, 0.0f) << object["shape"];
+    EXPECT_EQ(where_read.uv, Vec2(0.0f)) << object["shape"];
+  }
+  // A tangent map reads them: the frame follows the map's texel at (u, v) under both.
+  json mapped = {{"shape", "sphere"},
+                 {"center", {0, 0, 0}},
+                 {"radius", 1.0},
+                 {"material", "brushed-gold"},
+                 {"tangent", {{"map", "assets/checker_tangents.png"}, {"encoding", "angle"}}}};
+  const auto [always, where_read] =
+      both(mapped, down, 5.0f - std::sqrt(1.0f - 0.25f), (fs::path(ANISO_SOURCE_DIR) / "examples").string());
+  EXPECT_EQ(always.uv, where_read.uv);
+  EXPECT_GT(where_read.uv.x, 0.0f);
+}
+
 TEST(RenderShade, MeshTangentIsDpDuFromItsUvs) {
   const fs::path dir = fs::temp_directory_path() / ("aniso_test_shade_" + std::to_string(::getpid()));
   fs::create_directories(dir);

@@ -3,6 +3,9 @@
 // integral (<= 1, and equal to the fraction of accepted samples).
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <type_traits>
+
 #include "chi2.h"
 #include "test_util.h"
 
@@ -82,6 +85,42 @@ TEST_P(SamplingTest, WeightIsFCosOverPdf) {
     for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(s.weight[ch], expected[ch], 1e-9 * (1.0 + expected[ch])) << c.material;
   }
   EXPECT_GT(valid, 1000) << c.material << ": the sampler rejects almost everything";
+}
+
+// The models whose lobe choice has wo-dependent weights (sampling_weights(wo): MetalT, LafortuneT)
+// give the same pdf and sample, bit for bit, from weights computed once as from their own per-call
+// ones: the renderer computes them once per vertex (src/render/integrator.cpp, MaterialAtWo).
+template <typename M>
+concept HasSamplingWeights = requires(const M& m, const Vec3& w) {
+  m.sampling_weights(w);
+};
+static_assert(HasSamplingWeights<MetalT<float>> && HasSamplingWeights<LafortuneT<float>>);
+
+// One ctest entry for all the cases (each takes microseconds).
+TEST(SamplingWeights, ComputedOnceGiveTheSamePdfAndSample) {
+  for (const SamplingCase& c : sampling_cases()) {
+    const MaterialT<float> m = build<float>(c.json);
+    const Vec3 o = m.rotation.to_model(Vec3(spherical(c.theta_deg, c.phi_deg)));
+    m.visit([&](const auto& model) {
+      using M = std::decay_t<decltype(model)>;
+      if constexpr (HasSamplingWeights<M>) {
+        const typename M::SamplingWeights w = model.sampling_weights(o);
+        Rng rng(5);
+        for (int i = 0; i < 500; ++i) {
+          const float uc = rng.uniform_as<float>();
+          const Vec2 u(rng.uniform_as<float>(), rng.uniform_as<float>());
+          const BSDFSampleT<float> a = model.sample(o, uc, u), b = model.sample(w, o, uc, u);
+          ASSERT_EQ(a.valid, b.valid) << c.material;
+          ASSERT_EQ(std::memcmp(&a.wi, &b.wi, sizeof(a.wi)), 0) << c.material;
+          ASSERT_EQ(std::memcmp(&a.weight, &b.weight, sizeof(a.weight)), 0) << c.material;
+          ASSERT_EQ(std::memcmp(&a.pdf, &b.pdf, sizeof(a.pdf)), 0) << c.material;
+          const Vec3 wi = Vec3(spherical(90.0 * rng.uniform(), 360.0 * rng.uniform()));
+          const float p = model.pdf(wi, o), q = model.pdf(w, wi, o);
+          ASSERT_EQ(std::memcmp(&p, &q, sizeof(p)), 0) << c.material << ": " << p << " vs " << q;
+        }
+      }
+    });
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(AllModels, SamplingTest, testing::ValuesIn(sampling_cases()), case_name);

@@ -165,7 +165,7 @@ float SceneGeometry::closest_distance(const Ray& ray, float tmax) const {
   return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar;
 }
 
-bool SceneGeometry::intersect(const Ray& ray, float tmax, SurfaceHit* hit) const {
+bool SceneGeometry::intersect(const Ray& ray, float tmax, SurfaceHit* hit, HitUV uv) const {
   const RTCRayHit rh = closest_hit(impl_->scene, ray, tmax);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   const unsigned g = rh.hit.geomID;
@@ -181,12 +181,17 @@ bool SceneGeometry::intersect(const Ray& ray, float tmax, SurfaceHit* hit) const
     hit->light = li;
     return true;
   }
-  shade(int(g), int(rh.hit.primID), rh.hit.u, rh.hit.v, ray, rh.ray.tfar, hit);
+  shade(int(g), int(rh.hit.primID), rh.hit.u, rh.hit.v, ray, rh.ray.tfar, hit, uv);
   return true;
 }
 
-void SceneGeometry::shade(int object, int prim, float bu, float bv, const Ray& ray, float t, SurfaceHit* hit) const {
+void SceneGeometry::shade(int object, int prim, float bu, float bv, const Ray& ray, float t, SurfaceHit* hit,
+                          HitUV which_uv) const {
   const Object& o = scene_.objects[size_t(object)];
+  // Only a tangent map reads the (u, v) of the shading below (tangent_frame does not): the sphere's
+  // and the planar shapes' are computed where there is one or the caller asks; a mesh's are always
+  // interpolated (they give its dp/du).
+  const bool want_uv = which_uv == HitUV::Always || o.tangent.map;
   hit->t = t;
   hit->object = object;
   hit->light = -1;
@@ -199,9 +204,11 @@ void SceneGeometry::shade(int object, int prim, float bu, float bv, const Ray& r
       p = o.center + o.radius * ng;  // back onto the surface: float t puts p a few ulps off it
       ns = ng;
       dpdu = Vec3(ng.z, 0.0f, -ng.x);  // +y x n
-      const float phi = std::atan2(ng.x, ng.z);
-      uv = Vec2((phi < 0.0f ? phi + 2.0f * kPi<float> : phi) * kInv2Pi<float>,
-                1.0f - std::acos(glm::clamp(ng.y, -1.0f, 1.0f)) * kInvPi<float>);
+      if (want_uv) {
+        const float phi = std::atan2(ng.x, ng.z);
+        uv = Vec2((phi < 0.0f ? phi + 2.0f * kPi<float> : phi) * kInv2Pi<float>,
+                  1.0f - std::acos(glm::clamp(ng.y, -1.0f, 1.0f)) * kInvPi<float>);
+      }
       break;
     }
     case ShapeKind::Disc: {
@@ -209,7 +216,7 @@ void SceneGeometry::shade(int object, int prim, float bu, float bv, const Ray& r
       const Vec3 eu = disc_u_axis(o.normal), ev = glm::cross(o.normal, eu);
       const Vec3 d = p - o.center;
       dpdu = eu;
-      uv = Vec2(0.5f + glm::dot(d, eu) / (2.0f * o.radius), 0.5f + glm::dot(d, ev) / (2.0f * o.radius));
+      if (want_uv) uv = Vec2(0.5f + glm::dot(d, eu) / (2.0f * o.radius), 0.5f + glm::dot(d, ev) / (2.0f * o.radius));
       break;
     }
     case ShapeKind::Rectangle: {
@@ -217,7 +224,7 @@ void SceneGeometry::shade(int object, int prim, float bu, float bv, const Ray& r
       const Vec3 ev = glm::cross(o.normal, o.u_axis);
       const Vec3 d = p - o.center;
       dpdu = o.u_axis;
-      uv = Vec2(0.5f + glm::dot(d, o.u_axis) / o.size.x, 0.5f + glm::dot(d, ev) / o.size.y);
+      if (want_uv) uv = Vec2(0.5f + glm::dot(d, o.u_axis) / o.size.x, 0.5f + glm::dot(d, ev) / o.size.y);
       break;
     }
     case ShapeKind::Mesh: {

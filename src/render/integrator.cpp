@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <new>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -151,6 +153,77 @@ float blur_roughness(float min_ray_pdf, float filter_glossy) {
 // correspondence alpha_p = 2 alpha_b^-2 - 2), at least 1.
 float exponent_for_roughness(float alpha) { return std::max(1.0f, 2.0f / (alpha * alpha) - 2.0f); }
 
+// The models whose lobe choice and pdf share weights that depend on wo alone (MetalT and
+// LafortuneT: `sampling_weights(wo)`, a Fresnel term or a pow per channel), with pdf() and sample()
+// overloads that take them.
+template <typename M>
+concept HasSamplingWeights = requires(const M& m, const Vec3& w) {
+  m.sampling_weights(w);
+};
+
+template <typename M> constexpr size_t sampling_weights_size() {
+  if constexpr (HasSamplingWeights<M>) return sizeof(typename M::SamplingWeights);
+  return 1;
+}
+constexpr size_t kSamplingWeightsSize = std::max({
+#define ANISO_X(Tag, Type, member, name, batch, glsl) sampling_weights_size<Type<float>>(),
+    ANISO_MODELS(ANISO_X)
+#undef ANISO_X
+});
+
+// A material at one shading point, wo fixed: its f, pdf and sample as Material's (bit for bit),
+// with the model's wo-dependent weights computed once here and shared by every next-event pdf and
+// the BRDF sample of the vertex (four uses with two lights and the sky, each sampled at every
+// vertex as light_selection "auto" does for so few emitters).
+class MaterialAtWo {
+ public:
+  MaterialAtWo(const Material& m, const Vec3& wo) : m_(m), o_(m.rotation.to_model(wo)) {
+    m.visit([&](const auto& model) {
+      using M = std::decay_t<decltype(model)>;
+      if constexpr (HasSamplingWeights<M>) {
+        using W = typename M::SamplingWeights;
+        static_assert(std::is_trivially_destructible_v<W> && alignof(W) <= alignof(std::max_align_t));
+        ::new (static_cast<void*>(weights_)) W(model.sampling_weights(o_));
+      }
+    });
+  }
+  RGB f(const Vec3& wi) const {
+    const Vec3 i = m_.rotation.to_model(wi);
+    return m_.visit([&](const auto& model) { return model.f(i, o_); });
+  }
+  float pdf(const Vec3& wi) const {
+    const Vec3 i = m_.rotation.to_model(wi);
+    return m_.visit([&](const auto& model) -> float {
+      using M = std::decay_t<decltype(model)>;
+      if constexpr (HasSamplingWeights<M>) {
+        return model.pdf(weights<M>(), i, o_);
+      } else {
+        return model.pdf(i, o_);
+      }
+    });
+  }
+  BSDFSampleT<float> sample(float uc, const Vec2& u) const {
+    BSDFSampleT<float> s = m_.visit([&](const auto& model) -> BSDFSampleT<float> {
+      using M = std::decay_t<decltype(model)>;
+      if constexpr (HasSamplingWeights<M>) {
+        return model.sample(weights<M>(), o_, uc, u);
+      } else {
+        return model.sample(o_, uc, u);
+      }
+    });
+    s.wi = m_.rotation.from_model(s.wi);
+    return s;
+  }
+
+ private:
+  template <typename M> const typename M::SamplingWeights& weights() const {
+    return *std::launder(reinterpret_cast<const typename M::SamplingWeights*>(weights_));
+  }
+  const Material& m_;
+  Vec3 o_;  // wo turned into the model's frame
+  alignas(std::max_align_t) unsigned char weights_[kSamplingWeightsSize];
+};
+
 }  // namespace
 
 void roughen(Material& m, float alpha) {
@@ -276,7 +349,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
     SurfaceHit hit;
     ++*rays;
     if (record) record->push_back({ray, INFINITY, false});
-    if (!geo_.intersect(ray, INFINITY, &hit)) {
+    if (!geo_.intersect(ray, INFINITY, &hit, SceneGeometry::HitUV::WhereRead)) {
       if (!env.is_black()) {
         const Environment::Lookup e = env.lookup(ray.d);
         const float w = emitted_weight(prev_pdf > 0.0f ? env_prob * e.pdf : 0.0f);
@@ -306,6 +379,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
     const Frame& frame = hit.frame;
     const Vec3 wo = frame.to_local(-ray.d);
     if (!(wo.z > 0.0f)) break;  // seen from behind its shading normal: no reflection defined
+    const MaterialAtWo at(m, wo);
 
     if (use_nee) {
       // light_pdf: the solid-angle density of the direction times the probability of its light
@@ -319,7 +393,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         if (!(glm::dot(wi_world, hit.ng) > 0.0f)) return;
         const Vec3 wi = frame.to_local(wi_world);
         if (!(wi.z > 0.0f)) return;
-        const RGB f = m.f(wi, wo);
+        const RGB f = at.f(wi);
         if (f == RGB(0.0f)) return;
         const Vec3 o = SceneGeometry::offset_origin(hit.p, hit.ng, wi_world);
         // A sphere light's distance from o, not from hit.p: near the light's rim the ray is
@@ -335,7 +409,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         // Stop short of the light's surface: 1e-3 relative keeps the light's own sphere out of
         // the shadow test (its intersection is as inexact as any other).
         if (geo_.occluded(Ray{o, wi_world}, tmax)) return;
-        const float w = (delta || strategy == Strategy::Light) ? 1.0f : power_heuristic(light_pdf, m.pdf(wi, wo));
+        const float w = (delta || strategy == Strategy::Light) ? 1.0f : power_heuristic(light_pdf, at.pdf(wi));
         add(beta * f * li * (wi.z * w / light_pdf), bounces >= 1);
       };
       // One sample of candidate i (a light, or the environment for i == lights.size()).
@@ -376,7 +450,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
 
     // Continue the path by sampling the BRDF.
     const float uc = rng.uniform();
-    const BSDFSampleT<float> s = m.sample(wo, uc, rng.uniform2());
+    const BSDFSampleT<float> s = at.sample(uc, rng.uniform2());
     if (!s.valid) break;
     const Vec3 wi_world = frame.to_world(s.wi);
     if (!(glm::dot(wi_world, hit.ng) > 0.0f)) break;

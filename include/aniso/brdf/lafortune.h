@@ -123,7 +123,11 @@ template <typename T> struct LafortuneT {
 
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     if (!above_horizon(wo)) return {};
-    const SamplingWeights w = sampling_weights(wo);
+    return sample(sampling_weights(wo), wo, uc, u);
+  }
+  // sample() with the weights of this wo already computed (w == sampling_weights(wo)).
+  ANISO_HD BSDFSampleT<T> sample(const SamplingWeights& w, const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
+    if (!above_horizon(wo)) return {};
     // Walk the cumulative weights with uc: cosine first, then each (lobe, channel). Rounding that
     // leaves target >= 0 after the last lobe picks the last positive-weight candidate.
     T target = uc * (w.cosine + w.lobes_total) - w.cosine;

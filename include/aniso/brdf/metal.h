@@ -62,18 +62,27 @@ template <typename T> struct MetalT {
   }
 
   // Lobe choice: the specular lobe weighs its Fresnel reflectance seen from wo, the directional
-  // diffuse lobe its channel weights (an albedo bound, lafortune.h).
-  ANISO_HD T specular_probability(const Vec3T<T>& wo) const {
+  // diffuse lobe its channel weights (an albedo bound, lafortune.h). They depend on wo alone and
+  // cost three Fresnel terms and three pows: computed once and shared by the lobe choice of sample()
+  // and its pdf, and by a caller's pdfs at one wo (as LafortuneT::SamplingWeights).
+  struct SamplingWeights {
+    T specular_probability = T(1);
+    T channel[3] = {T(0), T(0), T(0)};  // the directional-diffuse channels' weights (0 without it)
+    T channel_total = T(0);             // their sum, in channel order
+  };
+  ANISO_HD SamplingWeights sampling_weights(const Vec3T<T>& wo) const {
+    SamplingWeights w;
     const T s = average(specular_weight * F_Conductor(wo.z, eta, k));
-    T d = T(0);
     if (has_directional_diffuse)
-      for (int c = 0; c < 3; ++c) d += directional_diffuse.channel_weight(wo, c);
-    return s + d > T(0) ? s / (s + d) : T(1);
+      for (int c = 0; c < 3; ++c) w.channel_total += (w.channel[c] = directional_diffuse.channel_weight(wo, c));
+    w.specular_probability = s + w.channel_total > T(0) ? s / (s + w.channel_total) : T(1);
+    return w;
   }
-  ANISO_HD T directional_diffuse_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+  ANISO_HD T specular_probability(const Vec3T<T>& wo) const { return sampling_weights(wo).specular_probability; }
+  ANISO_HD T directional_diffuse_pdf(const SamplingWeights& ws, const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     T wsum = T(0), p = T(0);
     for (int c = 0; c < 3; ++c) {
-      const T w = directional_diffuse.channel_weight(wo, c);
+      const T w = ws.channel[c];
       if (w > T(0)) {
         wsum += w;
         p += w * directional_diffuse.channel_pdf(wi, wo, c);
@@ -81,39 +90,47 @@ template <typename T> struct MetalT {
     }
     return wsum > T(0) ? p / wsum : T(0);
   }
+  ANISO_HD T pdf(const SamplingWeights& ws, const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    if (!same_upper_hemisphere(wi, wo)) return T(0);
+    const T ps = ws.specular_probability;
+    T p = ps * specular_pdf(wi, wo);
+    if (ps < T(1)) p += (T(1) - ps) * directional_diffuse_pdf(ws, wi, wo);
+    return p;
+  }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     if (!same_upper_hemisphere(wi, wo)) return T(0);
-    const T ps = specular_probability(wo);
-    T p = ps * specular_pdf(wi, wo);
-    if (ps < T(1)) p += (T(1) - ps) * directional_diffuse_pdf(wi, wo);
-    return p;
+    return pdf(sampling_weights(wo), wi, wo);
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     if (!above_horizon(wo)) return {};
-    const T ps = specular_probability(wo);
+    return sample(sampling_weights(wo), wo, uc, u);
+  }
+  // sample() with the weights of this wo already computed (ws == sampling_weights(wo)).
+  ANISO_HD BSDFSampleT<T> sample(const SamplingWeights& ws, const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
+    if (!above_horizon(wo)) return {};
+    const T ps = ws.specular_probability;
     Vec3T<T> wi;
     if (uc < ps) {
       wi = specular_sample(wo, u);
     } else {
       // Pick the channel of the directional-diffuse lobe by weight, reusing uc rescaled to [0, 1).
-      T ws[3], wsum = T(0);
-      for (int c = 0; c < 3; ++c) wsum += (ws[c] = directional_diffuse.channel_weight(wo, c));
+      const T wsum = ws.channel_total;
       if (!(wsum > T(0))) return {};
       T target = (uc - ps) / (T(1) - ps) * wsum;
       int chosen = 2;
       for (int c = 0; c < 3; ++c) {
-        if (ws[c] > T(0) && target < ws[c]) {
+        if (ws.channel[c] > T(0) && target < ws.channel[c]) {
           chosen = c;
           break;
         }
-        target -= ws[c];
+        target -= ws.channel[c];
       }
-      while (chosen > 0 && !(ws[chosen] > T(0))) --chosen;
+      while (chosen > 0 && !(ws.channel[chosen] > T(0))) --chosen;
       const Vec3T<T> a = directional_diffuse.axis(wo, chosen);
       wi = sample_cosine_power(a / std::sqrt(glm::dot(a, a)), directional_diffuse.n[chosen], u);
     }
     if (!above_horizon(wi)) return {};
-    return make_sample(wi, f(wi, wo), pdf(wi, wo));
+    return make_sample(wi, f(wi, wo), pdf(ws, wi, wo));
   }
 };
 

@@ -29,6 +29,7 @@ struct SurfaceHit {
   Vec3 p{0.0f};
   Vec3 ng{0.0f, 0.0f, 1.0f};  // geometric normal, facing the ray's origin
   Frame frame;                // shading frame (n = shading normal, facing like ng; t from the tangent source)
+  // The surface's (u, v); 0 where SceneGeometry::HitUV::WhereRead skipped them.
   Vec2 uv{0.0f};
   int object = -1;  // index into Scene::objects, or -1
   int light = -1;   // index into Scene::lights (a sphere light), or -1
@@ -41,8 +42,12 @@ class SceneGeometry {
   SceneGeometry(const SceneGeometry&) = delete;
   SceneGeometry& operator=(const SceneGeometry&) = delete;
 
+  // Which (u, v) a hit carries: every hit's (Always), or only those its shading reads (an object
+  // with a tangent map; a mesh's, which also give its dp/du) and 0 elsewhere (WhereRead: saves the
+  // sphere's atan2 and acos per hit; the path tracer's choice, as nothing else in it reads them).
+  enum class HitUV { Always, WhereRead };
   // Closest hit with t in (0, tmax); fills *hit (shading data included) and returns true.
-  bool intersect(const Ray& ray, float tmax, SurfaceHit* hit) const;
+  bool intersect(const Ray& ray, float tmax, SurfaceHit* hit, HitUV uv = HitUV::Always) const;
   // Anything in (0, tmax)?
   bool occluded(const Ray& ray, float tmax) const;
   // The closest hit's distance (INFINITY for none), without the shading: the BVH traversal alone,
@@ -58,7 +63,7 @@ class SceneGeometry {
   static Vec3 triangle_normal(const Vec3& e1, const Vec3& e2);
 
   // Shading data at a point of an object (the part of intersect() after the BVH), exposed for tests.
-  void shade(int object, int prim, float bu, float bv, const Ray& ray, float t, SurfaceHit* hit) const;
+  void shade(int object, int prim, float bu, float bv, const Ray& ray, float t, SurfaceHit* hit, HitUV uv = HitUV::Always) const;
 
  private:
   struct Impl;
