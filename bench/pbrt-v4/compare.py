@@ -12,7 +12,9 @@ unit sphere, camera, uniform environment and sphere light) is rendered three way
 `RglT`) and aniso with the source material. The first pair says whether pbrt-v4 reads and renders
 the file as aniso does (format, frame, spectral colour); the second what the file itself costs in
 accuracy (docs/rgl.md, "Accuracy"). The `lambert` case renders pbrt-v4's own `diffuse` material
-against aniso's Lambert: it checks the scene conversion alone (camera, lights, film).
+against aniso's Lambert: it checks the scene conversion alone (camera, lights, film). The
+`export:` cases render what `aniso export --to pbrt-v4` writes (pbrt-v4's own `conductor`, `mix`
+and `diffuse`; docs/export.md) against aniso's render of the source: there "file" is the source.
 
 The scene conversion, each line from pbrt-v4's sources (github.com/mmp/pbrt-v4 @ 5f7a6068):
 - Axes: pbrt-v4's camera space is left-handed (cameras.h, CameraTransform; the pbrt-v4 file
@@ -64,6 +66,13 @@ CASES = {
     "gold": ("gold", "metal with measured n, k spectra (isotropic GGX 0.1)"),
     "brushed-gold": ("brushed-gold", "anisotropic Ward metal + directional diffuse (D by power iteration)"),
     "ward-iso": ({"model": "ward", "kd": 0.1, "ks": 0.3, "alpha": 0.15}, "isotropic Ward (power iteration)"),
+    # `aniso export --to pbrt-v4` (docs/export.md): pbrt-v4's own materials, against aniso's source.
+    "export:gold": ("gold", "export: conductor, pbrt-v4's named Au spectra (exact path)"),
+    "export:ggx-aniso-metal": ({"model": "metal", "metal": "copper", "lobe": {"model": "ggx", "alpha_x": 0.08, "alpha_y": 0.3}},
+                               "export: conductor, copper's eta / k, anisotropic (exact path)"),
+    "export:ggx-diffuse": ({"model": "ggx", "kd": [0.2, 0.1, 0.05], "f0": 0.04, "alpha_x": 0.08, "alpha_y": 0.3},
+                           "export: mix of diffuse and conductor (exact path)"),
+    "export:brushed-gold": ("brushed-gold", "export: fitted conductor (Ward lobe + directional diffuse source)"),
 }
 
 
@@ -86,7 +95,7 @@ def run(cmd, log):
     return r.stdout
 
 
-def pbrt_scene(scene, size, spp, material_lines, out_pfm):
+def pbrt_scene(scene, size, spp, material_lines, out_pfm, world_lines=()):
     cam = scene["camera"]
     env = scene["environment"]
     if env.get("type") != "uniform":
@@ -103,7 +112,7 @@ def pbrt_scene(scene, size, spp, material_lines, out_pfm):
         % (size, size, out_pfm),
         "WorldBegin",
         'LightSource "infinite" "rgb L" [ %g %g %g ]' % ((env["radiance"],) * 3),
-    ]
+    ] + list(world_lines)
     for l in scene["lights"]:
         if l["type"] != "sphere":
             raise SystemExit("only sphere lights are converted")
@@ -126,6 +135,7 @@ def main():
     ap.add_argument("--pbrt", required=True)
     ap.add_argument("--out", default=None, help="keep the files here (default: a temporary directory)")
     ap.add_argument("--spp", type=int, default=256)
+    ap.add_argument("--pbrt-spp", type=int, default=None, help="pbrt-v4's samples per pixel (default: --spp)")
     ap.add_argument("--size", type=int, default=96)
     ap.add_argument("--cases", default=",".join(CASES))
     a = ap.parse_args()
@@ -134,49 +144,71 @@ def main():
     log = os.path.join(out, "log.txt")
     with open(os.path.join(ROOT, "bench", "cycles", "sphere-lambert.json")) as f:
         base = json.load(f)
-    print("%-13s %9s %9s %9s %9s %9s %9s   %s" % ("case", "mean pbrt", "mean file", "mean src", "pbrt/file",
-                                               "rel.RMSE", "noise", "what"))
+    # Relative to the mean of aniso's image of the file, over the sphere's pixels: the RMS difference
+    # pbrt-v4 - aniso, pbrt-v4's and aniso's own per-pixel noise, and the part of the difference
+    # beyond both noises (sqrt(d^2 - n_pbrt^2 - n_aniso^2)).
+    print("%-13s %9s %9s %9s %9s %9s %9s %9s %9s   %s" % ("case", "mean pbrt", "mean file", "mean src", "pbrt/file",
+                                                         "RMS diff", "pbrt nse", "aniso nse", "system.", "what"))
     rows = []
     for name in a.cases.split(","):
         material, what = CASES[name]
         scene = json.loads(json.dumps(base))
         scene["film"] = {"width": a.size, "height": a.size, "spp": a.spp}
-        mat_json = os.path.join(out, name + ".json")
+        mat_json = os.path.join(out, name.replace(":", "-") + ".json")
         with open(mat_json, "w") as f:
             json.dump(material, f)
         src = material if isinstance(material, str) else mat_json
+        pbrt_world = []
         if name == "lambert":
             pbrt_material = ['Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]']
             file_material = material
+        elif name.startswith("export:"):
+            exported = os.path.join(out, name.replace(":", "-") + ".pbrt")
+            run([a.aniso, "export", "--to", "pbrt-v4", "--material", src, "-o", exported], log)
+            with open(exported) as f:
+                pbrt_world = f.read().splitlines()
+            named = [l.split('"')[1] for l in pbrt_world if l.startswith("MakeNamedMaterial")]
+            pbrt_material = ['NamedMaterial "%s"' % named[-1]]  # the last one: a mix names its parts first
+            file_material = material
         else:
-            bsdf = os.path.join(out, name + ".bsdf")
+            bsdf = os.path.join(out, name + ".bsdf")  # rgl cases: names without ':'
+
             run([a.aniso, "export-rgl", "--material", src, "-o", bsdf, "--spectral"], log)
             pbrt_material = ['Material "measured" "string filename" [ "%s" ]' % bsdf]
             file_material = {"model": "rgl", "file": bsdf}
         images = {}
         for kind, mat, seed in (("file", file_material, 7), ("file2", file_material, 8), ("src", material, 7)):
             scene["objects"][0]["material"] = mat
-            sj = os.path.join(out, "%s-aniso-%s.json" % (name, kind))
+            sj = os.path.join(out, "%s-aniso-%s.json" % (name.replace(":", "-"), kind))
             with open(sj, "w") as f:
                 json.dump(scene, f)
-            pfm = os.path.join(out, "%s-aniso-%s.pfm" % (name, kind))
+            pfm = os.path.join(out, "%s-aniso-%s.pfm" % (name.replace(":", "-"), kind))
             run([a.aniso, "render", sj, "-o", pfm, "--seed", str(seed)], log)
             images[kind] = read_pfm(pfm)
-        pfm = os.path.join(out, "%s-pbrt.pfm" % name)
-        pscene = os.path.join(out, "%s.pbrt" % name)
-        with open(pscene, "w") as f:
-            f.write(pbrt_scene(scene, a.size, a.spp, pbrt_material, pfm))
-        run([a.pbrt, "--seed", "7", pscene], log)
-        images["pbrt"] = read_pfm(pfm)
+        for kind, seed in (("pbrt", 7), ("pbrt2", 8)):
+            pfm = os.path.join(out, "%s-%s.pfm" % (name.replace(":", "-"), kind))
+            pscene = os.path.join(out, "%s-%s.pbrt" % (name.replace(":", "-"), kind))
+            with open(pscene, "w") as f:
+                f.write(pbrt_scene(scene, a.size, a.pbrt_spp or a.spp, pbrt_material, pfm, pbrt_world))
+            run([a.pbrt, "--seed", str(seed), pscene], log)
+            images[kind] = read_pfm(pfm)
         # The sphere's pixels only (the environment around it is the same constant in both).
         mask = images["src"].sum(axis=2) != 3 * base["environment"]["radiance"]
-        p, fl, fl2, s = (images[k][mask] for k in ("pbrt", "file", "file2", "src"))
-        rmse = float(np.sqrt(np.mean((p - fl) ** 2)) / np.mean(fl))
-        # The noise floor: two aniso renders of the file with different seeds differ by this much.
-        noise = float(np.sqrt(np.mean((fl2 - fl) ** 2)) / np.mean(fl))
+        p, p2, fl, fl2, s = (images[k][mask] for k in ("pbrt", "pbrt2", "file", "file2", "src"))
+        mean = np.mean(fl)
+
+        def rms(x):
+            return float(np.sqrt(np.mean(x**2)))
+
+        # Each renderer's own noise (one image): two seeds differ by sqrt(2) of it. What the
+        # pbrt-v4 / aniso difference has beyond both noises is the systematic part.
+        noise_p, noise_a = rms(p2 - p) / np.sqrt(2), rms(fl2 - fl) / np.sqrt(2)
+        d = rms(p - fl)
+        systematic = np.sqrt(max(0.0, d**2 - noise_p**2 - noise_a**2))
         rows.append((name, images))
-        print("%-13s %9.5f %9.5f %9.5f %9.4f %9.4f %9.4f   %s" % (name, p.mean(), fl.mean(), s.mean(),
-                                                              p.mean() / fl.mean(), rmse, noise, what))
+        print("%-13s %9.5f %9.5f %9.5f %9.4f %9.4f %9.4f %9.4f %9.4f   %s" % (
+            name, p.mean(), fl.mean(), s.mean(), p.mean() / mean, d / mean, noise_p / mean, noise_a / mean,
+            systematic / mean, what))
         print("%-13s per channel pbrt / file: %s" % ("", " ".join("%.4f" % x for x in p.mean(axis=0) / fl.mean(axis=0))))
     picture(rows, os.path.join(out, "pbrt-v4-vs-aniso.png"))
     print("files in %s" % out)
@@ -198,8 +230,10 @@ def picture(rows, path):
     d = ImageDraw.Draw(pil)
     size = rows[0][1]["pbrt"].shape[0]
     for r, (name, _) in enumerate(rows):
-        for c, label in enumerate(("pbrt-v4", "aniso: file", "aniso: source", "4 |diff|")):
-            d.text((c * size + 3, r * size + 2), name + ": " + label if c == 0 else label, fill=(255, 255, 0))
+        for c, label in enumerate(("pbrt-v4", "aniso: file" if not name.startswith("export:") else "aniso: source",
+                                   "aniso: source", "4 |diff|")):
+            d.text((c * size + 3, r * size + 2), label, fill=(255, 255, 0))
+        d.text((3, (r + 1) * size - 12), name, fill=(255, 255, 0))
     pil.save(path)
 
 

@@ -838,8 +838,10 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
           p["eta"] = j3(g.eta), p["k"] = j3(g.k);
         }
       } else {
-        // The Schlick lobe as a conductor with eta 1, k = 2 sqrt(r) / sqrt(1 - r): F(0) = r exactly,
-        // (pbrt-v4 materials.h:505-507 for its "reflectance"), near Schlick elsewhere.
+        // The Schlick lobe as the exact Fresnel (a dielectric eta, or a conductor with eta 1 and k)
+        // whose curve is closest to Schlick's divided by the mix weight, in least squares over the
+        // cosine (match_schlick): the whole curve, not F(0) alone (pbrt-v4's "reflectance",
+        // materials.h:505-507, would keep F(0) = r and miss the rest), so F(0) is not exactly r.
         const double w = no_diffuse(g) ? 1.0 : mix_weight(g);
         for (int c = 0; c < 3; ++c) {
           const ExactFresnel e = match_schlick(g.f0[c], w, true);
@@ -855,11 +857,14 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
           m.diffuse = g.kd;
           p[mitsuba ? "weight" : "amount"] = w;
           p["diffuse_reflectance"] = j3(g.kd / (1.0 - w));
+          glm::dvec3 f0_written(0.0);
+          for (int c = 0; c < 3; ++c) f0_written[c] = w * F_Conductor(1.0, m.lobe.eta[c], m.lobe.k[c]);
           notes.push_back(
               fmt::format("no additive BSDF sum in the target: a stochastic mix with weight {:.4g}; the "
-                          "specular reflectance at normal incidence is exact, at grazing it rises to {:.4g} "
+                          "specular reflectance at normal incidence is {:.4g} (source {:.4g}, the closest "
+                          "exact Fresnel curve to Schlick's over all angles), at grazing it rises to {:.4g} "
                           "instead of 1",
-                          w, w));
+                          w, max3(f0_written), max3(g.f0), w));
         }
         notes.push_back(
             "Schlick's Fresnel is written as the exact (dielectric or conductor) Fresnel closest to its "

@@ -176,6 +176,12 @@ constexpr size_t kSamplingWeightsSize = std::max({
 // the BRDF sample of the vertex (four uses with two lights and the sky, each sampled at every
 // vertex as light_selection "auto" does for so few emitters).
 class MaterialAtWo {
+  // Defined before the generic lambdas below call it: clang 14 leaves a member template first
+  // declared after its use in a lambda's body uninstantiated (an undefined reference at link time).
+  template <typename M> const typename M::SamplingWeights& weights() const {
+    return *std::launder(reinterpret_cast<const typename M::SamplingWeights*>(weights_));
+  }
+
  public:
   MaterialAtWo(const Material& m, const Vec3& wo) : m_(m), o_(m.rotation.to_model(wo)) {
     m.visit([&](const auto& model) {
@@ -216,9 +222,6 @@ class MaterialAtWo {
   }
 
  private:
-  template <typename M> const typename M::SamplingWeights& weights() const {
-    return *std::launder(reinterpret_cast<const typename M::SamplingWeights*>(weights_));
-  }
   const Material& m_;
   Vec3 o_;  // wo turned into the model's frame
   alignas(std::max_align_t) unsigned char weights_[kSamplingWeightsSize];
