@@ -55,6 +55,8 @@ except ImportError:
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "bench", "cycles"))
+from compare import read_pfm  # noqa: E402  (bench/cycles/compare.py: rows top to bottom, as aniso's)
 
 # name -> (aniso material, what it shows)
 CASES = {
@@ -74,16 +76,6 @@ CASES = {
                            "export: mix of diffuse and conductor (exact path)"),
     "export:brushed-gold": ("brushed-gold", "export: fitted conductor (Ward lobe + directional diffuse source)"),
 }
-
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        if f.readline().strip() != b"PF":
-            raise SystemExit("%s: not a colour PFM" % path)
-        w, h = (int(x) for x in f.readline().split())
-        scale = float(f.readline())
-        data = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4")
-    return data.reshape(h, w, 3)[::-1].astype(np.float64)  # row 0 = the image's top
 
 
 def run(cmd, log):
