@@ -185,15 +185,16 @@ void add_export_target_command(CLI::App& app) {
   cmd->add_option("-o,--output", a->output, "output file (default: stdout; glTF needs a file)");
   cmd->add_option("--name", a->name, "material name in the file (default: from the source)");
   cmd->add_option("--metric", a->metric, "fitted path: l2cos (default) or log");
-  cmd->add_option("--starts", a->starts, "fitted path: starts of the fit (default 4)")->check(CLI::Range(1, 100));
+  cmd->add_option("--starts", a->starts, "fitted path: starts of the fit (default 4)")
+      ->check(CLI::Range(1, exporter::kExportStartsMax));
   cmd->add_option("--seed", a->seed, "fitted path: random seed (default 1)");
   cmd->add_option("--grid", a->grid, "sampling of the source: 4n x 4n x 2n x 2n half / difference angle pairs (default 6)")
-      ->check(CLI::Range(1, 12));
+      ->check(CLI::Range(exporter::kExportGridMin, exporter::kExportGridMax));
   cmd->add_option("--blender-version", a->blender_version,
                   "--to blender: the Blender whose model the report measures (default 4.3: conductors as the Metallic "
                   "BSDF with n, k; 4.0: the Principled BSDF's F82 tint; 3.4: the Principled BSDF v1); the script "
                   "adapts to the Blender running it")
-      ->check(CLI::Range(3.0, 10.0));
+      ->check(CLI::Range(exporter::kBlenderVersionMin, exporter::kBlenderVersionMax));
   cmd->add_option("--preview", a->preview,
                   "also write a PNG: the source (left) and the target model (right), shaded by aniso (.pfm / .exr: "
                   "linear radiance, no labels)");

@@ -37,7 +37,7 @@ void bind_export(py::module_& m) {
   m.def(
       "export",
       [](const py::object& x, const std::string& to, const py::object& path_in, const std::optional<std::string>& name,
-         const std::string& metric, int starts, uint64_t seed) {
+         const std::string& metric, int starts, uint64_t seed, int grid, double blender_version, double tangent_angle_deg) {
         const PyMaterial mat = as_material(x);
         std::optional<std::string> path;
         if (!path_in.is_none()) path = std::string(py::str(py::module_::import("os").attr("fspath")(path_in)));
@@ -47,9 +47,12 @@ void bind_export(py::module_& m) {
         FitOptionText metric_only;
         metric_only.metric = metric;
         o.metric = parse_fit_options(metric_only).metric;
-        if (starts < 1 || starts > 100) throw InputError(fmt::format("starts: expected 1 to 100, got {}", starts));
         o.starts = starts;
         o.seed = seed;
+        o.grid = grid;
+        o.blender_version = blender_version;
+        o.tangent_angle_deg = tangent_angle_deg;
+        exporter::check_export_options(o);  // before anything is written
         std::string bin_name;
         if (path && to == "gltf") {
           std::string stem = *path;
@@ -94,12 +97,15 @@ void bind_export(py::module_& m) {
         return out;
       },
       py::arg("material"), py::kw_only(), py::arg("to"), py::arg("path") = py::none(), py::arg("name") = py::none(),
-      py::arg("metric") = "l2cos", py::arg("starts") = 4, py::arg("seed") = 1,
+      py::arg("metric") = "l2cos", py::arg("starts") = 4, py::arg("seed") = 1, py::arg("grid") = 6,
+      py::arg("blender_version") = 4.3, py::arg("tangent_angle_deg") = 0.0,
       "The material in a renderer's own format, as `aniso export --to` (docs/export.md): to = \"blender\",\n"
       "\"mitsuba3\", \"pbrt-v4\", \"materialx\", \"openpbr\" or \"gltf\". Returns {report, text, files}: the report (target\n"
       "model, parameters, exact or fitted, errors, notes) as a dict and as text, and the files (\"\" the main\n"
       "file's text, a glTF's .bin as bytes under its name). With path, writes them too (atomically; an\n"
-      "OSError leaves nothing). A bad material or target raises ValueError.");
+      "OSError leaves nothing). A bad material or target raises ValueError. grid, blender_version: as `--grid`,\n"
+      "`--blender-version`; tangent_angle_deg: the surface's own turn of the tangent (a scene object's\n"
+      "tangent.angle_deg, as `--scene --object`), composed with the material's rotation_deg.");
 }
 
 }  // namespace aniso::python

@@ -1,4 +1,5 @@
 """render() equals `aniso render`; export_glsl / export_brdf equal the CLI's exports."""
+import json
 import numpy as np
 import pytest
 
@@ -160,3 +161,37 @@ def test_export_errors(tmp):
     with pytest.raises(OSError):
         aniso.export("gold", to="gltf", path=tmp / "missing" / "x.gltf")
     assert not (tmp / "missing").exists()
+
+
+def test_export_options_equal_the_cli(tmp):
+    """grid, blender_version and tangent_angle_deg are the CLI's --grid, --blender-version and a scene
+    object's tangent angle (--scene --object), composed with the material's rotation_deg."""
+    mat = {"model": "ggx", "kd": 0.1, "f0": 0.04, "alpha_x": 0.3, "alpha_y": 0.1, "rotation_deg": 10}
+    scene = tmp / "scene.json"
+    scene.write_text(json.dumps({"camera": {"position": [0, 0, 4], "look_at": [0, 0, 0]},
+                                 "objects": [{"shape": "sphere", "center": [0, 0, 0], "radius": 1, "name": "knob",
+                                              "tangent": {"angle_deg": 25}, "material": mat}]}))
+    out = tmp / "cli.gltf"
+    rc, _, err = run_cli("export", "--to", "gltf", "--scene", str(scene), "--object", "knob", "--grid", "2",
+                         "-o", str(out))
+    assert rc == 0, err
+    r = aniso.export(mat, to="gltf", path=tmp / "py.gltf", name="knob", grid=2, tangent_angle_deg=25)
+    py_gltf, cli_gltf = json.loads((tmp / "py.gltf").read_text()), json.loads(out.read_text())
+    assert py_gltf["materials"] == cli_gltf["materials"]  # the files differ in the source's label only
+    assert r["report"]["parameters"]["anisotropyRotation"] == pytest.approx(np.radians(35), abs=1e-12)
+
+    rc, cli_text, err = run_cli("export", "--to", "blender", "--material", "gold", "--blender-version", "3.4")
+    assert rc == 0, err
+    r = aniso.export("gold", to="blender", blender_version=3.4)
+    assert r["files"][""] == cli_text
+    assert "3.4" in r["report"]["blender_version"]
+    assert r["report"]["blender_version"] != aniso.export("gold", to="blender")["report"]["blender_version"]
+
+
+def test_export_option_errors(tmp):
+    for kw, match in ((dict(grid=0), r"grid: expected 1 to 12, got 0"), (dict(starts=101), r"starts: expected 1 to 100"),
+                      (dict(blender_version=2.8), r"blender_version: expected 3 to 10, got 2.8"),
+                      (dict(tangent_angle_deg=float("nan")), r"tangent_angle_deg: expected a finite angle")):
+        with pytest.raises(ValueError, match=match):
+            aniso.export("gold", to="blender", path=tmp / "x.py", **kw)
+    assert not (tmp / "x.py").exists()

@@ -1633,10 +1633,24 @@ std::vector<std::string> principled_differences(const MitsubaPrincipled& mp) {
 
 }  // namespace
 
+void check_export_options(const ExportOptions& o) {
+  if (!find_target(o.target))
+    throw InputError(fmt::format("--to: unknown target \"{}\"; the targets are {}", o.target, target_names()));
+  if (o.grid < kExportGridMin || o.grid > kExportGridMax)
+    throw InputError(fmt::format("grid: expected {} to {}, got {}", kExportGridMin, kExportGridMax, o.grid));
+  if (o.starts < 1 || o.starts > kExportStartsMax)
+    throw InputError(fmt::format("starts: expected 1 to {}, got {}", kExportStartsMax, o.starts));
+  if (!(o.blender_version >= kBlenderVersionMin && o.blender_version <= kBlenderVersionMax))
+    throw InputError(
+        fmt::format("blender_version: expected {} to {}, got {}", kBlenderVersionMin, kBlenderVersionMax, o.blender_version));
+  if (!std::isfinite(o.tangent_angle_deg))
+    throw InputError(fmt::format("tangent_angle_deg: expected a finite angle in degrees, got {}", o.tangent_angle_deg));
+}
+
 ExportResult export_material(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o,
                              const std::string& bin_name_in) {
+  check_export_options(o);
   const TargetInfo* info = find_target(o.target);
-  if (!info) throw InputError(fmt::format("--to: unknown target \"{}\"; the targets are {}", o.target, target_names()));
   const MaterialDesc plain = unrotated(desc);
   const MaterialD source = build_material<double>(plain);
   ExportResult res;

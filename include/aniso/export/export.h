@@ -60,6 +60,11 @@ struct GgxSource {
   FitErrors source_fit;  // of the aniso GGX fit against the source samples (fitted only)
 };
 
+// The ranges export_material accepts (the CLI's option checks use the same).
+inline constexpr int kExportGridMin = 1, kExportGridMax = 12;
+inline constexpr int kExportStartsMax = 100;
+inline constexpr double kBlenderVersionMin = 3.0, kBlenderVersionMax = 10.0;
+
 struct ExportOptions {
   std::string target;  // a TargetInfo::name
   std::string name;    // material name in the file ("" = from the source)
@@ -114,6 +119,10 @@ struct ExportResult {
   TargetBrdf model;  // the target model of the written parameters
   GgxSource ggx;
 };
+
+// InputError naming the option (as the CLI spells it, without "--") when one is out of its range or
+// not finite; export_material calls it first.
+void check_export_options(const ExportOptions& o);
 
 // The samples the exporter compares (and fits) against: the source over a half / difference grid.
 SampleSet sample_source(const MaterialD& m, int grid);
