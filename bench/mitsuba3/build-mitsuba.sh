@@ -17,7 +17,7 @@ S=$D/src B=$D/build
 x() {
   local g=$M/$1/repo
   mkdir -p "$2"
-  git --git-dir="$g" ls-tree -r "$3" ${4:-} | awk '$2 == "blob" { print $1, $3, $4 }' |
+  git --git-dir="$g" ls-tree -r "$3" ${4:+"$4"} | awk '$2 == "blob" { print $1, $3, $4 }' |
     while read -r mode h p; do
       git --git-dir="$g" cat-file -e "$h" 2>/dev/null || { echo "missing $1:$p" >&2; continue; }
       mkdir -p "$2/$(dirname "$p")"
@@ -64,6 +64,7 @@ sed -i 's/^ #if defined(DRJIT_X86_64) && defined(DRJIT_X86_SSE42)$/ #if 0 \/\/ n
   "$S/include/mitsuba/core/struct.h"
 sed -i 's/^#if defined(DRJIT_X86_64)$/#if 0 \/\/ no asmjit here (was: defined(DRJIT_X86_64))/' \
   "$S/include/mitsuba/core/jit.h" "$S/src/core/jit.cpp"
+# shellcheck disable=SC2016 # a literal ${...} of CMake
 sed -i 's/^if (\${CMAKE_SYSTEM_PROCESSOR} MATCHES "x86_64|AMD64")$/if (FALSE) # no asmjit here/' "$S/ext/CMakeLists.txt"
 sed -i 's/^if (CMAKE_SYSTEM_PROCESSOR MATCHES "(x86_64)|(amd64)|(AMD64)")$/if (FALSE) # no asmjit here/' \
   "$S/CMakeLists.txt" "$S/src/core/CMakeLists.txt"
