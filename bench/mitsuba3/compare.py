@@ -76,6 +76,12 @@ read_pfm = pbrt.read_pfm
 # Materials beyond bench/pbrt-v4/compare.py's CASES (same form: name -> (aniso material, what)).
 MATERIALS = dict(pbrt.CASES)
 MATERIALS["lambert"] = (MATERIALS["lambert"][0], "the scene conversion (Mitsuba's own diffuse)")
+# The pbrt-v4 exports' descriptions, for what Mitsuba 3 is given.
+MATERIALS["export:gold"] = (MATERIALS["export:gold"][0], "export: roughconductor, Mitsuba's named Au (exact path)")
+MATERIALS["export:ggx-aniso-metal"] = (MATERIALS["export:ggx-aniso-metal"][0],
+                                       "export: roughconductor, Mitsuba's named Cu, anisotropic (exact path)")
+MATERIALS["export:brushed-gold"] = (MATERIALS["export:brushed-gold"][0],
+                                    "export: fitted roughconductor, Mitsuba's named Au (Ward lobe + directional diffuse source)")
 MATERIALS.update({
     "export:nickel-aniso": ({"model": "metal", "metal": "nickel", "lobe": {"model": "ggx", "alpha_x": 0.08, "alpha_y": 0.3}},
                             "export: roughconductor, rgb eta / k (nickel is no named Mitsuba conductor; exact path)"),
