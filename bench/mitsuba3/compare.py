@@ -3,7 +3,7 @@
 (docs/rgl.md, "In Mitsuba 3"; docs/export.md, "Rendered in Mitsuba 3").
 
     /usr/bin/python3 bench/mitsuba3/compare.py --aniso build/release/bin/aniso --mitsuba PATH/TO/mitsuba
-        [--out DIR] [--spp N] [--mitsuba-spp N] [--size N] [--cases a,b,...]
+        [--out DIR] [--spp N] [--mitsuba-spp N] [--size N] [--cases rgl,exports | a@rgb,b@spectral,...]
 
 Not part of `make test`: Mitsuba 3 cannot be installed on CI (no Debian package; built from its
 sources as docs/rgl.md says) and its renders take minutes. The same as bench/pbrt-v4/compare.py
@@ -99,8 +99,14 @@ MATERIALS.pop("export:ggx-diffuse")
 RGL = ["lambert", "ggx-aniso", "ggx-rotated", "gold", "brushed-gold", "ward-iso"]
 EXPORTS = ["export:gold", "export:ggx-aniso-metal", "export:nickel-aniso", "export:ggx-diffuse-u", "export:as-diffuse",
            "export:principled-al", "export:principled-plastic", "export:brushed-gold"]
-DEFAULT_CASES = ([m + "@spectral" for m in RGL] + [m + "@rgb" for m in RGL] + [m + "@rgb" for m in EXPORTS] +
-                 ["export:gold@spectral", "export:ggx-aniso-metal@spectral", "export:nickel-aniso@spectral"])
+# The two runs of the docs (`--cases rgl`, `--cases exports`): docs/rgl.md "In Mitsuba 3" and
+# docs/export.md "Rendered in Mitsuba 3".
+GROUPS = {
+    "rgl": [m + "@spectral" for m in RGL] + [m + "@rgb" for m in RGL],
+    "exports": ["lambert@rgb", "export:gold@rgb", "export:gold@spectral", "export:ggx-aniso-metal@rgb",
+                "export:ggx-aniso-metal@spectral", "export:nickel-aniso@rgb", "export:nickel-aniso@spectral"] +
+               [m + "@rgb" for m in EXPORTS[3:]],
+}
 
 
 def mitsuba_scene(scene, size, spp, seed, material_xml, includes=()):
@@ -163,7 +169,7 @@ def main():
     ap.add_argument("--mitsuba-spp", type=int, default=None, help="Mitsuba 3's samples per pixel (default: --spp)")
     ap.add_argument("--size", type=int, default=96)
     ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--cases", default=",".join(DEFAULT_CASES))
+    ap.add_argument("--cases", default="rgl,exports", help="MATERIAL@VARIANT or a group (rgl, exports), comma-separated")
     ap.add_argument("--picture", default="mitsuba3-vs-aniso.png", help="file name of the picture in --out")
     a = ap.parse_args()
     out = a.out or tempfile.mkdtemp(prefix="aniso-mitsuba-")
@@ -174,7 +180,8 @@ def main():
     print("%-13s %9s %9s %9s %9s %9s %9s %9s %9s   %s" % ("case", "mean mi", "mean file", "mean src", "mi/file",
                                                          "RMS diff", "mi nse", "aniso nse", "system.", "what"))
     rows = []
-    for case in a.cases.split(","):
+    cases = [c for g in a.cases.split(",") for c in GROUPS.get(g, [g])]
+    for case in cases:
         name, _, kind = case.partition("@")
         if kind not in ("spectral", "rgb") or name not in MATERIALS:
             raise SystemExit("unknown case %r: MATERIAL@spectral or MATERIAL@rgb, MATERIAL one of %s"
