@@ -17,14 +17,14 @@ alone); `export:` cases render what `aniso export --to mitsuba3` writes (`<inclu
 against aniso's render of the source, as the pbrt-v4 script does.
 
 The scene conversion, each line from Mitsuba 3's sources (github.com/mitsuba-renderer/mitsuba3
-@ v3.8.0, f5d8fb5e):
+@ v3.8.0, 2ba36148; bench/mitsuba3/build-mitsuba.sh builds it):
 - Camera: `perspective` with `to_world` = `<lookat origin target up>`; Transform::look_at
   (include/mitsuba/core/transform.h:177-200) makes the camera frame (left, up, dir), and
   perspective_projection (include/mitsuba/render/sensor.h:234-268) maps camera +x ("left") to
   the image's left edge (its scale by -0.5): a right-handed world renders unmirrored, as aniso's
   (the check: the `lambert` cases, lit from the left). `fov` is the full angle along `fov_axis`
-  (parse_fov, src/render/sensor.cpp:142-158, default "x"); the images are square, so aniso's
-  vertical `fov_deg`.
+  (parse_fov, src/render/sensor.cpp:142-158, default "x"): written with `fov_axis` "y", aniso's
+  vertical `fov_deg` (the images here are square, where the two agree).
 - `independent` sampler (src/samplers/independent.cpp:17-23: `sample_count`, `seed`), `path`
   integrator whose `max_depth` counts the camera vertex (src/integrators/path.cpp:19-24: "1 will
   only render directly visible light sources, 2 ... direct-only"): aniso's max_depth + 1 (aniso's
