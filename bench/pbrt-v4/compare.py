@@ -184,47 +184,56 @@ def main():
                 f.write(pbrt_scene(scene, a.size, a.pbrt_spp or a.spp, pbrt_material, pfm, pbrt_world))
             run([a.pbrt, "--seed", str(seed), pscene], log)
             images[kind] = read_pfm(pfm)
-        # The sphere's pixels only (the environment around it is the same constant in both).
-        mask = images["src"].sum(axis=2) != 3 * base["environment"]["radiance"]
-        p, p2, fl, fl2, s = (images[k][mask] for k in ("pbrt", "pbrt2", "file", "file2", "src"))
-        mean = np.mean(fl)
-
-        def rms(x):
-            return float(np.sqrt(np.mean(x**2)))
-
-        # Each renderer's own noise (one image): two seeds differ by sqrt(2) of it. What the
-        # pbrt-v4 / aniso difference has beyond both noises is the systematic part.
-        noise_p, noise_a = rms(p2 - p) / np.sqrt(2), rms(fl2 - fl) / np.sqrt(2)
-        d = rms(p - fl)
-        systematic = np.sqrt(max(0.0, d**2 - noise_p**2 - noise_a**2))
         rows.append((name, images))
-        print("%-13s %9.5f %9.5f %9.5f %9.4f %9.4f %9.4f %9.4f %9.4f   %s" % (
-            name, p.mean(), fl.mean(), s.mean(), p.mean() / mean, d / mean, noise_p / mean, noise_a / mean,
-            systematic / mean, what))
-        print("%-13s per channel pbrt / file: %s" % ("", " ".join("%.4f" % x for x in p.mean(axis=0) / fl.mean(axis=0))))
+        print_row(name, what, images, "pbrt", base["environment"]["radiance"])
     picture(rows, os.path.join(out, "pbrt-v4-vs-aniso.png"))
     print("files in %s" % out)
 
 
-def picture(rows, path):
-    """One row per case: pbrt-v4 on the file, aniso on the file, aniso on the source material,
-    and 4 |pbrt-v4 - aniso file| (exposure 1, clamp, sRGB)."""
+def print_row(name, what, images, key, env_radiance):
+    """One case's line: the means over the sphere's pixels (renderer `key`, aniso on the file, aniso on
+    the source), their ratio, the RMS difference, both renderers' noise and the systematic remainder,
+    relative to the mean of aniso's image of the file; then the ratio per channel. images holds
+    key, key + "2" (a second seed), "file", "file2" (a second seed) and "src"."""
+    # The sphere's pixels only (the environment around it is the same constant in both).
+    mask = images["src"].sum(axis=2) != 3 * env_radiance
+    p, p2, fl, fl2, s = (images[k][mask] for k in (key, key + "2", "file", "file2", "src"))
+    mean = np.mean(fl)
+
+    def rms(x):
+        return float(np.sqrt(np.mean(x**2)))
+
+    # Each renderer's own noise (one image): two seeds differ by sqrt(2) of it. What the
+    # renderer / aniso difference has beyond both noises is the systematic part.
+    noise_p, noise_a = rms(p2 - p) / np.sqrt(2), rms(fl2 - fl) / np.sqrt(2)
+    d = rms(p - fl)
+    systematic = np.sqrt(max(0.0, d**2 - noise_p**2 - noise_a**2))
+    print("%-13s %9.5f %9.5f %9.5f %9.4f %9.4f %9.4f %9.4f %9.4f   %s" % (
+        name, p.mean(), fl.mean(), s.mean(), p.mean() / mean, d / mean, noise_p / mean, noise_a / mean,
+        systematic / mean, what))
+    print("%-13s per channel %s / file: %s" % ("", key, " ".join("%.4f" % x for x in p.mean(axis=0) / fl.mean(axis=0))))
+    sys.stdout.flush()
+
+
+def picture(rows, path, key="pbrt", label="pbrt-v4"):
+    """One row per case: the renderer (images[key], labelled label) on the file, aniso on the file,
+    aniso on the source material, and 4 |renderer - aniso file| (exposure 1, clamp, sRGB)."""
     from PIL import Image, ImageDraw
 
     tiles = []
     for name, im in rows:
-        row = [im["pbrt"], im["file"], im["src"], 4 * np.abs(im["pbrt"] - im["file"])]
+        row = [im[key], im["file"], im["src"], 4 * np.abs(im[key] - im["file"])]
         tiles.append(np.concatenate(row, axis=1))
     img = np.concatenate(tiles, axis=0)
     img = np.clip(img, 0, 1)
     img = np.where(img <= 0.0031308, 12.92 * img, 1.055 * img ** (1 / 2.4) - 0.055)
     pil = Image.fromarray((img * 255 + 0.5).astype(np.uint8))
     d = ImageDraw.Draw(pil)
-    size = rows[0][1]["pbrt"].shape[0]
+    size = rows[0][1][key].shape[0]
     for r, (name, _) in enumerate(rows):
-        for c, label in enumerate(("pbrt-v4", "aniso: file" if not name.startswith("export:") else "aniso: source",
-                                   "aniso: source", "4 |diff|")):
-            d.text((c * size + 3, r * size + 2), label, fill=(255, 255, 0))
+        for c, text in enumerate((label, "aniso: file" if "export:" not in name else "aniso: source",
+                                  "aniso: source", "4 |diff|")):
+            d.text((c * size + 3, r * size + 2), text, fill=(255, 255, 0))
         d.text((3, (r + 1) * size - 12), name, fill=(255, 255, 0))
     pil.save(path)
 

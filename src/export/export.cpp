@@ -870,6 +870,17 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
             "Schlick's Fresnel is written as the exact (dielectric or conductor) Fresnel closest to its "
             "curve: the target has no Schlick Fresnel");
       }
+      // Mitsuba 3's spectral variants turn an <rgb> eta / k into the bounded rgb2spec spectrum
+      // (Properties::get_texture_impl, src/core/properties.cpp:628-636, `srgb`; srgb_model_eval,
+      // include/mitsuba/render/srgb.h:13-19, a sigmoid in [0, 1]): a component above 1 cannot be
+      // represented there. Measured: nickel 0.08 x 0.3 renders at 0.41 of aniso's brightness under
+      // scalar_spectral, 0.999 under scalar_rgb (bench/mitsuba3/compare.py).
+      if (mitsuba && !p.contains("material") && std::max(max3(m.lobe.eta), max3(m.lobe.k)) > 1.0)
+        notes.push_back(
+            fmt::format("eta and k are written as <rgb>: render with an RGB variant (scalar_rgb, llvm_ad_rgb); a "
+                        "spectral variant upsamples an <rgb> to a spectrum bounded by 1 (rgb2spec), so eta {} and "
+                        "k {} would be clipped there",
+                        fmt3(m.lobe.eta), fmt3(m.lobe.k)));
       if (g.rotation_deg != 0.0)
         notes.push_back(
             fmt::format("the tangent is dp/du: {} has no rotation input, so rotate the mesh's uv "
