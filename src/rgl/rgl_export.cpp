@@ -376,14 +376,11 @@ std::vector<float> place_phi_by_blend_error(const BrdfSource& src, const PL2D& n
     const double span = cum[k + 1] - cum[k];
     return -kPiD + h * (double(k) + (span > 0.0 ? (c - cum[k]) / span : 0.0));
   };
-  const double start = axis ? cum_at(*axis > kPiD / 2 ? *axis - kPiD : *axis) : 0.0;
-  auto place = [&](int distinct) {
-    std::vector<double> p;
-    for (int q = 0; q < distinct; ++q) p.push_back(inverse(std::fmod(start + double(q) / distinct, 1.0)));
-    std::sort(p.begin(), p.end());
-    return p;
-  };
-  std::vector<double> p = place(count - 1);
+  // count - 1 azimuths at equal steps of the cumulative density, from the axis (else from -pi).
+  const double start = axis ? cum_at(*axis) : 0.0;
+  std::vector<double> p;
+  for (int q = 0; q < count - 1; ++q) p.push_back(inverse(std::fmod(start + double(q) / (count - 1), 1.0)));
+  std::sort(p.begin(), p.end());
   const double tol = 1e-6;
   if (kPiD - p.back() <= tol) {  // a slice on pi: it is the one on -pi
     p.pop_back();
