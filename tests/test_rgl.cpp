@@ -271,6 +271,21 @@ TEST(RglExport, AzimuthsFollowTheMirrorAxes) {
   }
   const TensorFile iso = rgl::parse_tensor(rgl::serialize_tensor(export_json(kGGXIso, o)), "x.bsdf");
   EXPECT_EQ(iso.find("vndf")->shape[2], 16u);
+  // Two lobes turned by different angles: no mirror axis, count values from -pi.
+  nlohmann::json a = kGGXAniso, b = {{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.5}, {"alpha_x", 0.1}, {"alpha_y", 0.2}};
+  a["rotation_deg"] = 30.0;
+  b["rotation_deg"] = 75.0;
+  const MaterialD ma = build<double>(a), mb = build<double>(b);
+  rgl::BrdfSource two;
+  two.f = [&](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(ma.f(wi, wo)) + glm::dvec3(mb.f(wi, wo)); };
+  two.description = "two turned lobes";
+  const TensorFile t = rgl::parse_tensor(rgl::serialize_tensor(rgl::export_rgl(two, o)), "x.bsdf");
+  EXPECT_EQ(readers_rules(t, false), "");
+  const std::vector<float> phi = t.find("phi_i")->floats();
+  ASSERT_EQ(phi.size(), 13u);
+  EXPECT_EQ(phi.front(), -float(M_PI));
+  EXPECT_EQ(phi.back(), float(M_PI));
+  for (size_t k = 1; k < phi.size(); ++k) EXPECT_LT(phi[k - 1], phi[k]) << k;
 }
 
 // D of a model without a closed form (docs/rgl.md, step 2): Auto writes the file of the estimate that
