@@ -9,8 +9,9 @@
 //   grid only:  the readers' f against that blend (the colour grid's bilinear interpolation).
 // Not a ctest: a measurement (about a minute for every material at the default grids).
 //
-//   aniso_rgl_error_sources [--colour N] [--theta-i N] [--phi-i N] [--ndf N] [--d auto|lobe|retro]
+//   aniso_rgl_error_sources [--colour N] [--theta-i N] [--phi-i N] [--ndf N] [--vndf N] [--d auto|lobe|retro]
 //                           [--placement blend|sigma] [--thetas T0 T1 T2 T3 T4] [--only NAME,...]
+//                           [--phi-placement blend|uniform] [--phis P0,P1,... (degrees; default compare_rgl's 0,60,120,210,300)]
 //                           [--decompose] [--material JSON|PRESET]   (one material instead of the table's)
 #include <algorithm>
 #include <cmath>
@@ -42,10 +43,11 @@ struct Errors {
 };
 
 // compare_rgl's integration (rgl_export.cpp) with any f in place of the file's, at five elevations.
-Errors compare(const rgl::SourceModel& src, const FFn& g, const double (&thetas)[5], int samples) {
+Errors compare(const rgl::SourceModel& src, const FFn& g, const double (&thetas)[5], const std::vector<double>& phis,
+               int samples) {
   Errors r;
   for (int ti = 0; ti < 5; ++ti)
-    for (const double phi_deg : {0.0, 60.0, 120.0, 210.0, 300.0}) {
+    for (const double phi_deg : phis) {
       const Vec3d wo = dir(thetas[ti] * kPi<double> / 180.0, phi_deg * kPi<double> / 180.0);
       Rng rng(1234 + uint64_t(ti) * 7 + uint64_t(phi_deg));
       double diff = 0, ref = 0, a_src = 0, a_g = 0;
@@ -148,6 +150,7 @@ int run(int argc, char** argv) {
   o.spectral = false;
   std::string only, material;
   double thetas[5] = {0, 20, 40, 60, 80};
+  std::vector<double> phis = {0, 60, 120, 210, 300};  // compare_rgl's azimuths
   bool decompose = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -166,6 +169,8 @@ int run(int argc, char** argv) {
       o.phi_i = std::atoi(value().c_str());
     else if (a == "--ndf")
       o.ndf = std::atoi(value().c_str());
+    else if (a == "--vndf")
+      o.vndf = std::atoi(value().c_str());
     else if (a == "--only")
       only = "," + value() + ",";
     else if (a == "--decompose")
@@ -180,6 +185,17 @@ int run(int argc, char** argv) {
       o.d_estimate = v == "lobe"    ? rgl::ExportOptions::DEstimate::LobeAverage
                      : v == "retro" ? rgl::ExportOptions::DEstimate::RetroReflection
                                     : rgl::ExportOptions::DEstimate::Auto;
+    } else if (a == "--phi-placement") {
+      o.phi_placement =
+          value() == "uniform" ? rgl::ExportOptions::PhiPlacement::Uniform : rgl::ExportOptions::PhiPlacement::BlendError;
+    } else if (a == "--phis") {
+      phis.clear();
+      const std::string list = value();  // comma-separated degrees
+      for (size_t at = 0; at < list.size();) {
+        const size_t comma = std::min(list.find(',', at), list.size());
+        phis.push_back(std::atof(list.substr(at, comma - at).c_str()));
+        at = comma + 1;
+      }
     } else if (a == "--placement") {
       o.placement = value() == "sigma" ? rgl::ExportOptions::Placement::ProjectedArea : rgl::ExportOptions::Placement::BlendError;
     } else {
@@ -222,19 +238,24 @@ int run(int argc, char** argv) {
     const std::shared_ptr<rgl::RglData> d = rgl::rgl_from_tensor(rgl::parse_tensor(bytes, std::string(c.name) + ".bsdf"));
     const RglT<double> k = rgl::rgl_kernel<double>(*d);
     const FFn file = [&](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(k.f(wi, wo)); };
-    const Errors e = compare(src, file, thetas, 6000);
+    const Errors e = compare(src, file, thetas, phis, 6000);
     std::printf("%-18s L1 %6.2f %6.2f %6.2f %6.2f %6.2f %%  albedo %5.2f %%  %.2f MB  export %.2f s CPU\n  D: %s\n", c.name,
                 100 * e.l1[0], 100 * e.l1[1], 100 * e.l1[2], 100 * e.l1[3], 100 * e.l1[4],
                 100 * *std::max_element(e.albedo, e.albedo + 5), double(bytes.size()) / 1e6, rep.seconds, rep.d_method.c_str());
     if (decompose) {
       const FFn blend = [&](const Vec3d& wi, const Vec3d& wo) { return f_blend_exact(*d, src.f, wi, wo); };
-      const Errors eb = compare(src, blend, thetas, 6000);
-      const Errors eg = compare({blend, src.pdf, src.sample}, file, thetas, 6000);
-      std::printf("  blend only %6.2f %6.2f %6.2f %6.2f %6.2f %%   grid only %6.2f %6.2f %6.2f %6.2f %6.2f %%\n", 100 * eb.l1[0],
-                  100 * eb.l1[1], 100 * eb.l1[2], 100 * eb.l1[3], 100 * eb.l1[4], 100 * eg.l1[0], 100 * eg.l1[1], 100 * eg.l1[2],
-                  100 * eg.l1[3], 100 * eg.l1[4]);
+      const Errors eb = compare(src, blend, thetas, phis, 6000);
+      const Errors eg = compare({blend, src.pdf, src.sample}, file, thetas, phis, 6000);
+      std::printf(
+          "  blend only %6.2f %6.2f %6.2f %6.2f %6.2f %% (albedo %.2f %%)   grid only %6.2f %6.2f %6.2f %6.2f %6.2f %% (albedo "
+          "%.2f %%)\n",
+          100 * eb.l1[0], 100 * eb.l1[1], 100 * eb.l1[2], 100 * eb.l1[3], 100 * eb.l1[4],
+          100 * *std::max_element(eb.albedo, eb.albedo + 5), 100 * eg.l1[0], 100 * eg.l1[1], 100 * eg.l1[2], 100 * eg.l1[3],
+          100 * eg.l1[4], 100 * *std::max_element(eg.albedo, eg.albedo + 5));
       std::printf("  theta_i (deg):");
       for (const float t : d->theta_i) std::printf(" %.1f", double(t) * 180.0 / kPi<double>);
+      std::printf("\n  phi_i (deg):");
+      for (const float p : d->phi_i) std::printf(" %.1f", double(p) * 180.0 / kPi<double>);
       std::printf("\n");
     }
     std::fflush(stdout);

@@ -231,6 +231,63 @@ TEST(RglExport, EveryWrittenFilePassesPbrtAndMitsubaRules) {
     }
 }
 
+// phi_i of an anisotropic file (docs/rgl.md, step 3): count values, increasing, from -pi to pi
+// (both readers' rules), symmetric about the material's mirror axes with a slice on each (the
+// tangent and bitangent, turned with rotation_deg; -pi added when it is not on one), denser where
+// the readers' blend errs; the vndf grid is 32 x 32 for anisotropic files and the ndf's for
+// isotropic ones.
+TEST(RglExport, AzimuthsFollowTheMirrorAxes) {
+  rgl::ExportOptions o = small_options();
+  o.ndf = 16;
+  o.phi_i = 13;
+  for (const double turn : {0.0, 30.0}) {
+    nlohmann::json j = kGGXAniso;
+    j["rotation_deg"] = turn;
+    const TensorFile t = rgl::parse_tensor(rgl::serialize_tensor(export_json(j, o)), "x.bsdf");
+    EXPECT_EQ(readers_rules(t, false), "") << turn;
+    EXPECT_EQ(t.find("vndf")->shape[2], 32u);
+    const std::vector<float> phi = t.find("phi_i")->floats();
+    ASSERT_EQ(phi.size(), turn == 0.0 ? 13u : 14u) << turn;  // turned: -pi is not on an axis, one more
+    EXPECT_EQ(phi.front(), -float(M_PI));
+    EXPECT_EQ(phi.back(), float(M_PI));
+    for (size_t k = 1; k < phi.size(); ++k) EXPECT_LT(phi[k - 1], phi[k]) << turn << " at " << k;
+    auto on_grid = [&](double a) {  // a slice at azimuth a (mod 2 pi)
+      for (const float p : phi)
+        if (std::abs(std::remainder(double(p) - a, 2.0 * M_PI)) < 1e-4) return true;
+      return false;
+    };
+    const double b = turn * M_PI / 180.0;
+    for (int k = 0; k < 4; ++k) EXPECT_TRUE(on_grid(b + k * M_PI / 2)) << "axis " << k << " of the material turned " << turn;
+    for (const float p : phi) {
+      if (turn != 0.0 && std::abs(p) > 3.14159f) continue;  // the added end of the circle
+      EXPECT_TRUE(on_grid(2.0 * b - p)) << "the mirror of " << p << " about " << b;
+      EXPECT_TRUE(on_grid(2.0 * b + M_PI - p)) << "the mirror of " << p << " about " << b + M_PI / 2;
+    }
+    // Unequal spacing: the blend error is not the same at every azimuth.
+    double lo = 10.0, hi = 0.0;
+    for (size_t k = 1; k < phi.size(); ++k)
+      lo = std::min(lo, double(phi[k] - phi[k - 1])), hi = std::max(hi, double(phi[k] - phi[k - 1]));
+    EXPECT_GT(hi, 1.3 * lo) << turn;
+  }
+  const TensorFile iso = rgl::parse_tensor(rgl::serialize_tensor(export_json(kGGXIso, o)), "x.bsdf");
+  EXPECT_EQ(iso.find("vndf")->shape[2], 16u);
+  // Two lobes turned by different angles: no mirror axis, count values from -pi.
+  nlohmann::json a = kGGXAniso, b = {{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.5}, {"alpha_x", 0.1}, {"alpha_y", 0.2}};
+  a["rotation_deg"] = 30.0;
+  b["rotation_deg"] = 75.0;
+  const MaterialD ma = build<double>(a), mb = build<double>(b);
+  rgl::BrdfSource two;
+  two.f = [&](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(ma.f(wi, wo)) + glm::dvec3(mb.f(wi, wo)); };
+  two.description = "two turned lobes";
+  const TensorFile t = rgl::parse_tensor(rgl::serialize_tensor(rgl::export_rgl(two, o)), "x.bsdf");
+  EXPECT_EQ(readers_rules(t, false), "");
+  const std::vector<float> phi = t.find("phi_i")->floats();
+  ASSERT_EQ(phi.size(), 13u);
+  EXPECT_EQ(phi.front(), -float(M_PI));
+  EXPECT_EQ(phi.back(), float(M_PI));
+  for (size_t k = 1; k < phi.size(); ++k) EXPECT_LT(phi[k - 1], phi[k]) << k;
+}
+
 // D of a model without a closed form (docs/rgl.md, step 2): Auto writes the file of the estimate that
 // reproduces f better, byte for byte, and says which. matte-steel's forward lobes (Lafortune, cxy =
 // -1.1) have no retro-reflection beyond 44 degrees: the lobe's mean shape wins there (measured at
@@ -357,8 +414,8 @@ INSTANTIATE_TEST_SUITE_P(
                        {"normalization", "balanced"}},
                       false,
                       0,
-                      0.065,
-                      0.125,
+                      0.05,
+                      0.09,
                       0.02},
         RoundTripCase{"ashikhmin_shirley",
                       {{"model", "ashikhmin-shirley"}, {"rd", {0.2, 0.3, 0.4}}, {"rs", 0.1}, {"n", 100.0}},
@@ -369,7 +426,7 @@ INSTANTIATE_TEST_SUITE_P(
                       0.02},
         RoundTripCase{"ggx_iso", kGGXIso, false, 0, 0.05, 0.05, 0.02},
         RoundTripCase{"ggx_aniso_0.05x0.3", kGGXAniso, false, 0, 0.05, 0.05, 0.02},
-        RoundTripCase{"ggx_aniso_rotated_30deg", kGGXAniso, false, M_PI / 6, 0.05, 0.10, 0.05},
+        RoundTripCase{"ggx_aniso_rotated_30deg", kGGXAniso, false, M_PI / 6, 0.05, 0.05, 0.02},
         RoundTripCase{"matte_steel_lafortune3",
                       {{"model", "lafortune"},
                        {"rho_d", 0.0},
@@ -384,7 +441,8 @@ INSTANTIATE_TEST_SUITE_P(
                       0.03},
         RoundTripCase{"matte_steel_preset", "matte-steel", false, 0, 0.08, 0.24, 0.02},
         RoundTripCase{"gold_ggx_metal", "gold", false, 0, 0.05, 0.05, 0.02},
-        RoundTripCase{"brushed_gold", "brushed-gold", false, 0, 0.05, 0.09, 0.02},
+        // 4.95 % at 80 degrees: at the edge of the target, so bounded with the margin instead.
+        RoundTripCase{"brushed_gold", "brushed-gold", false, 0, 0.05, 0.065, 0.02},
         RoundTripCase{"merl_table_of_ward",
                       {{"model", "ward"}, {"kd", {0.3, 0.2, 0.1}}, {"ks", 0.2}, {"alpha", 0.25}},
                       true,
@@ -542,6 +600,9 @@ TEST_F(RglCli, ExportShowAndBadFile) {
   const Result res = run({"export-rgl", "-m", "gold", "-o", out, "--resolution", "2"});
   EXPECT_EQ(res.code, 2);
   EXPECT_TRUE(contains(res.err, "--resolution")) << res.err;
+  const Result vndf = run({"export-rgl", "-m", "gold", "-o", out, "--vndf", "4"});
+  EXPECT_EQ(vndf.code, 2);
+  EXPECT_TRUE(contains(vndf.err, "--vndf")) << vndf.err;
 }
 
 // A tensor file as a material (the registry row `rgl`, docs/models/rgl.md): a path ending in .bsdf

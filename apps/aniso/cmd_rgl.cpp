@@ -16,7 +16,7 @@ namespace aniso {
 
 void add_rgl_command(CLI::App& app) {
   struct Args {
-    std::string material, output, resolution, theta_i, phi_i, ndf;
+    std::string material, output, resolution, theta_i, phi_i, ndf, vndf;
     bool rgb = false, spectral = false, check = false;
   };
   auto a = std::make_shared<Args>();
@@ -29,8 +29,13 @@ void add_rgl_command(CLI::App& app) {
   cmd->add_flag("--rgb", a->rgb, "an rgb table, no wavelengths (Mitsuba's RGB variants)")->excludes(spec);
   cmd->add_option("--resolution", a->resolution, "colour grid n x n on the VNDF-warped square (default 32, 4 to 256)");
   cmd->add_option("--theta-i", a->theta_i, "incident elevations (default 16, 2 to 128)");
-  cmd->add_option("--phi-i", a->phi_i, "incident azimuths over the full circle, anisotropic materials (default 17, 3 to 181)");
-  cmd->add_option("--ndf", a->ndf, "ndf, sigma and vndf grid n x n (default 64, 8 to 512)");
+  cmd->add_option("--phi-i", a->phi_i,
+                  "incident azimuths over the full circle, anisotropic materials (default 33, 3 to 181; one more when the "
+                  "material is turned)");
+  cmd->add_option("--ndf", a->ndf, "ndf and sigma grid n x n (default 64, 8 to 512)");
+  cmd->add_option(
+      "--vndf", a->vndf,
+      "vndf grid n x n, the warp of each incident direction (default 32 anisotropic, the ndf grid isotropic; 8 to 512)");
   cmd->add_flag("--check", a->check, "read the file back and print its accuracy against the material (docs/rgl.md)");
   cmd->callback([a] {
     run_command([&] {
@@ -40,6 +45,7 @@ void add_rgl_command(CLI::App& app) {
       if (!a->theta_i.empty()) opt.theta_i = int(parse_integer(a->theta_i, 2, 128, "--theta-i"));
       if (!a->phi_i.empty()) opt.phi_i = int(parse_integer(a->phi_i, 3, 181, "--phi-i"));
       if (!a->ndf.empty()) opt.ndf = int(parse_integer(a->ndf, 8, 512, "--ndf"));
+      if (!a->vndf.empty()) opt.vndf = int(parse_integer(a->vndf, 8, 512, "--vndf"));
       const MaterialDesc desc = load_material(a->material);
       const MaterialD m = build_material<double>(desc);
       const MetalData* metal =

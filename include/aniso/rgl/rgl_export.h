@@ -21,8 +21,10 @@ struct ExportOptions {
   bool spectral = true;  // spectra + wavelengths (pbrt-v4, spectral Mitsuba) or rgb (Mitsuba RGB variants)
   int colour = 32;       // colour and luminance grid n x n on the VNDF-warped square
   int theta_i = 16;      // incident elevations (placed by `placement`)
-  int phi_i = 17;        // incident azimuths over [-pi, pi] (anisotropic materials only)
-  int ndf = 64;          // ndf, sigma and vndf grid, n x n over (u_theta, u_phi)
+  int phi_i =
+      33;  // incident azimuths over [-pi, pi] (anisotropic materials only; placed by `phi_placement`, +1 for a turned material)
+  int ndf = 64;  // ndf and sigma grid, n x n over (u_theta, u_phi)
+  int vndf = 0;  // vndf grid (each slice's warp), n x n over (u_theta, u_phi); 0: 32 anisotropic, `ndf` isotropic
   // D of the models without a closed form (every one but GGX): the lobe's mean shape over the
   // viewing angles, or the retro-reflection's power iteration (Dupuy et al. 2015); Auto writes
   // both and keeps the file that reproduces f better (docs/rgl.md, step 2).
@@ -32,6 +34,9 @@ struct ExportOptions {
   // the projected area sigma alone (half uniform in angle, half uniform in sigma).
   enum class Placement { BlendError, ProjectedArea } placement = Placement::BlendError;
   double placement_uniform = 0.3;  // share of the uniform density in the blend-error placement
+  // phi_i placement (anisotropic files): by the error of the readers' linear blend between azimuth
+  // slices, symmetric about the material's mirror axes (default), or uniform over [-pi, pi].
+  enum class PhiPlacement { BlendError, Uniform } phi_placement = PhiPlacement::BlendError;
 };
 
 struct BrdfSource {
