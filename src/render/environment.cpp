@@ -41,11 +41,16 @@ struct MapCoords {
 // The mapping documented in environment.h. Rotating the map by +a about +y shows the map's
 // (phi_map) at world phi = phi_map - a, so the lookup adds a to the world phi. Rotation about y
 // leaves w.y, hence theta and v, unchanged.
-inline MapCoords map_coords(const Vec3& w, float rotation_rad) {
+// with_u false leaves u at 0 (the azimuth's atan2 skipped): for a table of one column, where
+// bin_of(u, 1) is 0 whatever u is.
+inline MapCoords map_coords(const Vec3& w, float rotation_rad, bool with_u) {
   MapCoords m;
-  const float phi = std::atan2(w.x, -w.z) + rotation_rad;
-  float u = 0.5f + phi * (0.5f / kPi);
-  u -= std::floor(u);  // wrap into [0, 1) (it can still round to 1: bin_of maps that to the last column)
+  float u = 0.0f;
+  if (with_u) {
+    const float phi = std::atan2(w.x, -w.z) + rotation_rad;
+    u = 0.5f + phi * (0.5f / kPi);
+    u -= std::floor(u);  // wrap into [0, 1) (it can still round to 1: bin_of maps that to the last column)
+  }
   const float theta = std::acos(std::clamp(w.y, -1.0f, 1.0f));  // clamp: |w.y| may exceed 1 by rounding
   m.uv = Vec2(u, theta / kPi);
   // sqrt(x^2 + z^2) rather than sin(acos(y)) or sqrt(1 - y^2): no cancellation near the poles.
@@ -373,7 +378,8 @@ Environment::Lookup Environment::lookup(const Vec3& w) const {
     case Kind::Uniform: return {uniform_, 1.0f / (4.0f * kPi)};
     case Kind::Map: break;
   }
-  const MapCoords m = map_coords(w, rotation_rad_);
+  // One texel per row (width_ 1): the column is 0 for every direction, and the azimuth is not needed.
+  const MapCoords m = map_coords(w, rotation_rad_, width_ > 1);
   const Texel& t = texels_[size_t(bin_of(m.uv.y, height_)) * size_t(width_) + size_t(bin_of(m.uv.x, width_))];
   // At the poles the lat-long map squeezes a whole row into a point: the density in solid angle is
   // unbounded there and the direction is never sampled (probability zero), so report 0.
