@@ -191,6 +191,7 @@ Distribution1D::Distribution1D(std::vector<float> f) : func_(std::move(f)) {
     guide_[k] = uint32_t(std::clamp(int(it - cdf_.begin()) - 1, 0, int(n) - 1));
   }
   guide_[g] = uint32_t(n - 1);
+  uniform_pow2_ = g == n && integral_ > 0.0f && std::all_of(func_.begin(), func_.end(), [&](float v) { return v == func_[0]; });
 }
 
 float Distribution1D::sample(float u, float* pdf, int* offset) const {
@@ -201,6 +202,16 @@ float Distribution1D::sample(float u, float* pdf, int* offset) const {
     return 0.0f;
   }
   u = std::clamp(u, 0.0f, kOneMinusEpsilon);
+  if (uniform_pow2_) {
+    // The search below, worked out: with equal weights and n = 2^m, cdf[i] = float(i n f / (n f)) is
+    // i / n exactly, so the bin is o = int(u n) (exact: a power-of-two scale), u - cdf[o] and its
+    // division by the width 1 / n are exact, and o + du = u n is representable, so (o + du) / n is
+    // u; func / integral is f / f = 1.
+    const int o = std::min(int(u * float(n)), n - 1);
+    if (pdf) *pdf = func_[size_t(o)] / integral_;
+    if (offset) *offset = o;
+    return u;
+  }
   // The bin o with cdf[o] <= u < cdf[o + 1]: the first entry above u, minus one. Bins of zero
   // weight have cdf[o] == cdf[o + 1] and are never chosen. With k = int(u G) (exact, G a power of
   // two), k / G <= u < (k + 1) / G, so the first entry above u is entry guide_[k] + 1 or later
