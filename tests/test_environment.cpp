@@ -150,6 +150,43 @@ TEST(Distribution1D, GuideTableFindsTheBinOfTheFullSearch) {
   }
 }
 
+// Equal weights over a power-of-two number of bins (a sky's rows) take a shortcut (u itself, bin
+// int(u n)): it must give what the CDF search gives, bit for bit: the sample, the pdf and the bin,
+// the search written out here as sample() documents it (CDF in double, divided once; the bin's
+// offset rescaled by its width), for u on a grid, at random, and on every bin edge and the floats
+// on either side.
+TEST(Distribution1D, EqualWeightsOfPowerOfTwoSizeSampleAsTheSearch) {
+  Rng rng(9);
+  for (const size_t n : {size_t(1), size_t(2), size_t(256), size_t(2048)})
+    for (const float w : {1.0f, 0.37f, 0.1234567f, 3e4f}) {
+      const Distribution1D d(std::vector<float>(n, w));
+      std::vector<double> acc(n + 1, 0.0);
+      for (size_t i = 0; i < n; ++i) acc[i + 1] = acc[i] + double(w);
+      std::vector<float> cdf(n + 1);
+      for (size_t i = 0; i <= n; ++i) cdf[i] = float(acc[i] / acc[n]);
+      cdf[n] = 1.0f;
+      const float integral = float(acc[n] / double(n));
+      std::vector<float> us;
+      for (int k = 0; k <= 1000; ++k) us.push_back(float(k) / 1000.0f);
+      for (int k = 0; k < 2000; ++k) us.push_back(float(rng.uniform()));
+      for (size_t i = 0; i <= n; ++i) us.insert(us.end(), {cdf[i], std::nextafter(cdf[i], 0.0f), std::nextafter(cdf[i], 1.0f)});
+      for (float u : us) {
+        const float uc = std::clamp(u, 0.0f, 0x1.fffffep-1f);
+        const int o = std::clamp(int(std::upper_bound(cdf.begin(), cdf.end(), uc) - cdf.begin()) - 1, 0, int(n) - 1);
+        float du = uc - cdf[size_t(o)];
+        const float width = cdf[size_t(o) + 1] - cdf[size_t(o)];
+        if (width > 0.0f) du /= width;
+        const float want = std::min((float(o) + du) / float(n), 0x1.fffffep-1f);
+        float pdf = -1.0f;
+        int offset = -1;
+        const float x = d.sample(u, &pdf, &offset);
+        ASSERT_EQ(offset, o) << "n " << n << " w " << w << " u " << u;
+        ASSERT_EQ(x, want) << "n " << n << " w " << w << " u " << u;
+        ASSERT_EQ(pdf, w / integral) << "n " << n << " w " << w << " u " << u;
+      }
+    }
+}
+
 // ---- Distribution2D -------------------------------------------------------------------------
 
 TEST(Distribution2D, HistogramPdfConsistencyAndNormalisation) {

@@ -41,11 +41,16 @@ struct MapCoords {
 // The mapping documented in environment.h. Rotating the map by +a about +y shows the map's
 // (phi_map) at world phi = phi_map - a, so the lookup adds a to the world phi. Rotation about y
 // leaves w.y, hence theta and v, unchanged.
-inline MapCoords map_coords(const Vec3& w, float rotation_rad) {
+// with_u false leaves u at 0 (the azimuth's atan2 skipped): for a table of one column, where
+// bin_of(u, 1) is 0 whatever u is.
+inline MapCoords map_coords(const Vec3& w, float rotation_rad, bool with_u) {
   MapCoords m;
-  const float phi = std::atan2(w.x, -w.z) + rotation_rad;
-  float u = 0.5f + phi * (0.5f / kPi);
-  u -= std::floor(u);  // wrap into [0, 1) (it can still round to 1: bin_of maps that to the last column)
+  float u = 0.0f;
+  if (with_u) {
+    const float phi = std::atan2(w.x, -w.z) + rotation_rad;
+    u = 0.5f + phi * (0.5f / kPi);
+    u -= std::floor(u);  // wrap into [0, 1) (it can still round to 1: bin_of maps that to the last column)
+  }
   const float theta = std::acos(std::clamp(w.y, -1.0f, 1.0f));  // clamp: |w.y| may exceed 1 by rounding
   m.uv = Vec2(u, theta / kPi);
   // sqrt(x^2 + z^2) rather than sin(acos(y)) or sqrt(1 - y^2): no cancellation near the poles.
@@ -186,6 +191,7 @@ Distribution1D::Distribution1D(std::vector<float> f) : func_(std::move(f)) {
     guide_[k] = uint32_t(std::clamp(int(it - cdf_.begin()) - 1, 0, int(n) - 1));
   }
   guide_[g] = uint32_t(n - 1);
+  uniform_pow2_ = g == n && integral_ > 0.0f && std::all_of(func_.begin(), func_.end(), [&](float v) { return v == func_[0]; });
 }
 
 float Distribution1D::sample(float u, float* pdf, int* offset) const {
@@ -196,6 +202,16 @@ float Distribution1D::sample(float u, float* pdf, int* offset) const {
     return 0.0f;
   }
   u = std::clamp(u, 0.0f, kOneMinusEpsilon);
+  if (uniform_pow2_) {
+    // The search below, worked out: with equal weights and n = 2^m, cdf[i] = float(i n f / (n f)) is
+    // i / n exactly, so the bin is o = int(u n) (exact: a power-of-two scale), u - cdf[o] and its
+    // division by the width 1 / n are exact, and o + du = u n is representable, so (o + du) / n is
+    // u; func / integral is f / f = 1.
+    const int o = std::min(int(u * float(n)), n - 1);
+    if (pdf) *pdf = func_[size_t(o)] / integral_;
+    if (offset) *offset = o;
+    return u;
+  }
   // The bin o with cdf[o] <= u < cdf[o + 1]: the first entry above u, minus one. Bins of zero
   // weight have cdf[o] == cdf[o + 1] and are never chosen. With k = int(u G) (exact, G a power of
   // two), k / G <= u < (k + 1) / G, so the first entry above u is entry guide_[k] + 1 or later
@@ -373,7 +389,8 @@ Environment::Lookup Environment::lookup(const Vec3& w) const {
     case Kind::Uniform: return {uniform_, 1.0f / (4.0f * kPi)};
     case Kind::Map: break;
   }
-  const MapCoords m = map_coords(w, rotation_rad_);
+  // One texel per row (width_ 1): the column is 0 for every direction, and the azimuth is not needed.
+  const MapCoords m = map_coords(w, rotation_rad_, width_ > 1);
   const Texel& t = texels_[size_t(bin_of(m.uv.y, height_)) * size_t(width_) + size_t(bin_of(m.uv.x, width_))];
   // At the poles the lat-long map squeezes a whole row into a point: the density in solid angle is
   // unbounded there and the direction is never sampled (probability zero), so report 0.

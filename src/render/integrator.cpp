@@ -26,10 +26,13 @@ float power_heuristic(float pdf_a, float pdf_b) {
 }
 
 struct LightSample {
-  Vec3 wi{0.0f};      // towards the light
-  RGB li{0.0f};       // radiance (area lights) or irradiance-like term (delta lights), before the BRDF
-  float pdf = 0.0f;   // solid angle; 1 for delta lights
-  float dist = 0.0f;  // to the light (where a sphere light is entered; infinity for directional lights)
+  Vec3 wi{0.0f};     // towards the light
+  RGB li{0.0f};      // radiance (area lights) or irradiance-like term (delta lights), before the BRDF
+  float pdf = 0.0f;  // solid angle; 1 for delta lights
+  // To a point light; infinity for directional lights. Not set for sphere lights: where the shadow
+  // ray enters the sphere depends on the ray's origin, and the caller measures it from there
+  // (sphere_entry_distance).
+  float dist = 0.0f;
   bool delta = false;
 };
 
@@ -108,9 +111,7 @@ bool sample_light(const Light& l, const Vec3& p, const Vec2& u, LightSample* s) 
       orthonormal_basis(c.axis, t, b);
       s->wi = cos_t * c.axis + sin_t * (cos_phi * t + sin_phi * b);
       // The radiance is the same everywhere on the light: only the direction and the distance to
-      // where it enters the sphere matter.
-      s->dist = sphere_entry_distance(l, p, s->wi);
-      if (!(s->dist > 0.0f)) return false;
+      // where it enters the sphere (the caller's) matter.
       s->li = l.power;
       s->pdf = 1.0f / (2.0f * kPi<float> * omc);
       s->delta = false;
@@ -405,7 +406,10 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         // of a light seen at 8 degrees ended past the entry point and were shadowed by the light
         // itself: 1.5e-4 of its light lost, in rare outliers that were most of the per-pixel spread
         // of a Lambert sphere's direct light at 64 spp (docs/benchmarks.md, "Cycles").
-        if (sphere) dist = sphere_entry_distance(*sphere, o, wi_world);
+        if (sphere) {
+          dist = sphere_entry_distance(*sphere, o, wi_world);
+          if (!(dist > 0.0f)) return;  // o on or in the light (rounding only: p is outside it)
+        }
         ++*rays;
         const float tmax = std::isinf(dist) ? INFINITY : dist * (1.0f - 1e-3f);
         if (record) record->push_back({Ray{o, wi_world}, tmax, true});

@@ -41,6 +41,13 @@ template <typename T> struct LafortuneLobeT {
   RGBT<T> n{T(10)};
   RGBT<T> scale{T(1)};
 
+  // Whether the three channels share the lobe's shape (cx, cy, cz and n), as a metal's directional
+  // diffuse lobe does (only its scale is coloured): then channel_pdf() is the same for every channel.
+  ANISO_HD bool channels_share_shape() const {
+    return cx.x == cx.y && cx.y == cx.z && cy.x == cy.y && cy.y == cy.z && cz.x == cz.y && cz.y == cz.z && n.x == n.y &&
+           n.y == n.z;
+  }
+
   ANISO_HD RGBT<T> eval(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     const Vec3T<T> p = wi * wo;  // component-wise: the diagonal matrix acts on wi.x wo.x, ...
     RGBT<T> out;

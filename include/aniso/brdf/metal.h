@@ -80,12 +80,22 @@ template <typename T> struct MetalT {
   }
   ANISO_HD T specular_probability(const Vec3T<T>& wo) const { return sampling_weights(wo).specular_probability; }
   ANISO_HD T directional_diffuse_pdf(const SamplingWeights& ws, const Vec3T<T>& wi, const Vec3T<T>& wo) const {
-    T wsum = T(0), p = T(0);
+    // Channels of one shape have one channel pdf (a pow): computed once, at the first channel that
+    // needs it, and summed with the same weights in the same order.
+    const bool one_shape = directional_diffuse.channels_share_shape();
+    T wsum = T(0), p = T(0), shared_pdf = T(-1);
     for (int c = 0; c < 3; ++c) {
       const T w = ws.channel[c];
       if (w > T(0)) {
         wsum += w;
-        p += w * directional_diffuse.channel_pdf(wi, wo, c);
+        T pc;
+        if (one_shape) {
+          if (shared_pdf < T(0)) shared_pdf = directional_diffuse.channel_pdf(wi, wo, c);
+          pc = shared_pdf;
+        } else {
+          pc = directional_diffuse.channel_pdf(wi, wo, c);
+        }
+        p += w * pc;
       }
     }
     return wsum > T(0) ? p / wsum : T(0);

@@ -78,16 +78,13 @@ float Ward_PdfHalf(vec3 h_unit, float ax, float ay) {
   return E_Ward_Vector(h_unit.x, h_unit.y, h_unit.z, ax, ay) * kInvPi / (ax * ay * h_unit.z * h_unit.z * h_unit.z);
 }
 
-// Walter 2005 Eqs. 8-9: phi_h = atan2(ay sin(2 pi u2), ax cos(2 pi u2));
-// theta_h = atan(sqrt(-ln(u1) / (cos^2 phi_h / ax^2 + sin^2 phi_h / ay^2))), with 1 - u1 in (0, 1]
-// so that the logarithm stays finite.
+// Walter 2005 Eqs. 8-9 without the angles, as ward.h: h = (k ax cos(2 pi u2), k ay sin(2 pi u2), 1)
+// normalised, k = sqrt(-ln(1 - u1)) (tan theta_h = k |p|, p the first two components over k), with
+// 1 - u1 in (0, 1] so that the logarithm stays finite.
 vec3 Ward_SampleHalf(vec2 u, float ax, float ay) {
   float two_pi_u = 2.0 * kPi * u.y;
-  float phi = atan(ay * sin(two_pi_u), ax * cos(two_pi_u));
-  float c = cos(phi), s = sin(phi);
-  float theta = atan(sqrt(-log(1.0 - u.x) / (sqr(c / ax) + sqr(s / ay))));
-  float st = sin(theta);
-  return vec3(st * c, st * s, cos(theta));
+  float k = sqrt(-log(1.0 - u.x));
+  return normalize(vec3(k * ax * cos(two_pi_u), k * ay * sin(two_pi_u), 1.0));
 }
 
 // --- The colourless specular lobe, shared by Ward and the metal material ----------------------

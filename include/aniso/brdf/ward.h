@@ -93,23 +93,21 @@ template <typename T> ANISO_INLINE T Ward_PdfHalf(const Vec3T<T>& h_unit, T ax, 
   return E_Ward_Vector(h_unit.x, h_unit.y, h_unit.z, ax, ay) * kInvPi<T> / (ax * ay * h_unit.z * h_unit.z * h_unit.z);
 }
 
-// Walter 2005 Eqs. 8-9: phi_h = atan((ay / ax) tan(2 pi u2)) in the quadrant of 2 pi u2, written as
-// atan2(ay sin, ax cos) which keeps the quadrant without a branch;
-// theta_h = atan(sqrt(-ln(u1) / (cos^2 phi_h / ax^2 + sin^2 phi_h / ay^2))), with 1 - u1 in (0, 1]
-// so that the logarithm stays finite.
+// Walter 2005 Eqs. 8-9: phi_h = atan((ay / ax) tan(2 pi u2)) in the quadrant of 2 pi u2, i.e. the
+// angle of p = (ax cos 2 pi u2, ay sin 2 pi u2); theta_h = atan(sqrt(-ln(u1) / (cos^2 phi_h / ax^2 +
+// sin^2 phi_h / ay^2))), with 1 - u1 in (0, 1] so that the logarithm stays finite. Without the
+// angles: (cos phi_h, sin phi_h) = p / |p|, so the denominator is 1 / |p|^2 and
+// tan theta_h = |p| k, k = sqrt(-ln(1 - u1)); h = cos theta_h (tan theta_h cos phi_h,
+// tan theta_h sin phi_h, 1) = (k p, 1) normalised. The same function as the angle form, one sincos
+// and one log instead of two inverse and three forward trigonometric calls.
 template <typename T> ANISO_INLINE Vec3T<T> Ward_SampleHalf(const Vec2T<T>& u, T ax, T ay) {
-  using std::atan;
-  using std::atan2;
   using std::cos;
   using std::log;
   using std::sin;
   using std::sqrt;
   const T two_pi_u = T(2) * kPi<T> * u.y;
-  const T phi = atan2(ay * sin(two_pi_u), ax * cos(two_pi_u));
-  const T c = cos(phi), s = sin(phi);
-  const T theta = atan(sqrt(-log(T(1) - u.x) / (sqr(c / ax) + sqr(s / ay))));
-  const T st = sin(theta);
-  return Vec3T<T>(st * c, st * s, cos(theta));
+  const T k = sqrt(-log(T(1) - u.x));
+  return glm::normalize(Vec3T<T>(k * ax * cos(two_pi_u), k * ay * sin(two_pi_u), T(1)));
 }
 
 // --- The colourless specular lobe, shared by WardT and the metal material ---------------------

@@ -54,6 +54,9 @@ class Distribution1D {
   // is exact and u in [k / G, (k + 1) / G) has its bin in [guide_[k], guide_[k + 1]]).
   std::vector<uint32_t> guide_;
   float integral_ = 0.0f;
+  // Every weight the same and positive, n a power of two: the CDF entries are i / n exactly, and
+  // the search's result (o + du) / n is u itself, bin int(u n) (a sky's rows, constant in u).
+  bool uniform_pow2_ = false;
 };
 
 // Piecewise-constant 2D distribution over [0, 1)^2: marginal in v (rows), conditional in u.
