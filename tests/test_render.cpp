@@ -468,13 +468,14 @@ TEST(RenderDeterminism, SameImageForAnyThreadCount) {
   const Image a = render_json(j, 42, 1), b = render_json(j, 42, 2), c = render_json(j, 43, 2);
   EXPECT_EQ(a.rgb, b.rgb);
   EXPECT_NE(a.rgb, c.rgb);
-  // Also with one light chosen by power per vertex (six sphere lights and the sky: "auto" picks
-  // by power) and with independent samples.
+  // Also with one light chosen by power per vertex (six sphere lights and the sky) and with
+  // independent samples.
   json lights = json::array();
   for (int i = 0; i < 6; ++i)
     lights.push_back(
         {{"type", "sphere"}, {"center", {3.0 * std::cos(i), 2.0, 3.0 * std::sin(i)}}, {"radius", 0.3}, {"radiance", 5.0 + i}});
   j["lights"] = lights;
+  j["integrator"]["light_selection"] = "power";
   const Image d = render_json(j, 42, 1), e = render_json(j, 42, 2);
   EXPECT_EQ(d.rgb, e.rgb);
   j["integrator"]["sampler"] = "independent";
@@ -704,9 +705,10 @@ TEST(RenderLights, OneLightChosenByPowerMatchesTheSumOverAllLights) {
       ref[size_t(y * W + x)] = kd / M_PI * acc / 16;
     }
   // Selection probabilities are in proportion to power (integrator.h's table): "auto" picks one
-  // light by power with this many candidates.
+  // light by power with this many candidates (10, over kAutoAllCandidates).
   {
     const Scene sc = scene_from(j);
+    ASSERT_GT(sc.lights.size() + 1, kAutoAllCandidates);
     SceneGeometry geo(sc);
     PathTracer pt(sc, geo);
     const double p0 = pt.light_probability(0), p2 = pt.light_probability(2);  // spheres 0 and 1
@@ -743,7 +745,7 @@ TEST(RenderLights, OneLightChosenByPowerMatchesTheSumOverAllLights) {
 
 // Many sphere lights of different power and a sky (seven candidates): the three estimators agree
 // in expectation (z-test over seeds, as RenderEstimators above), with one light chosen per vertex
-// by power ("auto" with seven candidates), and with every light sampled ("all").
+// by power, and with every light sampled ("all").
 TEST(RenderLights, EstimatorsAgreeWithManyLightsAndAnEnvironment) {
   json base = sphere_scene({{"model", "ward"}, {"kd", 0.3}, {"ks", 0.4}, {"alpha_x", 0.1}, {"alpha_y", 0.3}}, 16, 16);
   base["environment"] = {{"type", "sky"}, {"zenith", 0.3}, {"horizon", 0.6}, {"ground", 0.1}, {"resolution", 64}};
@@ -762,7 +764,7 @@ TEST(RenderLights, EstimatorsAgreeWithManyLightsAndAnEnvironment) {
   for (const char* strategy : {"mis", "bsdf", "light", "mis/all"}) {
     json j = base;
     j["integrator"]["strategy"] = std::string(strategy) == "mis/all" ? "mis" : strategy;
-    if (std::string(strategy) == "mis/all") j["integrator"]["light_selection"] = "all";
+    j["integrator"]["light_selection"] = std::string(strategy) == "mis/all" ? "all" : "power";
     std::vector<double> means;
     for (int s = 0; s < seeds; ++s) {
       const Image img = render_json(j, uint64_t(300 + s));

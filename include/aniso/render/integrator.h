@@ -21,7 +21,7 @@
 // "auto" (default): all when there are at most kAutoAllCandidates candidates, else power. Why:
 // with few lights a highlight lit by one of them loses a share of its samples to the others
 // under power selection. Measured at equal time (docs/benchmarks.md, "Light selection"), "all"
-// wins with the gallery's three candidates and "power" from seven on.
+// wins with the gallery's three candidates and with seven, "power" from thirteen on.
 //
 // Environment. A constant or nearly constant environment (Environment::nearly_constant: every
 // channel within 2% over the sphere) is not a candidate for next-event estimation under the mis

@@ -46,7 +46,9 @@ void resize_film(Film& film, int width, int height);
 // at every vertex, or (auto, the default) every emitter when there are at most
 // kAutoAllCandidates of them (lights plus the environment), one by power otherwise.
 enum class LightSelection { Auto, Power, All };
-inline constexpr size_t kAutoAllCandidates = 4;
+// Measured at equal time (docs/benchmarks.md, "Light selection"): "all" wins at 3 and 7
+// candidates, "power" at 13 and more.
+inline constexpr size_t kAutoAllCandidates = 8;
 
 struct IntegratorSettings {
   int max_depth = 8;  // path vertices after the camera (1 = direct lighting only)
