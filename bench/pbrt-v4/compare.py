@@ -217,12 +217,17 @@ def print_row(name, what, images, key, env_radiance):
 
 def picture(rows, path, key="pbrt", label="pbrt-v4"):
     """One row per case: the renderer (images[key], labelled label) on the file, aniso on the file,
-    aniso on the source material, and 4 |renderer - aniso file| (exposure 1, clamp, sRGB)."""
+    aniso on the source material, and 4 |renderer - aniso file| (exposure 1, clamp, sRGB). Where
+    every case's file is its source (the `export:` and `lambert` cases render the source material
+    itself: images["file"] is images["src"]), the two aniso columns would be the same picture and
+    one is shown."""
     from PIL import Image, ImageDraw
 
+    same = all(name.startswith("export:") or name.startswith("lambert") for name, _ in rows)
+    labels = (label, "aniso: source", "4 |diff|") if same else (label, "aniso: file", "aniso: source", "4 |diff|")
     tiles = []
     for name, im in rows:
-        row = [im[key], im["file"], im["src"], 4 * np.abs(im[key] - im["file"])]
+        row = [im[key], im["file"]] + ([] if same else [im["src"]]) + [4 * np.abs(im[key] - im["file"])]
         tiles.append(np.concatenate(row, axis=1))
     img = np.concatenate(tiles, axis=0)
     img = np.clip(img, 0, 1)
@@ -231,8 +236,7 @@ def picture(rows, path, key="pbrt", label="pbrt-v4"):
     d = ImageDraw.Draw(pil)
     size = rows[0][1][key].shape[0]
     for r, (name, _) in enumerate(rows):
-        for c, text in enumerate((label, "aniso: file" if "export:" not in name else "aniso: source",
-                                  "aniso: source", "4 |diff|")):
+        for c, text in enumerate(labels):
             d.text((c * size + 3, r * size + 2), text, fill=(255, 255, 0))
         d.text((3, (r + 1) * size - 12), name, fill=(255, 255, 0))
     pil.save(path)
