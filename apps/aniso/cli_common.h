@@ -16,6 +16,9 @@ namespace aniso {
 // A number as the scripting commands print it: 9 significant digits, never "-0".
 std::string num(double x);
 
+// The help text of every --material option: the forms io/materials.h's load_material reads.
+inline constexpr const char* kMaterialHelp = "preset name, JSON file, inline JSON object, MERL .binary or RGL .bsdf file";
+
 // Every write to stdout goes through here: a short write (a full disk, a closed pipe) is an error
 // with a message and exit 1, never a silent exit 0 (docs/cli.md, "Exit status").
 void write_stdout(std::string_view text);

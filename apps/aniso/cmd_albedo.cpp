@@ -38,7 +38,7 @@ void add_albedo_command(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   auto* albedo = app.add_subcommand("albedo", "directional albedo 'r g b' for the viewing direction (theta, phi)");
-  albedo->add_option("--material,-m", a->material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
+  albedo->add_option("--material,-m", a->material, kMaterialHelp)->required();
   albedo->add_option("--theta-deg", a->theta, "viewing angle from the normal; 90 is the horizon (albedo 0)")
       ->required()
       ->check(finite_range(0.0, 90.0));

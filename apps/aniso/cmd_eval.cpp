@@ -164,7 +164,7 @@ void add_eval_command(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   auto* eval = app.add_subcommand("eval", "read 'wi.x wi.y wi.z wo.x wo.y wo.z' lines on stdin, write 'f_r f_g f_b pdf'");
-  eval->add_option("--material,-m", a->material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
+  eval->add_option("--material,-m", a->material, kMaterialHelp)->required();
   eval->add_flag("--angles", a->angles,
                  "input lines are 'theta_i phi_i theta_o phi_o' in degrees (theta from the normal, phi from the tangent)");
   eval->callback([a] { run_command([&] { return cmd_eval(a->material, a->angles); }); });

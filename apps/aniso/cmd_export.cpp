@@ -31,7 +31,7 @@ void add_export_commands(CLI::App& app) {
   auto* glsl = app.add_subcommand("export-glsl",
                                   "write the material as one self-contained GLSL source (aniso_f, aniso_pdf, "
                                   "aniso_sample, aniso_f_world)");
-  glsl->add_option("--material,-m", args->material, "preset name or JSON file")->required();
+  glsl->add_option("--material,-m", args->material, kMaterialHelp)->required();
   glsl->add_option("-o,--output", args->output, "output file (default: stdout)");
   glsl->add_flag("--full", args->full, "the whole GLSL library, not only the functions the material uses");
   glsl->callback([args] {
@@ -39,7 +39,7 @@ void add_export_commands(CLI::App& app) {
         [&] { write_atomically(args->output, gl::export_glsl(load_checked(args->material), args->material, args->full)); });
   });
   auto* brdf = app.add_subcommand("export-brdf", "write the material as a Disney BRDF Explorer .brdf file");
-  brdf->add_option("--material,-m", args->material, "preset name or JSON file")->required();
+  brdf->add_option("--material,-m", args->material, kMaterialHelp)->required();
   brdf->add_option("-o,--output", args->output, "output file (default: stdout)");
   brdf->callback([args] {
     run_command([&] { write_atomically(args->output, gl::export_brdf(load_checked(args->material), args->material)); });

@@ -110,7 +110,7 @@ void run_export(const ExportArgs& a) {
   if (!a.scene.empty() && a.object.empty()) throw InputError("--scene needs --object NAME|INDEX (the object to export)");
   if (a.scene.empty() && !a.object.empty()) throw InputError("--object needs --scene FILE");
   if (a.material.empty() && a.scene.empty())
-    throw InputError("--material is required (a preset name, a JSON file or inline JSON), or --scene with --object");
+    throw InputError(fmt::format("--material is required ({}), or --scene with --object", kMaterialHelp));
   if (info->target == Target::Gltf && (a.output.empty() || a.output == "-"))
     throw InputError("--to gltf writes two files (.gltf and .bin): give -o FILE.gltf");
   ExportOptions o;
@@ -177,7 +177,7 @@ void add_export_target_command(CLI::App& app) {
                                  "write the material for a renderer: blender, mitsuba3, pbrt-v4, materialx, "
                                  "openpbr, gltf (docs/export.md)");
   cmd->add_option("--to", a->to, "target: blender | mitsuba3 | pbrt-v4 | materialx | openpbr | gltf");
-  cmd->add_option("--material,-m", a->material, "preset name, JSON file or inline JSON");
+  cmd->add_option("--material,-m", a->material, kMaterialHelp);
   cmd->add_option("--scene", a->scene,
                   "a scene file (docs/scenes.md): export the material of --object, its tangent angle_deg composed with "
                   "the material's rotation_deg");

@@ -53,9 +53,10 @@ int cmd_presets(const std::string& show, bool show_given) {
 void add_presets_command(CLI::App& app) {
   auto show = std::make_shared<std::string>();
   auto* presets_cmd = app.add_subcommand("presets", "list the named materials");
-  auto* show_opt = presets_cmd->add_option(
-      "--show", *show,
-      "print one preset as resolved (every key, defaults filled in); for a .binary file, also name the MERL material it is");
+  auto* show_opt =
+      presets_cmd->add_option("--show", *show,
+                              "print one preset as resolved (every key, defaults filled in); for a MERL .binary file also the "
+                              "MERL material it is, for an RGL .bsdf file its fields, grids and description");
   presets_cmd->callback([show, show_opt] { run_command([&] { return cmd_presets(*show, show_opt->count() > 0); }); });
 }
 

@@ -267,7 +267,7 @@ void add_render_command(CLI::App& app) {
                          "output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance); default aniso-gallery.png, "
                          "aniso-preview.png or <scene>.png");
   render_cmd->add_option("--material,-m", ra->material,
-                         "render the preview scene with this material (preset, JSON file or inline JSON)");
+                         std::string("render the preview scene with this material: ") + kMaterialHelp);
   render_cmd->add_option("--spp", ra->spp, "samples per pixel (default: the scene's; the gallery's 64)")
       ->transform(whole_range(1, 1 << 20));
   render_cmd

@@ -23,7 +23,7 @@ void add_rgl_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("export-rgl",
                                  "write the material as an RGL tensor file (.bsdf) for pbrt-v4 "
                                  "(Material \"measured\") and Mitsuba 3 (<bsdf type=\"measured\">)");
-  cmd->add_option("--material,-m", a->material, "preset name, JSON file or measured file")->required();
+  cmd->add_option("--material,-m", a->material, kMaterialHelp)->required();
   cmd->add_option("-o,--output", a->output, "output .bsdf file")->required();
   auto* spec = cmd->add_flag("--spectral", a->spectral, "spectra + wavelengths (default; pbrt-v4, spectral Mitsuba variants)");
   cmd->add_flag("--rgb", a->rgb, "an rgb table, no wavelengths (Mitsuba's RGB variants)")->excludes(spec);

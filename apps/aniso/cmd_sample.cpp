@@ -57,7 +57,7 @@ void add_sample_command(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   auto* sample = app.add_subcommand("sample", "write N lines 'wi.x wi.y wi.z weight_r weight_g weight_b pdf'");
-  sample->add_option("--material,-m", a->material, "preset name, JSON file, MERL .binary file or inline JSON object")->required();
+  sample->add_option("--material,-m", a->material, kMaterialHelp)->required();
   sample->add_option("--wo", a->wo, "viewing direction x y z (local frame; normalised)")
       ->required()
       ->expected(3)

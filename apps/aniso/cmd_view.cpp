@@ -16,7 +16,7 @@ void add_view_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("view",
                                      "the interactive explorer: sliders, lit sphere and object, polar and 3D lobe plots, albedo, "
                                      "A/B compare, path-traced preview");
-  cmd->add_option("--material,-m", o->material, "material A: preset name, JSON file, MERL .binary file or inline JSON object");
+  cmd->add_option("--material,-m", o->material, std::string("material A: ") + kMaterialHelp);
   cmd->add_option("--material-b", o->material_b, "material B of the A/B comparison (same forms)");
   cmd->add_option("--scene", o->scene,
                   "scene file (docs/scenes.md): the path-traced preview renders it, material A on its first object");
