@@ -34,6 +34,15 @@ template <typename T> ANISO_INLINE T Lafortune_Lobe(T base, T n, T scale) {
   return base > T(0) && scale > T(0) ? exp(n * log(base) + log(scale)) : T(0);
 }
 
+// Lafortune_Lobe of a base > 0 whose n log(base) is given: for channels that share base and n
+// (LafortuneLobeT::channels_share_shape), one log for the three. The same operations on the same
+// values as Lafortune_Lobe(base, n, scale), so the same result bit for bit.
+template <typename T> ANISO_INLINE T Lafortune_LobeOfLog(T n_log_base, T scale) {
+  using std::exp;
+  using std::log;
+  return scale > T(0) ? exp(n_log_base + log(scale)) : T(0);
+}
+
 template <typename T> struct LafortuneLobeT {
   RGBT<T> cx{T(-1)};
   RGBT<T> cy{T(-1)};
@@ -49,8 +58,17 @@ template <typename T> struct LafortuneLobeT {
   }
 
   ANISO_HD RGBT<T> eval(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    using std::log;
     const Vec3T<T> p = wi * wo;  // component-wise: the diagonal matrix acts on wi.x wo.x, ...
     RGBT<T> out;
+    if (channels_share_shape()) {
+      // One base and one log(base) for the three channels (each channel's base is this one).
+      const T base = cx.x * p.x + cy.x * p.y + cz.x * p.z;
+      if (!(base > T(0))) return RGBT<T>(T(0));
+      const T n_log_base = n.x * log(base);
+      for (int c = 0; c < 3; ++c) out[c] = Lafortune_LobeOfLog(n_log_base, scale[c]);
+      return out;
+    }
     for (int c = 0; c < 3; ++c) {
       out[c] = Lafortune_Lobe(cx[c] * p.x + cy[c] * p.y + cz[c] * p.z, n[c], scale[c]);
     }
@@ -71,6 +89,25 @@ template <typename T> struct LafortuneLobeT {
     if (!(len > T(0)) || !(a.z > T(0))) return T(0);
     // scale |a|^n through Lafortune_Lobe: |a| <= max|C|, so the same bound keeps it finite.
     return Lafortune_Lobe(len, n[c], scale[c]) * (a.z / len) * T(2) * kPi<T> / ((n[c] + T(1)) * T(3));
+  }
+
+  // channel_weight(wo, c) for the three channels, with one log(|a|) where they share the shape
+  // (then |a|, a.z and n are the same for each): the same values bit for bit.
+  ANISO_HD void channel_weights(const Vec3T<T>& wo, T out[3]) const {
+    using std::log;
+    using std::sqrt;
+    if (!channels_share_shape()) {
+      for (int c = 0; c < 3; ++c) out[c] = channel_weight(wo, c);
+      return;
+    }
+    const Vec3T<T> a = axis(wo, 0);
+    const T len = sqrt(glm::dot(a, a));
+    if (!(len > T(0)) || !(a.z > T(0))) {
+      out[0] = out[1] = out[2] = T(0);
+      return;
+    }
+    const T n_log_len = n.x * log(len), cos_axis = a.z / len, denom = (n.x + T(1)) * T(3);
+    for (int c = 0; c < 3; ++c) out[c] = Lafortune_LobeOfLog(n_log_len, scale[c]) * cos_axis * T(2) * kPi<T> / denom;
   }
 
   ANISO_HD T channel_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, int c) const {
@@ -108,8 +145,10 @@ template <typename T> struct LafortuneT {
   ANISO_HD SamplingWeights sampling_weights(const Vec3T<T>& wo) const {
     SamplingWeights w;
     w.lobes_total = T(0);
-    for (int i = 0; i < lobe_count; ++i)
-      for (int c = 0; c < 3; ++c) w.lobes_total += (w.lobe[i][c] = lobes[i].channel_weight(wo, c));
+    for (int i = 0; i < lobe_count; ++i) {
+      lobes[i].channel_weights(wo, w.lobe[i]);
+      for (int c = 0; c < 3; ++c) w.lobes_total += w.lobe[i][c];
+    }
     const T cos_w = average(rho_d) + T(kDefensiveShare) * w.lobes_total;
     w.cosine = cos_w > T(0) || w.lobes_total > T(0) ? cos_w : T(1);
     return w;

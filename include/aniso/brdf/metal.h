@@ -73,8 +73,10 @@ template <typename T> struct MetalT {
   ANISO_HD SamplingWeights sampling_weights(const Vec3T<T>& wo) const {
     SamplingWeights w;
     const T s = average(specular_weight * F_Conductor(wo.z, eta, k));
-    if (has_directional_diffuse)
-      for (int c = 0; c < 3; ++c) w.channel_total += (w.channel[c] = directional_diffuse.channel_weight(wo, c));
+    if (has_directional_diffuse) {
+      directional_diffuse.channel_weights(wo, w.channel);
+      for (int c = 0; c < 3; ++c) w.channel_total += w.channel[c];
+    }
     w.specular_probability = s + w.channel_total > T(0) ? s / (s + w.channel_total) : T(1);
     return w;
   }
