@@ -28,19 +28,29 @@ inline constexpr int kLafortuneMaxLobes = 8;
 // 0 * inf = NaN. In log space the exponent is at most ln(1e30) = 69, so the result is finite for
 // every material the reader accepts, in float and double. A scale of 0 (or one that rounds to 0 in
 // float) switches the lobe off.
-template <typename T> ANISO_INLINE T Lafortune_Lobe(T base, T n, T scale) {
-  using std::exp;
+// A small integer n (a metal's directional diffuse lobe: n = 3 or 4 in the presets) takes
+// base^n by multiplication (pow_small_int) where that power is a normal, finite number: then
+// base^n scale is the bounded product above, finite, and within rounding of the exp-log form.
+// The power is computed once for channels that share base and n (Lafortune_LobeOfPower).
+template <typename T> struct LafortunePowerT {
+  T power;       // base^n by multiplication, or -1: use n_log_base
+  T n_log_base;  // n log(base), where power is -1
+};
+template <typename T> ANISO_INLINE LafortunePowerT<T> Lafortune_Power(T base, T n) {
   using std::log;
-  return base > T(0) && scale > T(0) ? exp(n * log(base) + log(scale)) : T(0);
+  const T p = pow_small_int(base, n);
+  return {p, p >= T(0) ? T(0) : n * log(base)};
 }
-
-// Lafortune_Lobe of a base > 0 whose n log(base) is given: for channels that share base and n
-// (LafortuneLobeT::channels_share_shape), one log for the three. The same operations on the same
-// values as Lafortune_Lobe(base, n, scale), so the same result bit for bit.
-template <typename T> ANISO_INLINE T Lafortune_LobeOfLog(T n_log_base, T scale) {
+// The lobe of a base > 0 whose power is given; the same value bit for bit as Lafortune_Lobe of
+// that base.
+template <typename T> ANISO_INLINE T Lafortune_LobeOfPower(const LafortunePowerT<T>& p, T scale) {
   using std::exp;
   using std::log;
-  return scale > T(0) ? exp(n_log_base + log(scale)) : T(0);
+  if (!(scale > T(0))) return T(0);
+  return p.power >= T(0) ? p.power * scale : exp(p.n_log_base + log(scale));
+}
+template <typename T> ANISO_INLINE T Lafortune_Lobe(T base, T n, T scale) {
+  return base > T(0) && scale > T(0) ? Lafortune_LobeOfPower(Lafortune_Power(base, n), scale) : T(0);
 }
 
 template <typename T> struct LafortuneLobeT {
@@ -58,15 +68,14 @@ template <typename T> struct LafortuneLobeT {
   }
 
   ANISO_HD RGBT<T> eval(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
-    using std::log;
     const Vec3T<T> p = wi * wo;  // component-wise: the diagonal matrix acts on wi.x wo.x, ...
     RGBT<T> out;
     if (channels_share_shape()) {
-      // One base and one log(base) for the three channels (each channel's base is this one).
+      // One base and one power of it for the three channels (each channel's base is this one).
       const T base = cx.x * p.x + cy.x * p.y + cz.x * p.z;
       if (!(base > T(0))) return RGBT<T>(T(0));
-      const T n_log_base = n.x * log(base);
-      for (int c = 0; c < 3; ++c) out[c] = Lafortune_LobeOfLog(n_log_base, scale[c]);
+      const LafortunePowerT<T> power = Lafortune_Power(base, n.x);
+      for (int c = 0; c < 3; ++c) out[c] = Lafortune_LobeOfPower(power, scale[c]);
       return out;
     }
     for (int c = 0; c < 3; ++c) {
@@ -91,10 +100,9 @@ template <typename T> struct LafortuneLobeT {
     return Lafortune_Lobe(len, n[c], scale[c]) * (a.z / len) * T(2) * kPi<T> / ((n[c] + T(1)) * T(3));
   }
 
-  // channel_weight(wo, c) for the three channels, with one log(|a|) where they share the shape
+  // channel_weight(wo, c) for the three channels, with one power of |a| where they share the shape
   // (then |a|, a.z and n are the same for each): the same values bit for bit.
   ANISO_HD void channel_weights(const Vec3T<T>& wo, T out[3]) const {
-    using std::log;
     using std::sqrt;
     if (!channels_share_shape()) {
       for (int c = 0; c < 3; ++c) out[c] = channel_weight(wo, c);
@@ -106,8 +114,9 @@ template <typename T> struct LafortuneLobeT {
       out[0] = out[1] = out[2] = T(0);
       return;
     }
-    const T n_log_len = n.x * log(len), cos_axis = a.z / len, denom = (n.x + T(1)) * T(3);
-    for (int c = 0; c < 3; ++c) out[c] = Lafortune_LobeOfLog(n_log_len, scale[c]) * cos_axis * T(2) * kPi<T> / denom;
+    const LafortunePowerT<T> power = Lafortune_Power(len, n.x);
+    const T cos_axis = a.z / len, denom = (n.x + T(1)) * T(3);
+    for (int c = 0; c < 3; ++c) out[c] = Lafortune_LobeOfPower(power, scale[c]) * cos_axis * T(2) * kPi<T> / denom;
   }
 
   ANISO_HD T channel_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, int c) const {
