@@ -196,6 +196,61 @@ TEST(LafortuneOverflow, AcceptedMaterialsAreFinite) {
   EXPECT_NEAR(m.f(Vec3d(0, 0, 1), Vec3d(0, 0, 1)).x / 1e-226, 1.0, 1e-12);
 }
 
+// pow_small_int (math.h): an integer n in [1, 16] gives x^n within about n ulps of pow where the
+// power is a normal, finite number; anything else gives -1 (the callers' pow or exp-log path).
+template <typename T> void check_small_int_powers() {
+  Rng rng(23);
+  const T eps = std::numeric_limits<T>::epsilon();
+  for (int n = 1; n <= 16; ++n)
+    for (int i = 0; i < 200; ++i) {
+      const T x = T(2.0 * rng.uniform() + 1e-3);
+      const T r = pow_small_int(x, T(n)), want = std::pow(x, T(n));
+      if (want >= std::numeric_limits<T>::min()) {
+        ASSERT_GE(r, T(0)) << x << "^" << n;
+        ASSERT_NEAR(double(r) / double(want), 1.0, double(n) * 2.0 * double(eps)) << x << "^" << n;
+      } else {
+        ASSERT_EQ(r, T(-1)) << x << "^" << n;
+      }
+    }
+  for (const T n : {T(0), T(0.5), T(2.5), T(17), T(-2), T(1e9)}) EXPECT_EQ(pow_small_int(T(0.7), n), T(-1)) << n;
+  EXPECT_EQ(pow_small_int(std::numeric_limits<T>::max() / T(4), T(2)), T(-1));             // overflows
+  EXPECT_EQ(pow_small_int(std::sqrt(std::numeric_limits<T>::min()) / T(4), T(2)), T(-1));  // below the normal range
+}
+TEST(SmallIntegerPowers, CloseToPowAndFallBackOutsideTheirRange) {
+  check_small_int_powers<float>();
+  check_small_int_powers<double>();
+}
+
+// A lobe whose channels share their shape (a metal's directional diffuse lobe) takes one power for
+// the three: each channel the same bit for bit as Lafortune_Lobe of its own, and within rounding of
+// the exp-log form, for an integer n (by multiplication) and another (exp-log).
+TEST(SmallIntegerPowers, SharedLafortuneChannelsAsEachAlone) {
+  Rng rng(29);
+  for (const float n : {4.0f, 3.0f, 4.5f}) {
+    LafortuneLobeT<float> lobe;
+    lobe.cx = lobe.cy = RGB(-0.8f);
+    lobe.cz = RGB(1.0f);
+    lobe.n = RGB(n);
+    lobe.scale = RGB(0.3f, 0.2f, 0.0f);  // a channel switched off as well
+    ASSERT_TRUE(lobe.channels_share_shape());
+    for (int i = 0; i < 500; ++i) {
+      const Vec3 wi(random_upper<double>(rng)), wo(random_upper<double>(rng));
+      const RGB f = lobe.eval(wi, wo);
+      float w[3];
+      lobe.channel_weights(wo, w);
+      const Vec3 p = wi * wo;
+      const float base = -0.8f * p.x + -0.8f * p.y + p.z;
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_EQ(f[c], Lafortune_Lobe(base, n, lobe.scale[c])) << n;
+        ASSERT_EQ(w[c], lobe.channel_weight(wo, c)) << n;
+        const double exact =
+            base > 0.0f && lobe.scale[c] > 0.0f ? double(lobe.scale[c]) * std::pow(double(base), double(n)) : 0.0;
+        ASSERT_NEAR(f[c], exact, 1e-5 * exact + 1e-30) << n;
+      }
+    }
+  }
+}
+
 // eta = 1, k = 0 (index matched to air): F is exactly 0, never a negative rounding residue.
 TEST(FresnelConductor, IndexMatchedToAirIsZeroNotNegative) {
   for (double c = 0.0; c <= 1.0; c += 1.0 / 64) {

@@ -27,11 +27,17 @@ template <typename T> ANISO_INLINE RGBT<T> F_Schlick(const RGBT<T>& f0, T cos_th
 //   R_s = (a^2 + b^2 + cos^2 - 2 a cos) / (a^2 + b^2 + cos^2 + 2 a cos)
 //   R_p = R_s (cos^2 (a^2 + b^2) + sin^4 - 2 a cos sin^2) / (cos^2 (a^2 + b^2) + sin^4 + 2 a cos sin^2)
 // F = (R_s + R_p) / 2. At cos = 0 both are 1 (grazing incidence reflects everything).
-template <typename T> ANISO_INLINE T F_Conductor(T cos_theta, T eta, T k) {
-  using std::sqrt;
+// The terms of F_Conductor that depend on the angle alone, shared by the three channels of an RGB
+// call (the same values as each channel computing its own).
+template <typename T> struct FresnelAngleT { T c, cos2, sin2; };
+template <typename T> ANISO_INLINE FresnelAngleT<T> Fresnel_Angle(T cos_theta) {
   const T c = clamp01(cos_theta);
   const T cos2 = c * c;
-  const T sin2 = T(1) - cos2;
+  return {c, cos2, T(1) - cos2};
+}
+template <typename T> ANISO_INLINE T F_Conductor(const FresnelAngleT<T>& angle, T eta, T k) {
+  using std::sqrt;
+  const T c = angle.c, cos2 = angle.cos2, sin2 = angle.sin2;
   const T eta2 = eta * eta, k2 = k * k;
   const T t0 = eta2 - k2 - sin2;
   const T a2_plus_b2 = sqrt(t0 * t0 + T(4) * eta2 * k2);
@@ -48,8 +54,13 @@ template <typename T> ANISO_INLINE T F_Conductor(T cos_theta, T eta, T k) {
   return f > T(0) ? f : T(0);
 }
 
+template <typename T> ANISO_INLINE T F_Conductor(T cos_theta, T eta, T k) {
+  return F_Conductor(Fresnel_Angle(cos_theta), eta, k);
+}
+
 template <typename T> ANISO_INLINE RGBT<T> F_Conductor(T cos_theta, const RGBT<T>& eta, const RGBT<T>& k) {
-  return RGBT<T>(F_Conductor(cos_theta, eta.x, k.x), F_Conductor(cos_theta, eta.y, k.y), F_Conductor(cos_theta, eta.z, k.z));
+  const FresnelAngleT<T> angle = Fresnel_Angle(cos_theta);
+  return RGBT<T>(F_Conductor(angle, eta.x, k.x), F_Conductor(angle, eta.y, k.y), F_Conductor(angle, eta.z, k.z));
 }
 
 }  // namespace aniso

@@ -28,10 +28,29 @@ inline constexpr int kLafortuneMaxLobes = 8;
 // 0 * inf = NaN. In log space the exponent is at most ln(1e30) = 69, so the result is finite for
 // every material the reader accepts, in float and double. A scale of 0 (or one that rounds to 0 in
 // float) switches the lobe off.
-template <typename T> ANISO_INLINE T Lafortune_Lobe(T base, T n, T scale) {
+// A small integer n (a metal's directional diffuse lobe: n = 3 or 4 in the presets) takes
+// base^n by multiplication (pow_small_int) where that power is a normal, finite number: then
+// base^n scale is the bounded product above, finite, and within rounding of the exp-log form.
+// The power is computed once for channels that share base and n (Lafortune_LobeOfPower).
+template <typename T> struct LafortunePowerT {
+  T power;       // base^n by multiplication, or -1: use n_log_base
+  T n_log_base;  // n log(base), where power is -1
+};
+template <typename T> ANISO_INLINE LafortunePowerT<T> Lafortune_Power(T base, T n) {
+  using std::log;
+  const T p = pow_small_int(base, n);
+  return {p, p >= T(0) ? T(0) : n * log(base)};
+}
+// The lobe of a base > 0 whose power is given; the same value bit for bit as Lafortune_Lobe of
+// that base.
+template <typename T> ANISO_INLINE T Lafortune_LobeOfPower(const LafortunePowerT<T>& p, T scale) {
   using std::exp;
   using std::log;
-  return base > T(0) && scale > T(0) ? exp(n * log(base) + log(scale)) : T(0);
+  if (!(scale > T(0))) return T(0);
+  return p.power >= T(0) ? p.power * scale : exp(p.n_log_base + log(scale));
+}
+template <typename T> ANISO_INLINE T Lafortune_Lobe(T base, T n, T scale) {
+  return base > T(0) && scale > T(0) ? Lafortune_LobeOfPower(Lafortune_Power(base, n), scale) : T(0);
 }
 
 template <typename T> struct LafortuneLobeT {
@@ -51,6 +70,14 @@ template <typename T> struct LafortuneLobeT {
   ANISO_HD RGBT<T> eval(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     const Vec3T<T> p = wi * wo;  // component-wise: the diagonal matrix acts on wi.x wo.x, ...
     RGBT<T> out;
+    if (channels_share_shape()) {
+      // One base and one power of it for the three channels (each channel's base is this one).
+      const T base = cx.x * p.x + cy.x * p.y + cz.x * p.z;
+      if (!(base > T(0))) return RGBT<T>(T(0));
+      const LafortunePowerT<T> power = Lafortune_Power(base, n.x);
+      for (int c = 0; c < 3; ++c) out[c] = Lafortune_LobeOfPower(power, scale[c]);
+      return out;
+    }
     for (int c = 0; c < 3; ++c) {
       out[c] = Lafortune_Lobe(cx[c] * p.x + cy[c] * p.y + cz[c] * p.z, n[c], scale[c]);
     }
@@ -71,6 +98,25 @@ template <typename T> struct LafortuneLobeT {
     if (!(len > T(0)) || !(a.z > T(0))) return T(0);
     // scale |a|^n through Lafortune_Lobe: |a| <= max|C|, so the same bound keeps it finite.
     return Lafortune_Lobe(len, n[c], scale[c]) * (a.z / len) * T(2) * kPi<T> / ((n[c] + T(1)) * T(3));
+  }
+
+  // channel_weight(wo, c) for the three channels, with one power of |a| where they share the shape
+  // (then |a|, a.z and n are the same for each): the same values bit for bit.
+  ANISO_HD void channel_weights(const Vec3T<T>& wo, T out[3]) const {
+    using std::sqrt;
+    if (!channels_share_shape()) {
+      for (int c = 0; c < 3; ++c) out[c] = channel_weight(wo, c);
+      return;
+    }
+    const Vec3T<T> a = axis(wo, 0);
+    const T len = sqrt(glm::dot(a, a));
+    if (!(len > T(0)) || !(a.z > T(0))) {
+      out[0] = out[1] = out[2] = T(0);
+      return;
+    }
+    const LafortunePowerT<T> power = Lafortune_Power(len, n.x);
+    const T cos_axis = a.z / len, denom = (n.x + T(1)) * T(3);
+    for (int c = 0; c < 3; ++c) out[c] = Lafortune_LobeOfPower(power, scale[c]) * cos_axis * T(2) * kPi<T> / denom;
   }
 
   ANISO_HD T channel_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, int c) const {
@@ -108,8 +154,10 @@ template <typename T> struct LafortuneT {
   ANISO_HD SamplingWeights sampling_weights(const Vec3T<T>& wo) const {
     SamplingWeights w;
     w.lobes_total = T(0);
-    for (int i = 0; i < lobe_count; ++i)
-      for (int c = 0; c < 3; ++c) w.lobes_total += (w.lobe[i][c] = lobes[i].channel_weight(wo, c));
+    for (int i = 0; i < lobe_count; ++i) {
+      lobes[i].channel_weights(wo, w.lobe[i]);
+      for (int c = 0; c < 3; ++c) w.lobes_total += w.lobe[i][c];
+    }
     const T cos_w = average(rho_d) + T(kDefensiveShare) * w.lobes_total;
     w.cosine = cos_w > T(0) || w.lobes_total > T(0) ? cos_w : T(1);
     return w;

@@ -9,6 +9,8 @@
 // docs/models/metal.md; the RGB eta, k come from measured spectra (docs/metals.md).
 #pragma once
 
+#include <type_traits>
+
 #include "aniso/brdf/ashikhmin_shirley.h"
 #include "aniso/brdf/fresnel.h"
 #include "aniso/brdf/ggx.h"
@@ -55,8 +57,16 @@ template <typename T> struct MetalT {
 
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     if (!same_upper_hemisphere(wi, wo)) return RGBT<T>(T(0));
-    const Vec3T<T> h = glm::normalize(wi + wo);
-    RGBT<T> out = specular_weight * F_Conductor(glm::dot(wi, h), eta, k) * specular(wi, wo);
+    const T spec = specular(wi, wo);
+    RGBT<T> out(T(0));
+    // A specular value of +0 (Ward's exponential rounds to 0 away from the highlight: Ward_Exp)
+    // makes the Fresnel-weighted term +0 whatever F is (F and the weight are finite and >= 0), so
+    // F and its half vector are skipped there: the same sum bit for bit. Not for a derivative
+    // type (the fitter's ceres::Jet), whose zero value may carry a non-zero derivative.
+    if (!std::is_floating_point_v<T> || !(spec == T(0))) {
+      const Vec3T<T> h = glm::normalize(wi + wo);
+      out = specular_weight * F_Conductor(glm::dot(wi, h), eta, k) * spec;
+    }
     if (has_directional_diffuse) out += directional_diffuse.eval(wi, wo);
     return out;
   }
@@ -73,8 +83,10 @@ template <typename T> struct MetalT {
   ANISO_HD SamplingWeights sampling_weights(const Vec3T<T>& wo) const {
     SamplingWeights w;
     const T s = average(specular_weight * F_Conductor(wo.z, eta, k));
-    if (has_directional_diffuse)
-      for (int c = 0; c < 3; ++c) w.channel_total += (w.channel[c] = directional_diffuse.channel_weight(wo, c));
+    if (has_directional_diffuse) {
+      directional_diffuse.channel_weights(wo, w.channel);
+      for (int c = 0; c < 3; ++c) w.channel_total += w.channel[c];
+    }
     w.specular_probability = s + w.channel_total > T(0) ? s / (s + w.channel_total) : T(1);
     return w;
   }

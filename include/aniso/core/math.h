@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
+#include <type_traits>
 
 #include <glm/glm.hpp>
 
@@ -26,6 +28,29 @@ template <typename T> ANISO_INLINE T sqr(T x) { return x * x; }
 template <typename T> ANISO_INLINE T safe_sqrt(T x) {
   using std::sqrt;
   return sqrt(x > T(0) ? x : T(0));
+}
+
+// x^n for x > 0 by repeated squaring where n is an integer in [1, 16] and the result a normal,
+// finite number: at most 7 multiplications in place of a pow (or an exp and a log), each rounding
+// once, so within about n ulps of the exact power (each squaring doubles its factor's relative
+// error). -1 where that does not hold (another n; a power that overflows, or falls below the normal
+// range where the squares lose precision): the caller then takes pow. Floating-point T only: a
+// derivative type (the fitter's ceres::Jet) always gets -1, which keeps its derivative in n.
+template <typename T> ANISO_INLINE T pow_small_int(T x, T n) {
+  if constexpr (std::is_floating_point_v<T>) {
+    if (n >= T(1) && n <= T(16) && n == T(int(n))) {
+      int k = int(n);
+      T r = T(1), b = x;
+      for (;;) {
+        if (k & 1) r *= b;
+        k >>= 1;
+        if (k == 0) break;
+        b *= b;
+      }
+      if (r >= std::numeric_limits<T>::min() && r <= std::numeric_limits<T>::max()) return r;
+    }
+  }
+  return T(-1);
 }
 
 template <typename T> ANISO_INLINE T clamp01(T x) { return x < T(0) ? T(0) : (x > T(1) ? T(1) : x); }

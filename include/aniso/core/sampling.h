@@ -77,9 +77,13 @@ template <typename T> ANISO_INLINE Vec3T<T> sample_cosine_power(const Vec3T<T>& 
   return sin_t * cos(phi) * t + sin_t * sin(phi) * b + cos_t * a;
 }
 
+// (a . w)^n by multiplication where n is a small integer (pow_small_int: the metal's directional
+// diffuse lobe, n = 3 or 4 in the presets), else by pow.
 template <typename T> ANISO_INLINE T cosine_power_pdf(T cos_axis, T n) {
   using std::pow;
-  return cos_axis > T(0) ? (n + T(1)) * kInv2Pi<T> * pow(cos_axis, n) : T(0);
+  if (!(cos_axis > T(0))) return T(0);
+  const T p = pow_small_int(cos_axis, n);
+  return (n + T(1)) * kInv2Pi<T> * (p >= T(0) ? p : pow(cos_axis, n));
 }
 
 }  // namespace aniso
