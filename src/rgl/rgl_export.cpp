@@ -441,7 +441,7 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
   const int N = opt.ndf;
   const int NV = opt.vndf > 0 ? opt.vndf : (iso ? N : 32);  // the vndf grid (below, "vndf")
   // The share of each slice's own f in its warp (warp_slice): 0.8 with the envelope D (measured on
-  // matte-steel, L1 at 80 degrees: 0 -> 12 %, 0.6 -> 4.1 %, 0.8 -> 3.2 %; docs/rgl.md), 0 otherwise.
+  // matte-steel, L1 at 80 degrees: 0 -> 10 %, 0.6 -> 3.7 %, 0.8 -> 3.2 %; docs/rgl.md), 0 otherwise.
   const double f_share = !src.ggx_alpha && opt.d_estimate == ExportOptions::DEstimate::LobeEnvelope ? 0.8 : 0.0;
   // The direction whose VNDF each slice's warp is: wo tilted towards the normal by opt.warp_tilt
   // (warp_slice); an exact GGX D keeps wo's own VNDF.
@@ -663,9 +663,10 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
   // vndf: per incident direction w, the density of visible normals over (u_theta, u_phi),
   // D(m) <w, m>+ / sigma(w) times the Jacobian 2 pi^2 u_theta sin(theta_m) of (u_theta, u_phi) ->
   // solid angle (Dupuy & Jakob 2018, Sec. 4); the readers normalise each slice (sampling.h:
-  // 1404-1416), so the 1 / sigma is left out. (Tried here: a warp half following the slice's own
-  // cosine-weighted f. It did not lower the grazing errors of docs/rgl.md's table, and made the
-  // slices differ more, which the readers' linear blend between theta_i slices pays for.)
+  // 1404-1416), so the 1 / sigma is left out; warp_slice tilts it or mixes in the slice's own f
+  // (docs/rgl.md, step 4: with the lobe mean's D, a warp following f made the slices' colours
+  // differ more, which the readers' linear blend between slices pays for; with the envelope D it
+  // does not).
   // The warp's grid is its own (opt.vndf): the readers build it from the field's shape alone
   // (pbrt-v4 bxdfs.cpp:956-960, Mitsuba 3 measured.cpp:188-196), and since the colour table is made
   // through the warp the readers rebuild, f is exact at every colour node for any warp; the warp
