@@ -196,7 +196,7 @@ void warp_slice(const BrdfSource& src, const PL2D& ndf, bool iso, const Vec3d& w
 }
 
 // The colour a slice at wo would hold, c(u) = Y(f(wi, wo)) cos(theta_i) 4 sigma(wo) / D(m), at the
-// centres of an nc x nc grid of u over the slice's own exact warp (the vndf of wo alone), into
+// centres of an nc x nc grid of u over the slice's own exact warp (warp_slice of wo alone), into
 // out[nc * nc]; returns the sum (the slice's mass, its albedo up to a constant). A slice of the
 // colour table holds c(u) over the warp's square, and the cosine-weighted L1 of f at wo is the
 // plain integral of |c_read(u) - c(u)| du over that square (the warp maps du to D <wo, m> / sigma
