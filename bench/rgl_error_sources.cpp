@@ -9,7 +9,7 @@
 //   grid only:  the readers' f against that blend (the colour grid's bilinear interpolation).
 // Not a ctest: a measurement (about a minute for every material at the default grids).
 //
-//   aniso_rgl_error_sources [--colour N] [--theta-i N] [--phi-i N] [--ndf N] [--vndf N] [--d auto|lobe|retro]
+//   aniso_rgl_error_sources [--colour N] [--theta-i N] [--phi-i N] [--ndf N] [--vndf N] [--d auto|lobe|retro|envelope] [--tilt T]
 //                           [--placement blend|sigma] [--thetas T0 T1 T2 T3 T4] [--only NAME,...]
 //                           [--phi-placement blend|uniform] [--phis P0,P1,... (degrees; default compare_rgl's 0,60,120,210,300)]
 //                           [--decompose] [--material JSON|PRESET]   (one material instead of the table's)
@@ -169,6 +169,8 @@ int run(int argc, char** argv) {
       o.phi_i = std::atoi(value().c_str());
     else if (a == "--ndf")
       o.ndf = std::atoi(value().c_str());
+    else if (a == "--tilt")
+      o.warp_tilt = std::atof(value().c_str());
     else if (a == "--vndf")
       o.vndf = std::atoi(value().c_str());
     else if (a == "--only")
@@ -182,9 +184,10 @@ int run(int argc, char** argv) {
       for (double& t : thetas) t = std::atof(value().c_str());
     else if (a == "--d") {
       const std::string v = value();
-      o.d_estimate = v == "lobe"    ? rgl::ExportOptions::DEstimate::LobeAverage
-                     : v == "retro" ? rgl::ExportOptions::DEstimate::RetroReflection
-                                    : rgl::ExportOptions::DEstimate::Auto;
+      o.d_estimate = v == "lobe"       ? rgl::ExportOptions::DEstimate::LobeAverage
+                     : v == "retro"    ? rgl::ExportOptions::DEstimate::RetroReflection
+                     : v == "envelope" ? rgl::ExportOptions::DEstimate::LobeEnvelope
+                                       : rgl::ExportOptions::DEstimate::Auto;
     } else if (a == "--phi-placement") {
       o.phi_placement =
           value() == "uniform" ? rgl::ExportOptions::PhiPlacement::Uniform : rgl::ExportOptions::PhiPlacement::BlendError;

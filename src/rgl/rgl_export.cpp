@@ -15,6 +15,9 @@ namespace aniso::rgl {
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
+// The tilt of the warps that export_rgl tries with the estimated D (docs/rgl.md, step 4: measured,
+// L1 at 80 degrees, lobe-mean D: anisotropic Ward 6.7 % at 0, 4.8 % at 0.15, 5.1 % at 0.3).
+constexpr double kAutoTilt = 0.15;
 
 double luminance_of(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }  // Rec. 709 Y
 
@@ -160,17 +163,49 @@ void vndf_slice(const PL2D& ndf, bool iso, const Vec3d& w, double phi_w, int N, 
     }
 }
 
+// The warp of one incident direction wo on the N x N (u_theta, u_phi) grid: the VNDF of the file's
+// D (vndf_slice), mixed, with weight f_share, with the density of the slice's own f: Y(f(wi, wo))
+// cos(theta_i) |d wi / d m| = Y(f) cos(theta_i) 4 <wo, m> (Walter et al. 2007, Eq. 14), times
+// the same Jacobian 2 pi^2 u_theta sin(theta_m); each part normalised to sum 1 before the mix.
+// Any positive density is a valid warp (the readers build it from the field alone and the colour
+// table is made through it, step 5 of docs/rgl.md): it only decides where the colour nodes lie,
+// and the f share puts them where f cos is, which the common D does not follow at grazing angles.
+void warp_slice(const BrdfSource& src, const PL2D& ndf, bool iso, const Vec3d& wo, double phi_w, int N, double tilt,
+                double f_share, float* out) {
+  vndf_slice(ndf, iso, tilt > 0.0 ? glm::normalize((1.0 - tilt) * wo + tilt * Vec3d(0.0, 0.0, 1.0)) : wo, phi_w, N, out);
+  if (!(f_share > 0.0)) return;
+  const size_t n2 = size_t(N) * N;
+  std::vector<double> g(n2, 0.0);
+  double sum_g = 0.0, sum_v = 0.0;
+  for (int y = 0; y < N; ++y)
+    for (int x = 0; x < N; ++x) {
+      const double ut = node(x, N), up = node(y, N), th = u2theta(ut);
+      const Vec3d m = dir(th, u2phi(up) + (iso ? phi_w : 0.0));
+      const double om = glm::dot(wo, m);
+      const Vec3d wi = 2.0 * om * m - wo;
+      double v = 0.0;
+      if (om > 0.0 && wi.z > 0.0)
+        v = luminance_of(glm::max(src.f(wi, wo), glm::dvec3(0.0))) * wi.z * 4.0 * om * 2.0 * kPiD * kPiD * ut * std::sin(th);
+      if (!std::isfinite(v)) v = 0.0;
+      g[size_t(y) * N + x] = v;
+      sum_g += v;
+      sum_v += out[size_t(y) * N + x];
+    }
+  if (sum_g > 0.0 && sum_v > 0.0)  // f = 0 for this wo: the VNDF alone
+    for (size_t k = 0; k < n2; ++k) out[k] = float((1.0 - f_share) * out[k] / sum_v + f_share * g[k] / sum_g);
+}
+
 // The colour a slice at wo would hold, c(u) = Y(f(wi, wo)) cos(theta_i) 4 sigma(wo) / D(m), at the
-// centres of an nc x nc grid of u over the slice's own exact warp (the vndf of wo alone), into
+// centres of an nc x nc grid of u over the slice's own exact warp (warp_slice of wo alone), into
 // out[nc * nc]; returns the sum (the slice's mass, its albedo up to a constant). A slice of the
 // colour table holds c(u) over the warp's square, and the cosine-weighted L1 of f at wo is the
 // plain integral of |c_read(u) - c(u)| du over that square (the warp maps du to D <wo, m> / sigma
 // dm, and dwi = 4 <wo, m> dm): second differences of c between slices measure the readers' blend error.
-double slice_content(const BrdfSource& src, const PL2D& ndf, const PL2D& sigma, bool iso, int N, double th_o, double ph_o, int nc,
-                     std::vector<float>& scratch, double* out) {
+double slice_content(const BrdfSource& src, const PL2D& ndf, const PL2D& sigma, bool iso, int N, double tilt, double f_share,
+                     double th_o, double ph_o, int nc, std::vector<float>& scratch, double* out) {
   const Vec3d wo = dir(th_o, ph_o);
   scratch.resize(size_t(N) * N);
-  vndf_slice(ndf, iso, wo, ph_o, N, scratch.data());
+  warp_slice(src, ndf, iso, wo, ph_o, N, tilt, f_share, scratch.data());
   PL2DTables warp;
   warp.build(scratch.data(), N, N, {}, true, true);
   const double sig = sigma.evaluate(rgl_theta2u(float(th_o)), rgl_phi2u(float(ph_o)), nullptr);
@@ -201,7 +236,7 @@ double slice_content(const BrdfSource& src, const PL2D& ndf, const PL2D& sigma, 
 // slice's mass (its albedo); the density is mixed with a uniform share `uniform` so that no
 // interval grows without bound where the estimate is small.
 std::vector<float> place_theta_by_blend_error(const BrdfSource& src, const PL2D& ndf, const PL2D& sigma, bool iso, int N,
-                                              double theta_max, int count, double uniform) {
+                                              double tilt, double f_share, double theta_max, int count, double uniform) {
   const int K = 90, nc = 16, nphi = iso ? 1 : 8;
   const size_t per = size_t(nphi) * nc * nc;
   std::vector<double> content(size_t(K) * per, 0.0), mass(size_t(K), 0.0);
@@ -210,8 +245,8 @@ std::vector<float> place_theta_by_blend_error(const BrdfSource& src, const PL2D&
     const double th_o = theta_max * k / (K - 1);
     for (int j = 0; j < nphi; ++j) {
       const double ph_o = iso ? 0.0 : u2phi((j + 0.5) / nphi);
-      mass[size_t(k)] +=
-          slice_content(src, ndf, sigma, iso, N, th_o, ph_o, nc, scratch, content.data() + size_t(k) * per + size_t(j) * nc * nc);
+      mass[size_t(k)] += slice_content(src, ndf, sigma, iso, N, tilt, f_share, th_o, ph_o, nc, scratch,
+                                       content.data() + size_t(k) * per + size_t(j) * nc * nc);
     }
   }
   // sqrt of the relative second difference per step: the error density's square root.
@@ -311,8 +346,8 @@ std::optional<double> mirror_axis(const BrdfSource& src) {
 // material), -pi is added: count + 1 values, so that the slices keep the symmetry of the material.
 // The readers find any increasing grid's interval by bisection (pbrt-v4 util/sampling.h:1468-1477,
 // Mitsuba 3 core/distr_2d.h:264-283): non-uniform azimuths are within the format.
-std::vector<float> place_phi_by_blend_error(const BrdfSource& src, const PL2D& ndf, const PL2D& sigma, int N,
-                                            const std::vector<float>& theta_i, int count, double uniform) {
+std::vector<float> place_phi_by_blend_error(const BrdfSource& src, const PL2D& ndf, const PL2D& sigma, int N, double tilt,
+                                            double f_share, const std::vector<float>& theta_i, int count, double uniform) {
   const int K = 72, nc = 16;
   const double h = 2.0 * kPiD / K;
   std::vector<double> thetas;
@@ -324,8 +359,8 @@ std::vector<float> place_phi_by_blend_error(const BrdfSource& src, const PL2D& n
   for (const double th : thetas) {
     std::vector<double> content(size_t(K) * per, 0.0), mass(size_t(K), 0.0);
     for (int k = 0; k < K; ++k)
-      mass[size_t(k)] =
-          slice_content(src, ndf, sigma, false, N, th, -kPiD + h * k, nc, scratch, content.data() + size_t(k) * per);
+      mass[size_t(k)] = slice_content(src, ndf, sigma, false, N, tilt, f_share, th, -kPiD + h * k, nc, scratch,
+                                      content.data() + size_t(k) * per);
     for (int k = 0; k < K; ++k) {
       const size_t km = size_t((k + K - 1) % K), kp = size_t((k + 1) % K);
       double dd = 0.0;
@@ -405,6 +440,13 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
   const bool iso = is_isotropic(src);
   const int N = opt.ndf;
   const int NV = opt.vndf > 0 ? opt.vndf : (iso ? N : 32);  // the vndf grid (below, "vndf")
+  // The share of each slice's own f in its warp (warp_slice): 0.8 with the envelope D (measured on
+  // matte-steel, L1 at 80 degrees: 0 -> 10 %, 0.6 -> 3.7 %, 0.8 -> 3.2 %; docs/rgl.md), 0 otherwise.
+  const double f_share = !src.ggx_alpha && opt.d_estimate == ExportOptions::DEstimate::LobeEnvelope ? 0.8 : 0.0;
+  // The direction whose VNDF each slice's warp is: wo tilted towards the normal by opt.warp_tilt
+  // (warp_slice); an exact GGX D keeps wo's own VNDF.
+  const double tilt = src.ggx_alpha ? 0.0 : std::max(0.0, opt.warp_tilt);
+  const std::string warp_made = tilt > 0.0 ? fmt::format("; warps tilted {:.2f} towards the normal", tilt) : "";
   // ndf and sigma: [phi rows, theta columns] over (u_phi, u_theta) (pbrt-v4 bxdfs.cpp:950-957:
   // xSize = shape[1] is u_theta, ySize = shape[0] is u_phi). Isotropic: 2 constant rows.
   const int rows = iso ? 2 : N;
@@ -430,6 +472,23 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
     double s = 0.0;
     for (size_t k = 0; k < D.size(); ++k) s += w_quad[k] * D[k] * std::max(0.0, glm::dot(w, m_dir[k]));
     return s;
+  };
+  // The estimates from f (LobeAverage, LobeEnvelope): isotropic, one value per theta_m (the mean
+  // over the row); then normalised to integral of D cos(theta_m) = 1 (the projected area of the
+  // macrosurface), or uniform when f = 0 wherever it was looked at.
+  auto row_mean_and_normalise = [&]() {
+    if (iso)
+      for (int i = 0; i < N; ++i) {
+        double sum = 0.0;
+        for (int j = 0; j < nphi_q; ++j) sum += D[size_t(j) * N + i];
+        for (int j = 0; j < nphi_q; ++j) D[size_t(j) * N + i] = sum / nphi_q;
+      }
+    double norm = 0.0;
+    for (size_t k = 0; k < D.size(); ++k) norm += w_quad[k] * D[k] * m_dir[k].z;
+    if (norm > 0.0 && std::isfinite(norm))
+      for (double& d : D) d /= norm;
+    else
+      std::fill(D.begin(), D.end(), 1.0 / kPiD);
   };
   if (src.ggx_alpha) {
     const double ax = src.ggx_alpha->x, ay = src.ggx_alpha->y, u = src.uniform_weight;
@@ -463,19 +522,38 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
         }
       }
     for (size_t k = 0; k < D.size(); ++k) D[k] = wsum[k] > 0.0 ? D[k] / wsum[k] : 0.0;
-    if (iso)  // one value per theta_m: the mean over the row
-      for (int i = 0; i < N; ++i) {
-        double sum = 0.0;
-        for (int j = 0; j < nphi_q; ++j) sum += D[size_t(j) * N + i];
-        for (int j = 0; j < nphi_q; ++j) D[size_t(j) * N + i] = sum / nphi_q;
-      }
-    double norm = 0.0;  // integral of D cos(theta_m) = 1 (the projected area of the macrosurface)
-    for (size_t k = 0; k < D.size(); ++k) norm += w_quad[k] * D[k] * m_dir[k].z;
-    if (norm > 0.0 && std::isfinite(norm))
-      for (double& d : D) d /= norm;
-    else
-      std::fill(D.begin(), D.end(), 1.0 / kPiD);  // f = 0 wherever it was looked at: uniform D
+    row_mean_and_normalise();
     d_method = "the lobe's mean shape over viewing angles 0 to 80 degrees, 2% uniform";
+  } else if (opt.d_estimate == ExportOptions::DEstimate::LobeEnvelope) {
+    // The envelope of the slices' own distributions: for each wo, the D that would make its slice's
+    // colour constant, D_wo(m) proportional to f(wi, wo) cos(theta_i) (c = f cos_i 4 sigma / D,
+    // step 5), normalised to integral of D_wo cos(theta_m) = 1 over the half vectors whose wi is
+    // above the horizon; D is the largest of them at each m (wo at 30 elevations from 0 to 89
+    // degrees, 8 azimuths when anisotropic). Every slice's c is then at most about 1 where
+    // its own lobe is and changes less from slice to slice than under the mean shape, whose
+    // cos_i cos_o weights leave out the grazing lobes of a Lafortune fit.
+    std::fill(D.begin(), D.end(), 0.0);
+    std::vector<double> est(D.size());
+    const int n_th = 30, n_ph = iso ? 1 : 8;
+    for (int a = 0; a < n_ph; ++a)
+      for (int b = 0; b < n_th; ++b) {
+        const Vec3d wo = dir(kPiD / 180.0 * 89.0 * b / (n_th - 1), iso ? 0.0 : u2phi((a + 0.5) / n_ph));
+        double mass = 0.0;
+        for (size_t k = 0; k < D.size(); ++k) {
+          est[k] = 0.0;
+          const double om = glm::dot(wo, m_dir[k]);
+          const Vec3d wi = 2.0 * om * m_dir[k] - wo;
+          if (!(om > 0.0) || !(wi.z > 1e-3)) continue;
+          const double e = std::max(0.0, luminance_of(src.f(wi, wo))) * wi.z;
+          if (!std::isfinite(e)) continue;
+          est[k] = e;
+          mass += w_quad[k] * e * m_dir[k].z;
+        }
+        if (mass > 0.0 && std::isfinite(mass))
+          for (size_t k = 0; k < D.size(); ++k) D[k] = std::max(D[k], est[k] / mass);
+      }
+    row_mean_and_normalise();
+    d_method = "the envelope of the slices' own distributions over 0 to 89 degrees, 2% uniform; warps 80% the slice's own f";
   } else {
     // Dupuy, Heitz, Iehl, Poulin & Ostromoukhov 2015, "Extracting Microfacet-based BRDF Parameters
     // from Arbitrary Materials with Power Iterations", Eq. 6-8: under the microfacet model the
@@ -545,7 +623,8 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
   };
   std::vector<float> theta_i(size_t(opt.theta_i));
   if (opt.placement == ExportOptions::Placement::BlendError) {
-    theta_i = place_theta_by_blend_error(src, ndf_pl.view, sigma_pl.view, iso, NV, theta_max, opt.theta_i, opt.placement_uniform);
+    theta_i = place_theta_by_blend_error(src, ndf_pl.view, sigma_pl.view, iso, NV, tilt, f_share, theta_max, opt.theta_i,
+                                         opt.placement_uniform);
   } else {
     const int fine = 2048;
     std::vector<double> s(fine + 1), th(fine + 1);
@@ -575,7 +654,8 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
   if (iso)
     phi_i = {0.f};
   else if (opt.phi_placement == ExportOptions::PhiPlacement::BlendError)
-    phi_i = place_phi_by_blend_error(src, ndf_pl.view, sigma_pl.view, NV, theta_i, opt.phi_i, opt.placement_uniform);
+    phi_i =
+        place_phi_by_blend_error(src, ndf_pl.view, sigma_pl.view, NV, tilt, f_share, theta_i, opt.phi_i, opt.placement_uniform);
   else
     for (int j = 0; j < opt.phi_i; ++j) phi_i.push_back(float(u2phi(node(j, opt.phi_i))));
   const size_t n_phi = phi_i.size(), n_theta = theta_i.size();
@@ -583,9 +663,10 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
   // vndf: per incident direction w, the density of visible normals over (u_theta, u_phi),
   // D(m) <w, m>+ / sigma(w) times the Jacobian 2 pi^2 u_theta sin(theta_m) of (u_theta, u_phi) ->
   // solid angle (Dupuy & Jakob 2018, Sec. 4); the readers normalise each slice (sampling.h:
-  // 1404-1416), so the 1 / sigma is left out. (Tried here: a warp half following the slice's own
-  // cosine-weighted f. It did not lower the grazing errors of docs/rgl.md's table, and made the
-  // slices differ more, which the readers' linear blend between theta_i slices pays for.)
+  // 1404-1416), so the 1 / sigma is left out; warp_slice tilts it or mixes in the slice's own f
+  // (docs/rgl.md, step 4: with the lobe mean's D, a warp following f made the slices' colours
+  // differ more, which the readers' linear blend between slices pays for; with the envelope D it
+  // does not).
   // The warp's grid is its own (opt.vndf): the readers build it from the field's shape alone
   // (pbrt-v4 bxdfs.cpp:956-960, Mitsuba 3 measured.cpp:188-196), and since the colour table is made
   // through the warp the readers rebuild, f is exact at every colour node for any warp; the warp
@@ -596,7 +677,8 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
   std::vector<float> vndf_t(n_phi * n_theta * vslice);
   for (size_t a = 0; a < n_phi; ++a)
     for (size_t b = 0; b < n_theta; ++b)
-      vndf_slice(ndf_pl.view, iso, dir(theta_i[b], phi_i[a]), phi_i[a], NV, vndf_t.data() + (a * n_theta + b) * vslice);
+      warp_slice(src, ndf_pl.view, iso, dir(theta_i[b], phi_i[a]), phi_i[a], NV, tilt, f_share,
+                 vndf_t.data() + (a * n_theta + b) * vslice);
   PL2DTables vndf_pl;
   vndf_pl.build(vndf_t.data(), NV, NV, {phi_i, theta_i}, true, true);
 
@@ -706,7 +788,7 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
   fields.push_back(make_field("jacobian", {1}, std::span(&one, 1)));
   if (report) {
     report->isotropic = iso;
-    report->d_method = d_method;
+    report->d_method = d_method + warp_made;
     report->spectra = spectra_made;
     report->seconds = cpu_seconds() - t0;
   }
@@ -755,39 +837,56 @@ double roundtrip_score(const BrdfSource& src, const std::vector<TensorField>& fi
 }  // namespace
 
 std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& opt, ExportReport* report) {
-  if (src.ggx_alpha || opt.d_estimate != ExportOptions::DEstimate::Auto) return export_tables(src, opt, report);
-  // Neither estimate of D wins for every model (docs/rgl.md, "Where the error comes from"): the
-  // lobe's mean shape follows forward and grazing lobes (Lafortune, Ashikhmin-Shirley), the
+  if (src.ggx_alpha || opt.d_estimate != ExportOptions::DEstimate::Auto) {
+    ExportOptions o = opt;  // a fixed D: the tilt chosen by the caller, or none
+    o.warp_tilt = std::max(0.0, opt.warp_tilt);
+    return export_tables(src, o, report);
+  }
+  // No estimate of D wins for every model (docs/rgl.md, "Where the error comes from"): the lobe's
+  // mean shape follows forward and grazing lobes (Ashikhmin-Shirley, anisotropic Ward), the
   // retro-reflection suits tables whose grazing values are least like a microfacet lobe (a MERL
-  // table). Both files are written (RGB) and the one that reproduces f better is kept.
+  // table), the envelope with warps that follow f lobes that turn towards the horizon (a
+  // Lafortune fit); and the warps of the two first either follow each wo (its VNDF) or, tilted
+  // towards the normal, change less from slice to slice (warp_tilt). Each file is written (RGB)
+  // and the one that reproduces f best is kept; warp_tilt >= 0 fixes the tilt.
   const double t0 = cpu_seconds();
+  using E = ExportOptions::DEstimate;
+  struct Candidate {
+    E d;
+    double tilt;
+    const char* name;
+  };
+  std::vector<Candidate> candidates;
+  for (const double t : opt.warp_tilt >= 0.0 ? std::vector<double>{opt.warp_tilt} : std::vector<double>{0.0, kAutoTilt}) {
+    candidates.push_back({E::LobeAverage, t, t > 0.0 ? "lobe mean, tilted" : "lobe mean"});
+    candidates.push_back({E::RetroReflection, t, t > 0.0 ? "retro-reflection, tilted" : "retro-reflection"});
+  }
+  candidates.push_back({E::LobeEnvelope, std::max(0.0, opt.warp_tilt), "envelope"});
   ExportOptions o = opt;
   o.spectral = false;
   std::vector<TensorField> best;
   ExportReport best_report;
-  ExportOptions::DEstimate pick = ExportOptions::DEstimate::LobeAverage;
-  double best_score = 0.0, other_score = 0.0;
-  for (const ExportOptions::DEstimate e : {ExportOptions::DEstimate::LobeAverage, ExportOptions::DEstimate::RetroReflection}) {
-    o.d_estimate = e;
+  Candidate pick = candidates.front();
+  double best_score = 0.0;
+  std::string scores;
+  for (const Candidate& c : candidates) {
+    o.d_estimate = c.d;
+    o.warp_tilt = c.tilt;
     ExportReport r;
     std::vector<TensorField> fields = export_tables(src, o, &r);
     const double score = roundtrip_score(src, fields);
-    if (best.empty() || score < best_score) {
-      other_score = best.empty() ? other_score : best_score;
-      best = std::move(fields), best_report = r, best_score = score, pick = e;
-    } else {
-      other_score = score;
-    }
+    scores += fmt::format("{}{} {:.2f} %", scores.empty() ? "" : ", ", c.name, 100.0 * score);
+    if (best.empty() || score < best_score) best = std::move(fields), best_report = r, best_score = score, pick = c;
   }
   if (opt.spectral) {
     o = opt;
-    o.d_estimate = pick;
+    o.d_estimate = pick.d;
+    o.warp_tilt = pick.tilt;
     best = export_tables(src, o, &best_report);
   }
   if (report) {
     *report = best_report;
-    report->d_method +=
-        fmt::format(" (chosen by the round trip: error {:.2f} % against {:.2f} %)", 100.0 * best_score, 100.0 * other_score);
+    report->d_method += fmt::format(" (chosen by the round trip: error {:.2f} %; {})", 100.0 * best_score, scores);
     report->seconds = cpu_seconds() - t0;
   }
   return best;

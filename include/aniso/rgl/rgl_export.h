@@ -26,10 +26,16 @@ struct ExportOptions {
   int ndf = 64;  // ndf and sigma grid, n x n over (u_theta, u_phi)
   int vndf = 0;  // vndf grid (each slice's warp), n x n over (u_theta, u_phi); 0: 32 anisotropic, `ndf` isotropic
   // D of the models without a closed form (every one but GGX): the lobe's mean shape over the
-  // viewing angles, or the retro-reflection's power iteration (Dupuy et al. 2015); Auto writes
-  // both and keeps the file that reproduces f better (docs/rgl.md, step 2).
-  enum class DEstimate { Auto, LobeAverage, RetroReflection } d_estimate = DEstimate::Auto;
+  // viewing angles, the retro-reflection's power iteration (Dupuy et al. 2015), or the envelope of
+  // each incident direction's own distribution with warps that follow each slice's f; Auto writes
+  // all three and keeps the file that reproduces f best (docs/rgl.md, step 2).
+  enum class DEstimate { Auto, LobeAverage, RetroReflection, LobeEnvelope } d_estimate = DEstimate::Auto;
   int power_iterations = 8;
+  // Each slice's warp is the VNDF of wo tilted towards the normal by this share, (1 - t) wo + t n
+  // normalised (estimated D only; an exact GGX D keeps wo's own): neighbouring slices' warps then
+  // differ less, and the readers' blend between them errs less. < 0: export_rgl tries 0 and 0.15
+  // with the lobe-mean and the retro-reflection D and keeps the best (docs/rgl.md, step 4).
+  double warp_tilt = -1.0;
   // theta_i placement: by the error of the readers' linear blend between slices (default), or by
   // the projected area sigma alone (half uniform in angle, half uniform in sigma).
   enum class Placement { BlendError, ProjectedArea } placement = Placement::BlendError;
