@@ -33,6 +33,7 @@ const Material& bench_material(const std::string& key);
 void register_sample_benchmarks();
 int check_sample();
 void register_batch_benchmarks();  // bench_batch.cpp
+void register_rgl_benchmarks();    // bench_rgl.cpp
 int check_batch();
 
 namespace {
@@ -245,6 +246,7 @@ int main(int argc, char** argv) {
   register_eval_benchmarks();
   register_sample_benchmarks();
   register_batch_benchmarks();
+  register_rgl_benchmarks();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
