@@ -69,33 +69,17 @@ float sphere_entry_distance(const Light& l, const Vec3& o, const Vec3& w) {
   return float(disc > 0.0 ? -b - std::sqrt(disc) : -b);
 }
 
-// The concentric disc map's point (sample_uniform_disk_concentric, Shirley & Chiu 1997) in polar
-// form: its radius r = max(|2u - 1|) over the two coordinates (exact in float, and so is 1 - r) and
-// the cosine and sine of its angle, which the map has before it multiplies them by the signed
-// radius: the point is r (cos_phi, sin_phi) up to rounding, with no length to take and divide by.
-// At the centre, where the angle is undefined, (1, 0).
+// The concentric disc map's point (concentric_disk_polar, core/sampling.h: Shirley & Chiu 1997) as
+// its radius r = max(|2u - 1|) (exact in float, and so is 1 - r) and the cosine and sine of its
+// azimuth, which the map has before it multiplies them by the signed radius: the point is
+// r (cos_phi, sin_phi) up to rounding, with no length to take and divide by. At the centre (1, 0).
 struct ConcentricPolar {
   float r = 0.0f, cos_phi = 1.0f, sin_phi = 0.0f;
 };
 ConcentricPolar concentric_polar(const Vec2& u) {
-  const float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
-  ConcentricPolar p;
-  if (ox == 0.0f && oy == 0.0f) return p;
-  // The same branch and angle as sample_uniform_disk_concentric; the signed radius's sign turns
-  // the angle's (cos, sin) by pi.
-  float signed_r, theta;
-  if (std::fabs(ox) > std::fabs(oy)) {
-    signed_r = ox;
-    theta = kPi<float> / 4.0f * (oy / ox);
-  } else {
-    signed_r = oy;
-    theta = kPiOver2<float> - kPi<float> / 4.0f * (ox / oy);
-  }
-  const float sign = signed_r < 0.0f ? -1.0f : 1.0f;
-  p.r = std::fabs(signed_r);
-  p.cos_phi = sign * std::cos(theta);
-  p.sin_phi = sign * std::sin(theta);
-  return p;
+  const DiskPolarT<float> p = concentric_disk_polar(u);
+  const float sign = p.r < 0.0f ? -1.0f : 1.0f;  // a negative signed radius turns the angle by pi
+  return {std::fabs(p.r), sign * std::cos(p.theta), sign * std::sin(p.theta)};
 }
 
 bool sample_light(const Light& l, const Vec3& p, const Vec2& u, LightSample* s) {

@@ -28,20 +28,22 @@ template <typename T> ANISO_INLINE BSDFSampleT<T> make_sample(const Vec3T<T>& wi
 }
 
 // Cosine-weighted hemisphere (Malley's method via the concentric disk map, Shirley & Chiu 1997).
+// The concentric map in polar form: the signed radius r (the dominant one of 2u - 1's coordinates;
+// |r| = max(|2u - 1|), exact in float) and the angle theta, the point being r (cos theta, sin theta).
+// At the centre, where the angle is undefined, r = theta = 0.
+template <typename T> struct DiskPolarT { T r, theta; };
+template <typename T> ANISO_INLINE DiskPolarT<T> concentric_disk_polar(const Vec2T<T>& u) {
+  const T ox = T(2) * u.x - T(1), oy = T(2) * u.y - T(1);
+  if (ox == T(0) && oy == T(0)) return {T(0), T(0)};
+  if ((ox < T(0) ? -ox : ox) > (oy < T(0) ? -oy : oy)) return {ox, kPi<T> / T(4) * (oy / ox)};
+  return {oy, kPiOver2<T> - kPi<T> / T(4) * (ox / oy)};
+}
+
 template <typename T> ANISO_INLINE Vec2T<T> sample_uniform_disk_concentric(const Vec2T<T>& u) {
   using std::cos;
   using std::sin;
-  const T ox = T(2) * u.x - T(1), oy = T(2) * u.y - T(1);
-  if (ox == T(0) && oy == T(0)) return Vec2T<T>(T(0));
-  T r, theta;
-  if ((ox < T(0) ? -ox : ox) > (oy < T(0) ? -oy : oy)) {
-    r = ox;
-    theta = kPi<T> / T(4) * (oy / ox);
-  } else {
-    r = oy;
-    theta = kPiOver2<T> - kPi<T> / T(4) * (ox / oy);
-  }
-  return Vec2T<T>(r * cos(theta), r * sin(theta));
+  const DiskPolarT<T> p = concentric_disk_polar(u);
+  return Vec2T<T>(p.r * cos(p.theta), p.r * sin(p.theta));
 }
 
 template <typename T> ANISO_INLINE Vec3T<T> sample_cosine_hemisphere(const Vec2T<T>& u) {
