@@ -5,6 +5,7 @@
 // power surviving tabulation.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -553,6 +554,39 @@ TEST(EnvironmentSky, GradientGroundAndNoNaN) {
   EXPECT_TRUE(std::isfinite(e2.pdf(Vec3(0, 0, -1))));
   const EnvSample s2 = e2.sample(Vec2(0.3f, 0.6f));
   EXPECT_TRUE(finite(s2.w) && finite(s2.radiance) && std::isfinite(s2.pdf));
+}
+
+
+// The row of a direction comes from w.y by comparisons with the rows' boundaries cos(k pi / h)
+// (Environment::row_of), not acos: the same row as theta = acos(y) in double everywhere except
+// within rounding of a boundary, the poles in the first and last row, |y| > 1 (rounding of a unit
+// vector) in the pole's row, NaN in a row (no crash), for maps of one column (the sky without a
+// sun) and of many, of 1 to 1024 rows.
+TEST(EnvironmentMap, RowOfADirectionIsTheRowOfItsPolarAngle) {
+  for (const int h : {1, 2, 3, 16, 127, 1024})
+    for (const int w : {1, 4}) {
+      Image img(w, h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) img.set(x, y, RGB(float(y + 1), 1.0f, float(x + 1)));
+      const Environment env = Environment::from_image(img, 1.0f, 0.0f);
+      const auto row_seen = [&](const Vec3& d) { return int(env.eval(d).x) - 1; };
+      Rng rng(uint64_t(77 + h));
+      for (int i = 0; i < 4000; ++i) {
+        const float y = float(2.0 * rng.uniform() - 1.0);
+        const double phi = 2.0 * kPi * rng.uniform();
+        const float s = std::sqrt(std::max(0.0f, 1.0f - y * y));
+        const Vec3 d(s * float(std::sin(phi)), y, -s * float(std::cos(phi)));
+        const double v = std::acos(std::clamp(double(y), -1.0, 1.0)) / kPi * h;
+        if (std::fabs(v - std::round(v)) < 1e-4 * h) continue;  // within rounding of a boundary
+        ASSERT_EQ(row_seen(d), std::min(h - 1, int(v))) << "h " << h << " w " << w << " y " << y;
+      }
+      EXPECT_EQ(row_seen(Vec3(0, 1, 0)), 0);
+      EXPECT_EQ(row_seen(Vec3(0, -1, 0)), h - 1);
+      EXPECT_EQ(row_seen(Vec3(0, 1.0000002f, 0)), 0);
+      EXPECT_EQ(row_seen(Vec3(0, -1.0000002f, 0)), h - 1);
+      const int nan_row = row_seen(Vec3(0.0f, std::numeric_limits<float>::quiet_NaN(), 0.0f));
+      EXPECT_TRUE(nan_row >= 0 && nan_row < h);
+    }
 }
 
 }  // namespace

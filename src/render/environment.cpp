@@ -31,10 +31,11 @@ inline int bin_of(float x, int n) { return std::clamp(int(x * float(n)), 0, n - 
 // Rec.709 / sRGB luminance (ITU-R BT.709-6, item 3.2), the weight of a texel in the distribution.
 inline float luminance(const RGB& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
-// Where a world direction falls on the map: (u, v) in the map's own frame (rotation undone),
-// and sin(theta) of the direction for the Jacobian of the lat-long mapping.
+// Where a world direction falls on the map: u in the map's own frame (rotation undone), and
+// sin(theta) of the direction for the Jacobian of the lat-long mapping. The row (v) comes from
+// Environment::row_of.
 struct MapCoords {
-  Vec2 uv{0.0f};
+  float u = 0.0f;
   float sin_theta = 0.0f;
 };
 
@@ -45,18 +46,20 @@ struct MapCoords {
 // bin_of(u, 1) is 0 whatever u is.
 inline MapCoords map_coords(const Vec3& w, float rotation_rad, bool with_u) {
   MapCoords m;
-  float u = 0.0f;
   if (with_u) {
     const float phi = std::atan2(w.x, -w.z) + rotation_rad;
-    u = 0.5f + phi * (0.5f / kPi);
-    u -= std::floor(u);  // wrap into [0, 1) (it can still round to 1: bin_of maps that to the last column)
+    m.u = 0.5f + phi * (0.5f / kPi);
+    m.u -= std::floor(m.u);  // wrap into [0, 1) (it can still round to 1: bin_of maps that to the last column)
   }
-  const float theta = std::acos(std::clamp(w.y, -1.0f, 1.0f));  // clamp: |w.y| may exceed 1 by rounding
-  m.uv = Vec2(u, theta / kPi);
   // sqrt(x^2 + z^2) rather than sin(acos(y)) or sqrt(1 - y^2): no cancellation near the poles.
   m.sin_theta = std::sqrt(w.x * w.x + w.z * w.z);
   return m;
 }
+
+// Slices of w.y in [-1, 1] per row of the map in the row guide: a slice holds at most a few rows
+// (near the poles, where rows are narrowest in w.y: about 2 h / (pi sqrt(G)) with G = 4 h slices,
+// 4 rows of a 128-row map, 10 of a 1024-row one) and one row or two elsewhere.
+constexpr int kRowGuidePerRow = 4;
 
 // The inverse: the world direction of map coordinates (u, v).
 inline Vec3 direction_of(const Vec2& uv, float rotation_rad) {
@@ -358,6 +361,20 @@ Environment Environment::from_image(Image img, float scale, float rotation_deg) 
   e.dist_ = std::make_shared<const Distribution2D>(f, w, h);
   e.width_ = w;
   e.height_ = h;
+  // Row boundaries in w.y (row_of): cos(k pi / h) in double, rounded once; the ends exact.
+  e.row_cos_.resize(size_t(h) + 1);
+  for (int k = 0; k <= h; ++k) e.row_cos_[size_t(k)] = float(std::cos(double(k) * kPiD / double(h)));
+  e.row_cos_.front() = 1.0f;
+  e.row_cos_.back() = -1.0f;
+  const int slices = kRowGuidePerRow * h;
+  e.row_guide_.resize(size_t(slices));
+  for (int j = 0; j < slices; ++j) {
+    // The row at the slice's top: the first guess for every y of the slice (row_of corrects it).
+    const float y_top = float(-1.0 + 2.0 * double(j + 1) / double(slices));
+    int r = 0;
+    while (r < h - 1 && e.row_cos_[size_t(r) + 1] >= y_top) ++r;
+    e.row_guide_[size_t(j)] = uint32_t(r);
+  }
   e.texels_.resize(size_t(w) * size_t(h));
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -383,6 +400,23 @@ Environment Environment::from_image(Image img, float scale, float rotation_deg) 
 
 Environment Environment::sky(const SkyParams& params) { return from_image(tabulate_sky(params), 1.0f, 0.0f); }
 
+// The row r of the map whose band of directions holds w.y = y: theta = acos(y) in [r pi / h,
+// (r + 1) pi / h), that is row_cos_[r + 1] < y <= row_cos_[r] (row 0 takes y = 1, row h - 1 takes
+// y = -1). Found from the guide's first guess by comparisons with the boundaries: no acos, which
+// was a fifth of a lookup's time (docs/benchmarks.md, "The fifth round"). The result satisfies
+// those inequalities whatever the guess, so the guide only saves steps. Out-of-range y (rounding
+// of a unit vector) belongs to the nearest pole's row, NaN to the bottom row.
+int Environment::row_of(float y) const {
+  const int h = height_;
+  y = y >= -1.0f ? std::min(y, 1.0f) : -1.0f;
+  const int slices = int(row_guide_.size());
+  const int j = std::min(int((y + 1.0f) * (0.5f * float(slices))), slices - 1);
+  int r = int(row_guide_[size_t(j)]);
+  while (r > 0 && row_cos_[size_t(r)] < y) --r;
+  while (r < h - 1 && row_cos_[size_t(r) + 1] >= y) ++r;
+  return r;
+}
+
 Environment::Lookup Environment::lookup(const Vec3& w) const {
   switch (kind_) {
     case Kind::None: return {};
@@ -391,7 +425,7 @@ Environment::Lookup Environment::lookup(const Vec3& w) const {
   }
   // One texel per row (width_ 1): the column is 0 for every direction, and the azimuth is not needed.
   const MapCoords m = map_coords(w, rotation_rad_, width_ > 1);
-  const Texel& t = texels_[size_t(bin_of(m.uv.y, height_)) * size_t(width_) + size_t(bin_of(m.uv.x, width_))];
+  const Texel& t = texels_[size_t(row_of(w.y)) * size_t(width_) + size_t(bin_of(m.u, width_))];
   // At the poles the lat-long map squeezes a whole row into a point: the density in solid angle is
   // unbounded there and the direction is never sampled (probability zero), so report 0.
   if (!(m.sin_theta > 0.0f)) return {t.radiance, 0.0f};

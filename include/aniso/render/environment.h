@@ -143,6 +143,11 @@ class Environment {
     float pdf_uv = 0.0f;
   };
   std::vector<Texel> texels_;
+  // The row of a direction from its w.y alone, without acos (environment.cpp, row_of): row_cos_[k]
+  // = cos(k pi / height), the rows' boundaries, and row_guide_ a first guess per slice of w.y.
+  int row_of(float y) const;
+  std::vector<float> row_cos_;
+  std::vector<uint32_t> row_guide_;
   int width_ = 0, height_ = 0;  // of texels_: width_ is 1 when every row of the map is one texel repeated
   float rotation_rad_ = 0.0f;
   float luminance_integral_ = 0.0f;
