@@ -29,6 +29,69 @@
 
 namespace aniso::render {
 
+// The hashes and tables of Sampler's inline requests (sampler.h: the hot path of every path
+// vertex, inlined into the integrator), exposed only for Sampler and its tests.
+namespace sampler_detail {
+
+constexpr uint64_t splitmix64(uint64_t& x) {
+  uint64_t z = (x += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+// The bytes reversed by one instruction (bswap), then the bits within each byte by three swaps.
+constexpr uint32_t reverse_bits(uint32_t x) {
+  x = __builtin_bswap32(x);
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  return ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+}
+static_assert(reverse_bits(1u) == 0x80000000u && reverse_bits(0x12345678u) == 0x1e6a2c48u);
+
+// Burley 2020, Listing 2: a hash that, applied to the bit-reversed value, is a nested uniform
+// (Owen) scramble: each output bit is flipped or not depending only on the bits above it. The
+// constants are Burley's (after Laine & Karras 2011, "Stratified sampling for stochastic
+// transparency").
+constexpr uint32_t laine_karras_permutation(uint32_t x, uint32_t seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+
+// The second Sobol' dimension's direction numbers (primitive polynomial x + 1, m_1 = 1):
+// v_0 = 2^31, v_k = v_{k-1} ^ (v_{k-1} >> 1) (Pascal's triangle mod 2; Joe & Kuo's table, dimension 2).
+// The generator matrix is applied a byte at a time: table[b][x] is the XOR of v[8 b + j] over the
+// set bits j of x (the shuffled index is a full 32-bit number, so a bit loop would take ~32 steps).
+// With `reversed` every entry is bit-reversed: reversal distributes over XOR, so the lookup gives
+// reverse_bits of the point, which is what the scramble takes (one reversal fewer per sample).
+struct SobolDim1 {
+  uint32_t v[32];
+  uint32_t table[4][256];
+  constexpr explicit SobolDim1(bool reversed) : v{}, table{} {
+    v[0] = 0x80000000u;
+    for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+    for (int b = 0; b < 4; ++b)
+      for (int x = 0; x < 256; ++x) {
+        for (int j = 0; j < 8; ++j)
+          if (x & (1 << j)) table[b][x] ^= v[8 * b + j];
+        if (reversed) table[b][x] = reverse_bits(table[b][x]);
+      }
+  }
+  constexpr uint32_t operator()(uint32_t i) const {
+    return table[0][i & 255u] ^ table[1][(i >> 8) & 255u] ^ table[2][(i >> 16) & 255u] ^ table[3][i >> 24];
+  }
+};
+inline constexpr SobolDim1 kSobolDim1{false}, kSobolDim1Reversed{true};
+static_assert(kSobolDim1.v[1] == 0xc0000000u && kSobolDim1.v[2] == 0xa0000000u && kSobolDim1.v[4] == 0x88000000u);
+static_assert(kSobolDim1(3u) == (0x80000000u ^ 0xc0000000u));
+static_assert(kSobolDim1Reversed(0x9abcdef1u) == reverse_bits(kSobolDim1(0x9abcdef1u)));
+
+}  // namespace sampler_detail
+
 enum class SamplerKind { Sobol, Independent };
 
 class Sampler {
@@ -55,5 +118,47 @@ class Sampler {
   uint32_t dimension_ = 0;        // requests made so far
   uint64_t state_ = 0, inc_ = 1;  // PCG32 (independent)
 };
+
+inline uint32_t Sampler::next_u32_pcg() {
+  const uint64_t old = state_;
+  state_ = old * 6364136223846793005ull + inc_;
+  const uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
+  const uint32_t rot = uint32_t(old >> 59u);
+  return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
+}
+
+inline Sampler::DimensionSeeds Sampler::dimension_seeds() {
+  uint64_t x = key_ + uint64_t(dimension_++) * 0xd1b54a32d192ed03ull;
+  using sampler_detail::splitmix64;
+  const uint64_t a = splitmix64(x), b = splitmix64(x);
+  return {uint32_t(a), uint32_t(a >> 32), uint32_t(b)};
+}
+
+inline float Sampler::uniform() {
+  using namespace sampler_detail;
+  if (kind_ == SamplerKind::Independent) return to_unit(next_u32_pcg());
+  // Burley 2020, Listing 4 in one dimension: shuffle the index, then scramble its van der Corput
+  // point, each with a seed of its own.
+  // Written out with fewer bit reversals: the shuffled index's van der Corput point sobol(i, 0) =
+  // reverse(i) is LK(reverse(index)), and its scramble reverse(LK(reverse(.))) = reverse(LK(i)).
+  const DimensionSeeds s = dimension_seeds();
+  const uint32_t i = reverse_bits(laine_karras_permutation(index_reversed_, s.shuffle));  // shuffled index
+  return to_unit(reverse_bits(laine_karras_permutation(i, s.x)));
+}
+
+inline Vec2 Sampler::uniform2() {
+  using namespace sampler_detail;
+  if (kind_ == SamplerKind::Independent) {
+    const float a = to_unit(next_u32_pcg());
+    return Vec2(a, to_unit(next_u32_pcg()));
+  }
+  // Listing 4 in two dimensions: one shuffled index, its two Sobol' coordinates scrambled apart.
+  // (The first coordinate as in uniform(); the second through the table of sobol(., 1).)
+  const DimensionSeeds s = dimension_seeds();
+  const uint32_t i = reverse_bits(laine_karras_permutation(index_reversed_, s.shuffle));
+  // The second: nested_uniform_scramble(sobol(i, 1), s.y), its first reversal taken by the table.
+  return Vec2(to_unit(reverse_bits(laine_karras_permutation(i, s.x))),
+              to_unit(reverse_bits(laine_karras_permutation(kSobolDim1Reversed(i), s.y))));
+}
 
 }  // namespace aniso::render
