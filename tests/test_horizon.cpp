@@ -3,10 +3,13 @@
 // pdf, down to the smallest normal (and subnormal) cosines; at or below kHorizonCos everything is 0.
 // Grazing pairs that once gave NaN (`1 0 1e-170 -1 0 1e-170`, mirror pairs with z <= 1e-120, the
 // float pdf at z = 1e-15) and Lafortune lobes whose base^n overflowed are held here.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "aniso/io/presets.h"
@@ -256,6 +259,57 @@ TEST(FresnelConductor, IndexMatchedToAirIsZeroNotNegative) {
   for (double c = 0.0; c <= 1.0; c += 1.0 / 64) {
     EXPECT_GE(F_Conductor(c, 1.0, 0.0), 0.0) << c;
     EXPECT_GE(F_Conductor(float(c), 1.0f, 0.0f), 0.0f) << c;
+  }
+}
+
+// f and pdf together (model_f_pdf, lobe_mixture.h: Ward's Gaussian, GGX's D and Lambda(wo) and a
+// metal's specular lobe computed once for both) equal f() and pdf() alone bit for bit, for every
+// model and preset, every Ward form and normalisation, in float and double, at random pairs on
+// and below the horizon; a metal's f_pdf with its sampling weights as pdf(weights, .).
+template <typename T> void check_f_pdf_together(const std::string& name, const MaterialT<T>& m) {
+  Rng rng(4100);
+  const auto bits_equal = [](T a, T b) { return std::memcmp(&a, &b, sizeof(T)) == 0; };
+  for (int i = 0; i < 300; ++i) {
+    Vec3T<T> wi = random_upper<T>(rng), wo = random_upper<T>(rng);
+    if (i % 10 == 0) wi.z = -wi.z;                                  // below the horizon
+    if (i % 10 == 1) wi = at(T(1e-6), 2.0 * M_PI * rng.uniform());  // grazing
+    m.visit([&](const auto& model) {
+      T pdf = T(-1);
+      const RGBT<T> f = model_f_pdf(model, wi, wo, &pdf);
+      const RGBT<T> f_alone = model.f(wi, wo);
+      const T pdf_alone = model.pdf(wi, wo);
+      for (int c = 0; c < 3; ++c)
+        ASSERT_TRUE(bits_equal(f[c], f_alone[c])) << name << " f[" << c << "] " << f[c] << " vs " << f_alone[c];
+      ASSERT_TRUE(bits_equal(pdf, pdf_alone)) << name << " pdf " << pdf << " vs " << pdf_alone;
+      using M = std::decay_t<decltype(model)>;
+      if constexpr (requires { model.f_pdf(model.sampling_weights(wo), wi, wo, &pdf); }) {
+        const auto ws = model.sampling_weights(wo);
+        const RGBT<T> fw = model.f_pdf(ws, wi, wo, &pdf);
+        for (int c = 0; c < 3; ++c) ASSERT_TRUE(bits_equal(fw[c], f_alone[c])) << name;
+        ASSERT_TRUE(bits_equal(pdf, model.pdf(ws, wi, wo))) << name;
+        static_assert(std::is_same_v<M, MetalT<T>>);
+      }
+    });
+  }
+}
+
+TEST(SharedTerms, FAndPdfTogetherAreEachAloneForEveryModelAndPreset) {
+  std::vector<NamedMaterial> materials = all_model_materials();
+  for (const char* form : {"vector", "angle", "approx"})
+    for (const char* normalization : {"ward", "duer", "balanced"})
+      materials.push_back(
+          {fmt::format("ward {} {}", form, normalization),
+           {{"model", "ward"}, {"alpha_x", 0.08}, {"alpha_y", 0.3}, {"form", form}, {"normalization", normalization}}});
+  for (const char* lobe : {"ward", "ashikhmin-shirley", "ggx"})
+    materials.push_back({fmt::format("metal {} lobe", lobe),
+                         {{"model", "metal"},
+                          {"metal", "gold"},
+                          {"lobe", {{"model", lobe}}},
+                          {"directional_diffuse", {{"albedo", 0.3}, {"n", 3}}}}});
+  for (const PresetInfo& p : presets()) materials.push_back({p.name, p.json});
+  for (const NamedMaterial& nm : materials) {
+    check_f_pdf_together(nm.name + " (float)", build<float>(nm.json));
+    check_f_pdf_together(nm.name + " (double)", build<double>(nm.json));
   }
 }
 

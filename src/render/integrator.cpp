@@ -181,7 +181,7 @@ constexpr size_t kSamplingWeightsSize = std::max({
 #undef ANISO_X
 });
 
-// A material at one shading point, wo fixed: its f, pdf and sample as Material's (bit for bit),
+// A material at one shading point, wo fixed: its f, f with pdf, and sample as Material's (bit for bit),
 // with the model's wo-dependent weights computed once here and shared by every next-event pdf and
 // the BRDF sample of the vertex (four uses with two lights and the sky, each sampled at every
 // vertex as light_selection "auto" does for so few emitters).
@@ -207,14 +207,21 @@ class MaterialAtWo {
     const Vec3 i = m_.rotation.to_model(wi);
     return m_.visit([&](const auto& model) { return model.f(i, o_); });
   }
-  float pdf(const Vec3& wi) const {
+  // f(wi) and pdf(wi) together, each bit for bit (model_f_pdf: the models whose value and density
+  // share terms compute them once).
+  RGB f_pdf(const Vec3& wi, float* pdf_out) const {
     const Vec3 i = m_.rotation.to_model(wi);
-    return m_.visit([&](const auto& model) -> float {
+    return m_.visit([&](const auto& model) -> RGB {
       using M = std::decay_t<decltype(model)>;
       if constexpr (HasSamplingWeights<M>) {
-        return model.pdf(weights<M>(), i, o_);
+        if constexpr (requires { model.f_pdf(weights<M>(), i, o_, pdf_out); }) {
+          return model.f_pdf(weights<M>(), i, o_, pdf_out);
+        } else {
+          *pdf_out = model.pdf(weights<M>(), i, o_);
+          return model.f(i, o_);
+        }
       } else {
-        return model.pdf(i, o_);
+        return model_f_pdf(model, i, o_, pdf_out);
       }
     });
   }
@@ -406,7 +413,11 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         if (!(glm::dot(wi_world, hit.ng) > 0.0f)) return;
         const Vec3 wi = frame.to_local(wi_world);
         if (!(wi.z > 0.0f)) return;
-        const RGB f = at.f(wi);
+        // The BRDF's density of wi weighs the sample against BRDF sampling (power heuristic),
+        // except for delta lights and the light strategy (weight 1).
+        const bool weighted = !delta && strategy != Strategy::Light;
+        float bsdf_pdf = 0.0f;
+        const RGB f = weighted ? at.f_pdf(wi, &bsdf_pdf) : at.f(wi);
         if (f == RGB(0.0f)) return;
         const Vec3 o = SceneGeometry::offset_origin(hit.p, hit.ng, wi_world);
         // A sphere light's distance from o, not from hit.p: near the light's rim the ray is
@@ -425,7 +436,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         // Stop short of the light's surface: 1e-3 relative keeps the light's own sphere out of
         // the shadow test (its intersection is as inexact as any other).
         if (geo_.occluded(Ray{o, wi_world}, tmax)) return;
-        const float w = (delta || strategy == Strategy::Light) ? 1.0f : power_heuristic(light_pdf, at.pdf(wi));
+        const float w = weighted ? power_heuristic(light_pdf, bsdf_pdf) : 1.0f;
         add(beta * f * li * (wi.z * w / light_pdf), bounces >= 1);
       };
       // One sample of candidate i (a light, or the environment for i == lights.size()).

@@ -77,6 +77,15 @@ template <typename T> struct GGXLobeT {
     const T D = D_GGX_Aniso(h.x, h.y, h.z, alpha_x, alpha_y);
     return G1_SmithGGX(Lambda_GGX_Aniso(wo, alpha_x, alpha_y)) * D / (T(4) * wo.z);
   }
+  // eval() and pdf() together, each bit for bit: the half vector, D and Lambda(wo) computed once.
+  ANISO_HD T eval_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, T* pdf_out) const {
+    const Vec3T<T> h = glm::normalize(wi + wo);
+    const T D = D_GGX_Aniso(h.x, h.y, h.z, alpha_x, alpha_y);
+    const T lambda_o = Lambda_GGX_Aniso(wo, alpha_x, alpha_y);
+    *pdf_out = !(glm::dot(wo, h) > T(0)) || !(h.z > T(0)) ? T(0) : G1_SmithGGX(lambda_o) * D / (T(4) * wo.z);
+    const T G2 = G2_SmithGGX_HeightCorrelated(Lambda_GGX_Aniso(wi, alpha_x, alpha_y), lambda_o);
+    return D * G2 / (T(4) * wi.z * wo.z);
+  }
   ANISO_HD Vec3T<T> sample(const Vec3T<T>& wo, const Vec2T<T>& u) const {
     return reflect_about(wo, GGX_SampleVisibleNormal(wo, u, alpha_x, alpha_y));
   }
@@ -96,6 +105,18 @@ template <typename T> struct GGXT {
   ANISO_HD T specular_probability(const Vec3T<T>& wo) const { return specular_share(average(kd), average(F_Schlick(f0, wo.z))); }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     return pdf_diffuse_specular(specular_probability(wo), lobe, wi, wo);
+  }
+  // f() and pdf() together (model_f_pdf), bit for bit.
+  ANISO_HD RGBT<T> f_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, T* pdf_out) const {
+    if (!same_upper_hemisphere(wi, wo)) {
+      *pdf_out = T(0);
+      return RGBT<T>(T(0));
+    }
+    const Vec3T<T> h = glm::normalize(wi + wo);
+    T lobe_pdf;
+    const T spec = lobe_eval_pdf(lobe, wi, wo, &lobe_pdf);
+    *pdf_out = mix_diffuse_specular_pdf(specular_probability(wo), lobe_pdf, wi);
+    return F_Schlick(f0, glm::dot(wi, h)) * spec + kd * kInvPi<T>;
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);

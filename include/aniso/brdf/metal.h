@@ -47,6 +47,14 @@ template <typename T> struct MetalT {
       default: return ggx.pdf(wi, wo);
     }
   }
+  // specular() and specular_pdf() together, bit for bit (lobe_eval_pdf).
+  ANISO_HD T specular_eval_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, T* pdf) const {
+    switch (lobe_kind) {
+      case SpecularLobeKind::Ward: return lobe_eval_pdf(ward, wi, wo, pdf);
+      case SpecularLobeKind::AshikhminShirley: return lobe_eval_pdf(ashikhmin_shirley, wi, wo, pdf);
+      default: return lobe_eval_pdf(ggx, wi, wo, pdf);
+    }
+  }
   ANISO_HD Vec3T<T> specular_sample(const Vec3T<T>& wo, const Vec2T<T>& u) const {
     switch (lobe_kind) {
       case SpecularLobeKind::Ward: return ward.sample(wo, u);
@@ -57,20 +65,8 @@ template <typename T> struct MetalT {
 
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     if (!same_upper_hemisphere(wi, wo)) return RGBT<T>(T(0));
-    const T spec = specular(wi, wo);
-    RGBT<T> out(T(0));
-    // A specular value of +0 (Ward's exponential rounds to 0 away from the highlight: Ward_Exp)
-    // makes the Fresnel-weighted term +0 whatever F is (F and the weight are finite and >= 0), so
-    // F and its half vector are skipped there: the same sum bit for bit. Not for a derivative
-    // type (the fitter's ceres::Jet), whose zero value may carry a non-zero derivative.
-    if (!std::is_floating_point_v<T> || !(spec == T(0))) {
-      const Vec3T<T> h = glm::normalize(wi + wo);
-      out = specular_weight * F_Conductor(glm::dot(wi, h), eta, k) * spec;
-    }
-    if (has_directional_diffuse) out += directional_diffuse.eval(wi, wo);
-    return out;
+    return f_of_specular(wi, wo, specular(wi, wo));
   }
-
   // Lobe choice: the specular lobe weighs its Fresnel reflectance seen from wo, the directional
   // diffuse lobe its channel weights (an albedo bound, lafortune.h). They depend on wo alone and
   // cost three Fresnel terms and three pows: computed once and shared by the lobe choice of sample()
@@ -123,6 +119,28 @@ template <typename T> struct MetalT {
     if (!same_upper_hemisphere(wi, wo)) return T(0);
     return pdf(sampling_weights(wo), wi, wo);
   }
+  // f() and pdf(ws, .) together, bit for bit: the specular lobe's value and density share terms
+  // (lobe_eval_pdf).
+  ANISO_HD RGBT<T> f_pdf(const SamplingWeights& ws, const Vec3T<T>& wi, const Vec3T<T>& wo, T* pdf_out) const {
+    if (!same_upper_hemisphere(wi, wo)) {
+      *pdf_out = T(0);
+      return RGBT<T>(T(0));
+    }
+    const T ps = ws.specular_probability;
+    T spec_pdf;
+    const T spec = specular_eval_pdf(wi, wo, &spec_pdf);
+    T p = ps * spec_pdf;
+    if (ps < T(1)) p += (T(1) - ps) * directional_diffuse_pdf(ws, wi, wo);
+    *pdf_out = p;
+    return f_of_specular(wi, wo, spec);
+  }
+  ANISO_HD RGBT<T> f_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, T* pdf_out) const {
+    if (!same_upper_hemisphere(wi, wo)) {
+      *pdf_out = T(0);
+      return RGBT<T>(T(0));
+    }
+    return f_pdf(sampling_weights(wo), wi, wo, pdf_out);
+  }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     if (!above_horizon(wo)) return {};
     return sample(sampling_weights(wo), wo, uc, u);
@@ -152,7 +170,25 @@ template <typename T> struct MetalT {
       wi = sample_cosine_power(a / std::sqrt(glm::dot(a, a)), directional_diffuse.n[chosen], u);
     }
     if (!above_horizon(wi)) return {};
-    return make_sample(wi, f(wi, wo), pdf(ws, wi, wo));
+    T pdf_wi;
+    const RGBT<T> f_wi = f_pdf(ws, wi, wo, &pdf_wi);
+    return make_sample(wi, f_wi, pdf_wi);
+  }
+
+ private:
+  // f from the specular lobe's value spec = specular(wi, wo), same upper hemisphere.
+  ANISO_HD RGBT<T> f_of_specular(const Vec3T<T>& wi, const Vec3T<T>& wo, T spec) const {
+    RGBT<T> out(T(0));
+    // A specular value of +0 (Ward's exponential rounds to 0 away from the highlight: Ward_Exp)
+    // makes the Fresnel-weighted term +0 whatever F is (F and the weight are finite and >= 0), so
+    // F and its half vector are skipped there: the same sum bit for bit. Not for a derivative
+    // type (the fitter's ceres::Jet), whose zero value may carry a non-zero derivative.
+    if (!std::is_floating_point_v<T> || !(spec == T(0))) {
+      const Vec3T<T> h = glm::normalize(wi + wo);
+      out = specular_weight * F_Conductor(glm::dot(wi, h), eta, k) * spec;
+    }
+    if (has_directional_diffuse) out += directional_diffuse.eval(wi, wo);
+    return out;
   }
 };
 

@@ -121,21 +121,50 @@ template <typename T> struct WardLobeT {
   // N(wi, wo) E(h): the specular term without its colour. Both directions above the horizon.
   ANISO_HD T eval(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     const Vec3T<T> h = wi + wo;  // unnormalised; h.z > 0 above the horizon
-    T e;
+    return eval_with(wi, wo, h, exponential(h));
+  }
+
+  // Walter 2005: pdf(wi) = p_h(h) / (4 (wo . h)), h the unit half vector, p_h = Ward_PdfHalf. Its
+  // Gaussian is taken of the unnormalised h (E_Ward_Vector is scale-free: the same function), the
+  // value eval's vector form computes, so that eval_pdf computes it once.
+  ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+    const Vec3T<T> h = wi + wo;
+    const Vec3T<T> hn = glm::normalize(h);
+    if (!(glm::dot(wo, hn) > T(0)) || !(hn.z > T(0))) return T(0);
+    return pdf_with(wo, hn, E_Ward_Vector(h.x, h.y, h.z, alpha_x, alpha_y));
+  }
+
+  // eval() and pdf() together, each bit for bit: in the vector form the Gaussian (an exp and three
+  // divisions) is computed once. Both directions above the horizon.
+  ANISO_HD T eval_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, T* pdf_out) const {
+    const Vec3T<T> h = wi + wo;
+    const T e = exponential(h);
+    const Vec3T<T> hn = glm::normalize(h);
+    if (!(glm::dot(wo, hn) > T(0)) || !(hn.z > T(0))) {
+      *pdf_out = T(0);
+    } else {
+      *pdf_out = pdf_with(wo, hn, form == WardForm::Vector ? e : E_Ward_Vector(h.x, h.y, h.z, alpha_x, alpha_y));
+    }
+    return eval_with(wi, wo, h, e);
+  }
+
+ private:
+  // E(h) of this form, h = wi + wo unnormalised.
+  ANISO_HD T exponential(const Vec3T<T>& h) const {
     switch (form) {
       case WardForm::Angle: {
         T theta_h, cos_phi, sin_phi;
         Ward_HalfAngles(glm::normalize(h), theta_h, cos_phi, sin_phi);
-        e = E_Ward_Angle(theta_h, cos_phi, sin_phi, alpha_x, alpha_y);
-        break;
+        return E_Ward_Angle(theta_h, cos_phi, sin_phi, alpha_x, alpha_y);
       }
       case WardForm::Approx: {
         const Vec3T<T> hn = glm::normalize(h);
-        e = E_Ward_Approx(hn.x, hn.y, hn.z, alpha_x, alpha_y);
-        break;
+        return E_Ward_Approx(hn.x, hn.y, hn.z, alpha_x, alpha_y);
       }
-      default: e = E_Ward_Vector(h.x, h.y, h.z, alpha_x, alpha_y); break;
+      default: return E_Ward_Vector(h.x, h.y, h.z, alpha_x, alpha_y);
     }
+  }
+  ANISO_HD T eval_with(const Vec3T<T>& wi, const Vec3T<T>& wo, const Vec3T<T>& h, T e) const {
     // The Gaussian underflowed: f is 0, and the normalisation, which grows without bound towards
     // the horizon, must not turn that 0 into 0 * inf = NaN.
     if (!(e > T(0))) return T(0);
@@ -145,15 +174,13 @@ template <typename T> struct WardLobeT {
       default: return e * N_Ward1992(wi.z, wo.z, alpha_x, alpha_y);
     }
   }
-
-  // Walter 2005: pdf(wi) = p_h(h) / (4 (wo . h)), h the unit half vector.
-  ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
-    const Vec3T<T> h = glm::normalize(wi + wo);
-    const T WoH = glm::dot(wo, h);
-    if (!(WoH > T(0))) return T(0);
-    return Ward_PdfHalf(h, alpha_x, alpha_y) / (T(4) * WoH);
+  // p_h(hn) / (4 wo.hn) with p_h's Gaussian e (Ward_PdfHalf), hn the unit half vector, wo.hn > 0
+  // and hn.z > 0.
+  ANISO_HD T pdf_with(const Vec3T<T>& wo, const Vec3T<T>& hn, T e) const {
+    return e * kInvPi<T> / (alpha_x * alpha_y * hn.z * hn.z * hn.z) / (T(4) * glm::dot(wo, hn));
   }
 
+ public:
   ANISO_HD Vec3T<T> sample(const Vec3T<T>& wo, const Vec2T<T>& u) const {
     return reflect_about(wo, Ward_SampleHalf(u, alpha_x, alpha_y));
   }

@@ -91,7 +91,8 @@ template <typename T> struct WardLobeK {
     return ReflectAbout(d, wo, V3<D>{hn::Mul(st, c), hn::Mul(st, s), inv});
   }
 
-  // WardLobeT::pdf with Ward_PdfHalf.
+  // WardLobeT::pdf with Ward_PdfHalf: the Gaussian of the unit h here, of the unnormalised h there
+  // (E_Ward_Vector is scale-free: the same function, rounded apart).
   template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
     const V3<D> h = Normalize(d, Add3(wi, wo));
     const V<D> woh = Dot(wo, h);
