@@ -6,8 +6,9 @@
 //   2. ceiling    the same scenes' rays, recorded from the path tracer (4 samples per pixel of every
 //                 gallery cell: camera rays, bounces and shadow rays in the renderer's proportions)
 //                 and cast again through Embree alone (rtcIntersect1 / rtcOccluded1, no shading) on
-//                 all threads: the rate a renderer of these scenes cannot exceed on this machine;
-//                 the renderer's rays per second as a fraction of it.
+//                 all threads, three times before the gallery and three times after it: the rate a
+//                 renderer of these scenes cannot exceed on this machine, over the same stretch of
+//                 load as the gallery; the renderer's rays per second as a fraction of it.
 //   3. strategies the RMSE of mis, bsdf and light sampling at EQUAL TIME on a brushed-metal scene
 //                 (examples/studio-map.json, small: brushed gold, aluminium and copper under an
 //                 HDR studio map), against a high-spp MIS reference. "Time" is the process's CPU
@@ -36,6 +37,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -72,14 +74,27 @@ int thread_count(const Args& a) { return a.threads > 0 ? a.threads : int(std::ma
 
 struct Ceiling {
   uint64_t rays = 0, shadow_rays = 0;
-  double seconds = 0.0, seconds_one_thread = 0.0, cpu = 0.0;  // cpu: process CPU seconds of the all-threads replay
+  double seconds = 0.0, cpu = 0.0;  // of the all-threads replays; cpu: process CPU seconds
+  int rounds = 0;                   // replays of every cell's rays
+  uint64_t rays_one_thread = 0;     // the first round's, cast again on one thread
+  double seconds_one_thread = 0.0;
 };
 
-// Records the rays of `spp` samples per pixel of one scene, then casts them again.
-void replay_scene(const Scene& scene, int spp, int threads, Ceiling* c) {
-  SceneGeometry geo(scene);
-  PathTracer tracer(scene, geo);
+// One gallery cell's recorded rays, with the geometry they are cast against.
+struct CellRays {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<SceneGeometry> geo;
   std::vector<RecordedRay> rays;
+  uint64_t shadow_rays = 0;
+};
+
+// Records the rays of `spp` samples per pixel of one scene.
+CellRays record_scene(Scene scene_in, int spp) {
+  CellRays c;
+  c.scene = std::make_unique<Scene>(std::move(scene_in));
+  const Scene& scene = *c.scene;
+  c.geo = std::make_unique<SceneGeometry>(scene);
+  PathTracer tracer(scene, *c.geo);
   uint64_t count = 0;
   for (int y = 0; y < scene.film.height; ++y)
     for (int x = 0; x < scene.film.width; ++x)
@@ -87,33 +102,47 @@ void replay_scene(const Scene& scene, int spp, int threads, Ceiling* c) {
         const size_t pix = size_t(y) * size_t(scene.film.width) + size_t(x);
         Sampler rng(1, pix, uint64_t(s), scene.integrator.sampler);
         const Vec2 j = rng.uniform2();
-        tracer.li(tracer.camera_ray(float(x) + j.x, float(y) + j.y), rng, &count, &rays);
+        tracer.li(tracer.camera_ray(float(x) + j.x, float(y) + j.y), rng, &count, &c.rays);
       }
-  std::atomic<uint64_t> hits{0};  // consumed, so that nothing is optimised away
-  const auto cast = [&](size_t b, size_t e) {
-    uint64_t h = 0;
-    for (size_t i = b; i < e; ++i) {
-      const RecordedRay& r = rays[i];
-      h += r.shadow ? uint64_t(geo.occluded(r.ray, r.tmax)) : uint64_t(geo.closest_distance(r.ray, r.tmax) < INFINITY);
-    }
-    hits += h;
-  };
+  for (const RecordedRay& r : c.rays) c.shadow_rays += r.shadow ? 1 : 0;
+  return c;
+}
+
+// Casts every cell's rays again through Embree alone, on all threads (then once on one thread for
+// the single-thread column, at the first round only).
+void replay_cells(const std::vector<CellRays>& cells, int threads, Ceiling* c) {
   tbb::task_arena arena(threads);
-  const double c0 = cpu_seconds();
-  const auto t0 = std::chrono::steady_clock::now();
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 4096),
-                      [&](const tbb::blocked_range<size_t>& r) { cast(r.begin(), r.end()); });
-  });
-  const auto t1 = std::chrono::steady_clock::now();
-  c->cpu += cpu_seconds() - c0;
-  cast(0, rays.size());
-  const auto t2 = std::chrono::steady_clock::now();
-  c->rays += rays.size();
-  for (const RecordedRay& r : rays) c->shadow_rays += r.shadow ? 1 : 0;
-  c->seconds += std::chrono::duration<double>(t1 - t0).count();
-  c->seconds_one_thread += std::chrono::duration<double>(t2 - t1).count();
-  if (hits.load() == uint64_t(-1)) std::puts("");  // never: keeps `hits` alive
+  for (const CellRays& cell : cells) {
+    const auto& rays = cell.rays;
+    const SceneGeometry& geo = *cell.geo;
+    std::atomic<uint64_t> hits{0};  // consumed, so that nothing is optimised away
+    const auto cast = [&](size_t b, size_t e) {
+      uint64_t h = 0;
+      for (size_t i = b; i < e; ++i) {
+        const RecordedRay& r = rays[i];
+        h += r.shadow ? uint64_t(geo.occluded(r.ray, r.tmax)) : uint64_t(geo.closest_distance(r.ray, r.tmax) < INFINITY);
+      }
+      hits += h;
+    };
+    const double c0 = cpu_seconds();
+    const auto t0 = std::chrono::steady_clock::now();
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 4096),
+                        [&](const tbb::blocked_range<size_t>& r) { cast(r.begin(), r.end()); });
+    });
+    const auto t1 = std::chrono::steady_clock::now();
+    c->cpu += cpu_seconds() - c0;
+    c->seconds += std::chrono::duration<double>(t1 - t0).count();
+    if (c->rounds == 0) {
+      cast(0, rays.size());
+      c->seconds_one_thread += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+      c->rays_one_thread += rays.size();
+    }
+    c->rays += rays.size();
+    c->shadow_rays += cell.shadow_rays;
+    if (hits.load() == uint64_t(-1)) std::puts("");  // never: keeps `hits` alive
+  }
+  ++c->rounds;
 }
 
 void bench_gallery(const Args& a) {
@@ -121,6 +150,28 @@ void bench_gallery(const Args& a) {
   GalleryOptions go;
   go.render.threads = threads;
   if (a.quick) go.width = 256, go.spp = 4;
+
+  // The ceiling's rays first: recorded from every cell (at the gallery's cell size), then cast
+  // through Embree alone in rounds before and after the gallery, so that the two rates are
+  // measured over the same stretch of the machine's load (on a shared machine the load drifts
+  // over seconds, and one short replay after the gallery swung the share by several points).
+  const int rec_spp = a.quick ? 1 : 4;
+  const int rounds_each_side = a.quick ? 1 : 3;
+  fmt::print(stderr, "recording the gallery's rays...\n");
+  std::vector<CellRays> cells;
+  {
+    const GalleryLayout layout = gallery_layout(go);
+    for (size_t cell = 0; cell < size_t(layout.cells); ++cell) {
+      json sj = gallery_cell_scene(cell);
+      sj["film"]["width"] = layout.cell_width;
+      sj["film"]["height"] = layout.cell_height;
+      cells.push_back(record_scene(parse_scene(sj, fmt::format("gallery cell {}", cell), ""), rec_spp));
+    }
+  }
+  Ceiling c;
+  fmt::print(stderr, "replaying them ({} rounds)...\n", rounds_each_side);
+  for (int r = 0; r < rounds_each_side; ++r) replay_cells(cells, threads, &c);
+
   fmt::print(stderr, "gallery ({} threads)...\n", threads);
   const double c0 = cpu_seconds();
   const GalleryResult g = render_gallery(go);
@@ -138,16 +189,8 @@ void bench_gallery(const Args& a) {
              double(g.stats.paths) / wall * 1e-6, double(g.stats.rays) / wall * 1e-6,
              double(g.stats.rays) / double(g.stats.paths));
 
-  // The same cells' rays through Embree alone.
-  fmt::print(stderr, "recording and replaying the gallery's rays...\n");
-  Ceiling c;
-  const int rec_spp = a.quick ? 1 : 4;
-  for (size_t cell = 0; cell < size_t(g.cells); ++cell) {
-    json sj = gallery_cell_scene(cell);
-    sj["film"]["width"] = g.cell_width;
-    sj["film"]["height"] = g.cell_height;
-    replay_scene(parse_scene(sj, fmt::format("gallery cell {}", cell), ""), rec_spp, threads, &c);
-  }
+  fmt::print(stderr, "replaying them again ({} rounds)...\n", rounds_each_side);
+  for (int r = 0; r < rounds_each_side; ++r) replay_cells(cells, threads, &c);
   const double renderer_rate = double(g.stats.rays) / wall, raw = double(c.rays) / c.seconds;
   const double renderer_cpu_rate = double(g.stats.rays) / cpu, raw_cpu = double(c.rays) / c.cpu;
   fmt::print("## 2. Ray-cast ceiling (the gallery's rays through Embree alone)\n\n");
@@ -157,10 +200,11 @@ void bench_gallery(const Args& a) {
       threads, threads);
   fmt::print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   fmt::print(
-      "| {:.2f} M ({} spp of every cell) | {:.0f}% | {:.2f} M rays/s | {:.2f} M rays/s | {:.2f} M rays/s | {:.1f}% | {:.2f} M | "
+      "| {:.2f} M ({} spp of every cell, {} times) | {:.0f}% | {:.2f} M rays/s | {:.2f} M rays/s | {:.2f} M rays/s | {:.1f}% | "
+      "{:.2f} M | "
       "{:.2f} M | {:.1f}% |\n\n",
-      double(c.rays) * 1e-6, rec_spp, 100.0 * double(c.shadow_rays) / double(c.rays), raw * 1e-6,
-      double(c.rays) / c.seconds_one_thread * 1e-6, renderer_rate * 1e-6, 100.0 * renderer_rate / raw, raw_cpu * 1e-6,
+      double(c.rays / uint64_t(c.rounds)) * 1e-6, rec_spp, c.rounds, 100.0 * double(c.shadow_rays) / double(c.rays), raw * 1e-6,
+      double(c.rays_one_thread) / c.seconds_one_thread * 1e-6, renderer_rate * 1e-6, 100.0 * renderer_rate / raw, raw_cpu * 1e-6,
       renderer_cpu_rate * 1e-6, 100.0 * renderer_cpu_rate / raw_cpu);
   // The figure of record (docs/benchmarks.md): rays per CPU second against rays per CPU second, both
   // measured in this run, so that the machine's load cancels out. The wall-clock share above

@@ -94,26 +94,34 @@ nlohmann::json gallery_cell_scene(size_t cell) {
   return scene;
 }
 
+GalleryLayout gallery_layout(const GalleryOptions& opt) {
+  const nlohmann::json& doc = gallery_document();
+  GalleryLayout l;
+  l.cells = int(doc.at("cells").size());
+  l.columns = doc.at("columns").get<int>();
+  l.rows = (l.cells + l.columns - 1) / l.columns;
+  l.margin = std::max(4, opt.width / 128);
+  l.cell_width = std::max(16, (opt.width - l.margin * (l.columns + 1)) / l.columns);
+  l.label_px = std::max(9.0f, float(l.cell_width) * 0.07f);
+  l.detail_px = l.label_px * 0.8f;
+  l.strip = int(l.label_px * 1.35f + l.detail_px * 1.35f) + l.margin;
+  l.cell_height = l.cell_width;
+  if (opt.height > 0) l.cell_height = std::max(16, (opt.height - l.margin * (l.rows + 1)) / l.rows - l.strip);
+  l.figure_height = opt.height > 0 ? opt.height : l.margin + l.rows * (l.cell_height + l.strip + l.margin);
+  return l;
+}
+
 GalleryResult render_gallery(const GalleryOptions& opt) {
   const nlohmann::json& doc = gallery_document();
-  const int cells = int(doc.at("cells").size());
-  const int columns = doc.at("columns").get<int>();
-  const int rows = (cells + columns - 1) / columns;
-  // Layout: a margin around the figure and between cells; under each cell a strip with the label
-  // (one line, bold-ish size) and the detail line (smaller). Sizes scale with the cell width.
+  const GalleryLayout layout = gallery_layout(opt);
+  const int cells = layout.cells, columns = layout.columns, margin = layout.margin, strip = layout.strip;
+  const int cell_w = layout.cell_width, cell_h = layout.cell_height;
+  const float label_px = layout.label_px, detail_px = layout.detail_px;
   GalleryResult res;
   res.cells = cells;
-  const int margin = std::max(4, opt.width / 128);
-  const int cell_w = std::max(16, (opt.width - margin * (columns + 1)) / columns);
-  const float label_px = std::max(9.0f, float(cell_w) * 0.07f);
-  const float detail_px = label_px * 0.8f;
-  const int strip = int(label_px * 1.35f + detail_px * 1.35f) + margin;
-  int cell_h = cell_w;
-  if (opt.height > 0) cell_h = std::max(16, (opt.height - margin * (rows + 1)) / rows - strip);
-  const int fig_h = opt.height > 0 ? opt.height : margin + rows * (cell_h + strip + margin);
   res.cell_width = cell_w;
   res.cell_height = cell_h;
-  res.image = DisplayImage(opt.width, fig_h, 255);  // white page, like a paper's figure
+  res.image = DisplayImage(opt.width, layout.figure_height, 255);  // white page, like a paper's figure
 
   std::vector<Scene> scenes;
   for (int c = 0; c < cells; ++c) {

@@ -34,6 +34,15 @@ struct GalleryResult {
   int cells = 0, cell_width = 0, cell_height = 0;
 };
 
+// Where render_gallery puts the cells: a margin around the figure and between cells; under each
+// cell a strip with the label (one line) and the detail line (smaller). Sizes scale with the width.
+struct GalleryLayout {
+  int cells = 0, columns = 0, rows = 0;
+  int margin = 0, cell_width = 0, cell_height = 0, strip = 0, figure_height = 0;
+  float label_px = 0.0f, detail_px = 0.0f;
+};
+GalleryLayout gallery_layout(const GalleryOptions& opt);
+
 GalleryResult render_gallery(const GalleryOptions& opt);
 
 // The preview scene for one material: a sphere and a torus brushed along its circle, under the
