@@ -556,7 +556,6 @@ TEST(EnvironmentSky, GradientGroundAndNoNaN) {
   EXPECT_TRUE(finite(s2.w) && finite(s2.radiance) && std::isfinite(s2.pdf));
 }
 
-
 // The row of a direction comes from w.y by comparisons with the rows' boundaries cos(k pi / h)
 // (Environment::row_of), not acos: the same row as theta = acos(y) in double everywhere except
 // within rounding of a boundary, the poles in the first and last row, |y| > 1 (rounding of a unit
