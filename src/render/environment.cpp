@@ -278,8 +278,9 @@ Vec2 Distribution2D::sample(const Vec2& u, float* pdf) const {
     if (pdf) *pdf = 0.0f;
     return Vec2(0.0f);
   }
-  const float d1 = marginal_.sample(u.y, &pdf_v, &v);
-  const float d0 = conditional_[sampling_row_[size_t(v)]].sample(u.x, &pdf_u, nullptr);
+  // Without `pdf` the densities' divisions are skipped (Environment::sample looks the density up).
+  const float d1 = marginal_.sample(u.y, pdf ? &pdf_v : nullptr, &v);
+  const float d0 = conditional_[sampling_row_[size_t(v)]].sample(u.x, pdf ? &pdf_u : nullptr, nullptr);
   if (pdf) *pdf = pdf_u * pdf_v;
   return Vec2(d0, d1);
 }
@@ -452,9 +453,9 @@ EnvSample Environment::sample(const Vec2& u) const {
     }
     case Kind::Map: break;
   }
-  float pdf_uv = 0.0f;
-  const Vec2 uv = dist_->sample(u, &pdf_uv);
-  if (!(pdf_uv > 0.0f)) return s;
+  // The sample's density in (u, v) is not needed: the lookup below gives the direction's (and a
+  // map's distribution never picks a texel of weight 0).
+  const Vec2 uv = dist_->sample(u, nullptr);
   s.w = direction_of(uv, rotation_rad_);
   // Radiance and pdf through eval() and pdf() of the direction itself, not from (uv, pdf_uv): a
   // sample that lands on a texel edge may round into the neighbour texel, and the estimator

@@ -278,6 +278,8 @@ PathTracer::PathTracer(const Scene& scene, const SceneGeometry& geometry) : scen
   cam_up_ = glm::cross(cam_right_, cam_fwd_);
   cam_tan_half_ = std::tan(glm::radians(c.fov_deg) * 0.5f);
   cam_aspect_ = float(scene.film.width) / float(scene.film.height);
+  cam_two_over_w_ = 2.0f / float(scene.film.width);
+  cam_two_over_h_ = 2.0f / float(scene.film.height);
   const float R = std::max(geometry.bounding_radius(), 1e-6f);  // a point-sized scene still lets light in
   std::vector<double> power;
   for (const Light& l : scene.lights) power.push_back(std::max(0.0, double(light_power(l, R))));
@@ -332,8 +334,10 @@ int PathTracer::pick_light(float u) const {
 }
 
 Ray PathTracer::camera_ray(float px, float py) const {
-  const float sx = (2.0f * px / float(scene_.film.width) - 1.0f) * cam_tan_half_ * cam_aspect_;
-  const float sy = (1.0f - 2.0f * py / float(scene_.film.height)) * cam_tan_half_;
+  // Film position to [-1, 1] by multiplications with 2 / size (a division per ray and axis was a
+  // visible part of a path that misses everything); within an ulp of 2 px / W.
+  const float sx = (px * cam_two_over_w_ - 1.0f) * cam_tan_half_ * cam_aspect_;
+  const float sy = (1.0f - py * cam_two_over_h_) * cam_tan_half_;
   return Ray{scene_.camera.position, glm::normalize(cam_fwd_ + sx * cam_right_ + sy * cam_up_)};
 }
 

@@ -65,7 +65,7 @@ class Distribution2D {
  public:
   Distribution2D() = default;
   Distribution2D(const std::vector<float>& f, int nu, int nv);  // f[v * nu + u]
-  Vec2 sample(const Vec2& u, float* pdf) const;                 // returns (u, v) in [0, 1)^2
+  Vec2 sample(const Vec2& u, float* pdf) const;                 // returns (u, v) in [0, 1)^2; pdf may be null
   float pdf(const Vec2& uv) const;                              // density w.r.t. [0, 1)^2, as sample()'s
   float pdf_of_bin(int iu, int iv) const;                       // pdf() anywhere in bin (iu, iv)
 

@@ -199,6 +199,7 @@ class PathTracer {
   // The camera's basis and screen scales, fixed per scene (camera_ray).
   Vec3 cam_fwd_{0.0f}, cam_right_{0.0f}, cam_up_{0.0f};
   float cam_tan_half_ = 0.0f, cam_aspect_ = 1.0f;
+  float cam_two_over_w_ = 0.0f, cam_two_over_h_ = 0.0f;  // 2 / film width and height (camera_ray)
 };
 
 }  // namespace aniso::render
