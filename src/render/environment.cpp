@@ -403,8 +403,9 @@ Environment Environment::sky(const SkyParams& params) { return from_image(tabula
 
 // The row r of the map whose band of directions holds w.y = y: theta = acos(y) in [r pi / h,
 // (r + 1) pi / h), that is row_cos_[r + 1] < y <= row_cos_[r] (row 0 takes y = 1, row h - 1 takes
-// y = -1). Found from the guide's first guess by comparisons with the boundaries: no acos, which
-// was a fifth of a lookup's time (docs/benchmarks.md, "The fifth round"). The result satisfies
+// y = -1). Found from the guide's first guess by comparisons with the boundaries: no acos (lookup
+// and acos were 6.9% of the gallery's time, lookup and row_of are 4.5%: docs/benchmarks.md, "The
+// fifth round"). The result satisfies
 // those inequalities whatever the guess, so the guide only saves steps. Out-of-range y (rounding
 // of a unit vector) belongs to the nearest pole's row, NaN to the bottom row.
 int Environment::row_of(float y) const {
