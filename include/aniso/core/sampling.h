@@ -27,8 +27,7 @@ template <typename T> ANISO_INLINE BSDFSampleT<T> make_sample(const Vec3T<T>& wi
   return s;
 }
 
-// Cosine-weighted hemisphere (Malley's method via the concentric disk map, Shirley & Chiu 1997).
-// The concentric map in polar form: the signed radius r (the dominant one of 2u - 1's coordinates;
+// The concentric disk map (Shirley & Chiu 1997) in polar form: the signed radius r (the dominant one of 2u - 1's coordinates;
 // |r| = max(|2u - 1|), exact in float) and the angle theta, the point being r (cos theta, sin theta).
 // At the centre, where the angle is undefined, r = theta = 0.
 template <typename T> struct DiskPolarT { T r, theta; };
@@ -39,6 +38,7 @@ template <typename T> ANISO_INLINE DiskPolarT<T> concentric_disk_polar(const Vec
   return {oy, kPiOver2<T> - kPi<T> / T(4) * (ox / oy)};
 }
 
+// A uniform point on the unit disk through the concentric map.
 template <typename T> ANISO_INLINE Vec2T<T> sample_uniform_disk_concentric(const Vec2T<T>& u) {
   using std::cos;
   using std::sin;
@@ -46,6 +46,7 @@ template <typename T> ANISO_INLINE Vec2T<T> sample_uniform_disk_concentric(const
   return Vec2T<T>(p.r * cos(p.theta), p.r * sin(p.theta));
 }
 
+// Cosine-weighted hemisphere (Malley's method via the concentric disk map, Shirley & Chiu 1997).
 template <typename T> ANISO_INLINE Vec3T<T> sample_cosine_hemisphere(const Vec2T<T>& u) {
   const Vec2T<T> d = sample_uniform_disk_concentric(u);
   return Vec3T<T>(d.x, d.y, safe_sqrt(T(1) - d.x * d.x - d.y * d.y));
