@@ -27,9 +27,9 @@ template <typename T> ANISO_INLINE BSDFSampleT<T> make_sample(const Vec3T<T>& wi
   return s;
 }
 
-// The concentric disk map (Shirley & Chiu 1997) in polar form: the signed radius r (the dominant one of 2u - 1's coordinates;
-// |r| = max(|2u - 1|), exact in float) and the angle theta, the point being r (cos theta, sin theta).
-// At the centre, where the angle is undefined, r = theta = 0.
+// The concentric disk map (Shirley & Chiu 1997) in polar form: the signed radius r (the dominant
+// one of 2u - 1's coordinates; |r| = max(|2u - 1|), exact in float) and the angle theta, the point
+// being r (cos theta, sin theta). At the centre, where the angle is undefined, r = theta = 0.
 template <typename T> struct DiskPolarT { T r, theta; };
 template <typename T> ANISO_INLINE DiskPolarT<T> concentric_disk_polar(const Vec2T<T>& u) {
   const T ox = T(2) * u.x - T(1), oy = T(2) * u.y - T(1);
