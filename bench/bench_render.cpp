@@ -97,13 +97,15 @@ CellRays record_scene(Scene scene_in, int spp) {
   PathTracer tracer(scene, *c.geo);
   uint64_t count = 0;
   for (int y = 0; y < scene.film.height; ++y)
-    for (int x = 0; x < scene.film.width; ++x)
+    for (int x = 0; x < scene.film.width; ++x) {
+      const size_t pix = size_t(y) * size_t(scene.film.width) + size_t(x);
+      PixelSeeds pixel_seeds(1, pix, scene.integrator.sampler);
       for (int s = 0; s < spp; ++s) {
-        const size_t pix = size_t(y) * size_t(scene.film.width) + size_t(x);
-        Sampler rng(1, pix, uint64_t(s), scene.integrator.sampler);
+        Sampler rng(pixel_seeds, uint64_t(s));
         const Vec2 j = rng.uniform2();
         tracer.li(tracer.camera_ray(float(x) + j.x, float(y) + j.y), rng, &count, &c.rays);
       }
+    }
   for (const RecordedRay& r : c.rays) c.shadow_rays += r.shadow ? 1 : 0;
   return c;
 }

@@ -4,6 +4,7 @@
 // and MIS's lower variance, the tangent sources (rotation, concentric symmetry, tangent maps), and
 // determinism across thread counts.
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -609,6 +610,30 @@ TEST(RenderSampler, ScrambledValuesAreUniformAndRequestsUncorrelated) {
   const float ua = a.uniform(), ub = b.uniform(), uc = c.uniform();
   EXPECT_EQ(ua, ub);
   EXPECT_NE(ua, uc);
+}
+
+// The per-pixel seeds (PixelSeeds, what the render loop uses) change no number: samples of
+// different lengths (the kept seeds extended by a longer one, read by shorter ones, past the 64
+// kept), in any order, give bit for bit what a Sampler of (seed, pixel, sample) gives, both kinds.
+TEST(RenderSampler, PixelSeedsGiveTheSameNumbersAsTheSamplerAlone) {
+  for (const SamplerKind kind : {SamplerKind::Sobol, SamplerKind::Independent})
+    for (const uint64_t pixel : {uint64_t(0), uint64_t(77), uint64_t(1) << 40}) {
+      PixelSeeds seeds(9, pixel, kind);
+      for (const uint64_t s : {3, 0, 1, 7, 2, 1000, 5, 4}) {
+        Sampler alone(9, pixel, s, kind), kept(seeds, s);
+        const int requests = int(5 + (s * 37) % 90);  // 5 to 94 requests: some past the 64 kept
+        for (int r = 0; r < requests; ++r) {
+          if (r % 3 == 1) {
+            const float a = alone.uniform(), b = kept.uniform();
+            ASSERT_EQ(std::bit_cast<uint32_t>(a), std::bit_cast<uint32_t>(b)) << "sample " << s << " request " << r;
+          } else {
+            const Vec2 a = alone.uniform2(), b = kept.uniform2();
+            ASSERT_EQ(std::bit_cast<uint32_t>(a.x), std::bit_cast<uint32_t>(b.x)) << "sample " << s << " request " << r;
+            ASSERT_EQ(std::bit_cast<uint32_t>(a.y), std::bit_cast<uint32_t>(b.y)) << "sample " << s << " request " << r;
+          }
+        }
+      }
+    }
 }
 
 // Owen-scrambled Sobol' against independent samples, same scene, same spp: the error against a

@@ -566,8 +566,9 @@ Image render(const Scene& scene, const RenderOptions& opt, RenderStats* stats_ou
               if (!active[pix]) continue;
               RGB acc(0.0f);
               double acc_i2 = 0.0;
+              PixelSeeds pixel_seeds(opt.seed, pix, scene.integrator.sampler);
               for (int s = s_begin; s < s_end; ++s) {
-                Sampler rng(opt.seed, pix, uint64_t(s), scene.integrator.sampler);
+                Sampler rng(pixel_seeds, uint64_t(s));
                 const Vec2 j = rng.uniform2();
                 const RGB l = tracer.li(tracer.camera_ray(float(x) + j.x, float(y) + j.y), rng, &local_rays);
                 if (std::isfinite(l.x) && std::isfinite(l.y) && std::isfinite(l.z)) {

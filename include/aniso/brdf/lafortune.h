@@ -67,10 +67,13 @@ template <typename T> struct LafortuneLobeT {
            n.y == n.z;
   }
 
-  ANISO_HD RGBT<T> eval(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
+  ANISO_HD RGBT<T> eval(const Vec3T<T>& wi, const Vec3T<T>& wo) const { return eval(wi, wo, channels_share_shape()); }
+  // eval() with share_shape == channels_share_shape() given (a caller that evaluates the lobe many
+  // times at one shading point asks once: eight comparisons an evaluation otherwise).
+  ANISO_HD RGBT<T> eval(const Vec3T<T>& wi, const Vec3T<T>& wo, bool share_shape) const {
     const Vec3T<T> p = wi * wo;  // component-wise: the diagonal matrix acts on wi.x wo.x, ...
     RGBT<T> out;
-    if (channels_share_shape()) {
+    if (share_shape) {
       // One base and one power of it for the three channels (each channel's base is this one).
       const T base = cx.x * p.x + cy.x * p.y + cz.x * p.z;
       if (!(base > T(0))) return RGBT<T>(T(0));
@@ -102,9 +105,10 @@ template <typename T> struct LafortuneLobeT {
 
   // channel_weight(wo, c) for the three channels, with one power of |a| where they share the shape
   // (then |a|, a.z and n are the same for each): the same values bit for bit.
-  ANISO_HD void channel_weights(const Vec3T<T>& wo, T out[3]) const {
+  ANISO_HD void channel_weights(const Vec3T<T>& wo, T out[3]) const { channel_weights(wo, out, channels_share_shape()); }
+  ANISO_HD void channel_weights(const Vec3T<T>& wo, T out[3], bool share_shape) const {
     using std::sqrt;
-    if (!channels_share_shape()) {
+    if (!share_shape) {
       for (int c = 0; c < 3; ++c) out[c] = channel_weight(wo, c);
       return;
     }

@@ -65,7 +65,7 @@ template <typename T> struct MetalT {
 
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     if (!same_upper_hemisphere(wi, wo)) return RGBT<T>(T(0));
-    return f_of_specular(wi, wo, specular(wi, wo));
+    return f_of_specular(wi, wo, specular(wi, wo), has_directional_diffuse && directional_diffuse.channels_share_shape());
   }
   // Lobe choice: the specular lobe weighs its Fresnel reflectance seen from wo, the directional
   // diffuse lobe its channel weights (an albedo bound, lafortune.h). They depend on wo alone and
@@ -75,12 +75,14 @@ template <typename T> struct MetalT {
     T specular_probability = T(1);
     T channel[3] = {T(0), T(0), T(0)};  // the directional-diffuse channels' weights (0 without it)
     T channel_total = T(0);             // their sum, in channel order
+    bool one_shape = false;             // directional_diffuse.channels_share_shape() (false without it)
   };
   ANISO_HD SamplingWeights sampling_weights(const Vec3T<T>& wo) const {
     SamplingWeights w;
     const T s = average(specular_weight * F_Conductor(wo.z, eta, k));
     if (has_directional_diffuse) {
-      directional_diffuse.channel_weights(wo, w.channel);
+      w.one_shape = directional_diffuse.channels_share_shape();
+      directional_diffuse.channel_weights(wo, w.channel, w.one_shape);
       for (int c = 0; c < 3; ++c) w.channel_total += w.channel[c];
     }
     w.specular_probability = s + w.channel_total > T(0) ? s / (s + w.channel_total) : T(1);
@@ -90,7 +92,7 @@ template <typename T> struct MetalT {
   ANISO_HD T directional_diffuse_pdf(const SamplingWeights& ws, const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     // Channels of one shape have one channel pdf (a pow): computed once, at the first channel that
     // needs it, and summed with the same weights in the same order.
-    const bool one_shape = directional_diffuse.channels_share_shape();
+    const bool one_shape = ws.one_shape;
     T wsum = T(0), p = T(0), shared_pdf = T(-1);
     for (int c = 0; c < 3; ++c) {
       const T w = ws.channel[c];
@@ -132,7 +134,7 @@ template <typename T> struct MetalT {
     T p = ps * spec_pdf;
     if (ps < T(1)) p += (T(1) - ps) * directional_diffuse_pdf(ws, wi, wo);
     *pdf_out = p;
-    return f_of_specular(wi, wo, spec);
+    return f_of_specular(wi, wo, spec, ws.one_shape);
   }
   ANISO_HD RGBT<T> f_pdf(const Vec3T<T>& wi, const Vec3T<T>& wo, T* pdf_out) const {
     if (!same_upper_hemisphere(wi, wo)) {
@@ -176,8 +178,9 @@ template <typename T> struct MetalT {
   }
 
  private:
-  // f from the specular lobe's value spec = specular(wi, wo), same upper hemisphere.
-  ANISO_HD RGBT<T> f_of_specular(const Vec3T<T>& wi, const Vec3T<T>& wo, T spec) const {
+  // f from the specular lobe's value spec = specular(wi, wo), same upper hemisphere; one_shape is
+  // the directional diffuse lobe's channels_share_shape().
+  ANISO_HD RGBT<T> f_of_specular(const Vec3T<T>& wi, const Vec3T<T>& wo, T spec, bool one_shape) const {
     RGBT<T> out(T(0));
     // A specular value of +0 (Ward's exponential rounds to 0 away from the highlight: Ward_Exp)
     // makes the Fresnel-weighted term +0 whatever F is (F and the weight are finite and >= 0), so
@@ -187,7 +190,7 @@ template <typename T> struct MetalT {
       const Vec3T<T> h = glm::normalize(wi + wo);
       out = specular_weight * F_Conductor(glm::dot(wi, h), eta, k) * spec;
     }
-    if (has_directional_diffuse) out += directional_diffuse.eval(wi, wo);
+    if (has_directional_diffuse) out += directional_diffuse.eval(wi, wo, one_shape);
     return out;
   }
 };

@@ -90,13 +90,47 @@ static_assert(kSobolDim1.v[1] == 0xc0000000u && kSobolDim1.v[2] == 0xa0000000u &
 static_assert(kSobolDim1(3u) == (0x80000000u ^ 0xc0000000u));
 static_assert(kSobolDim1Reversed(0x9abcdef1u) == reverse_bits(kSobolDim1(0x9abcdef1u)));
 
+// The three 32-bit seeds of one request (a "dimension" d of Burley 2020, Listing 4): the index
+// shuffle's and each coordinate's scramble, hashed from the (seed, pixel) key and d alone.
+struct DimensionSeeds {
+  uint32_t shuffle, x, y;
+};
+inline DimensionSeeds dimension_seeds(uint64_t key, uint32_t d) {
+  uint64_t x = key + uint64_t(d) * 0xd1b54a32d192ed03ull;
+  const uint64_t a = splitmix64(x), b = splitmix64(x);
+  return {uint32_t(a), uint32_t(a >> 32), uint32_t(b)};
+}
+
 }  // namespace sampler_detail
 
 enum class SamplerKind { Sobol, Independent };
 
+// What the samples of one pixel share: the key hashed from (seed, pixel), and the seeds of each
+// request d, which depend on (key, d) alone and so are the same for every sample of the pixel
+// (sampler_detail::dimension_seeds: two SplitMix64 a request). The first sample to make request d
+// stores its seeds; later samples of the pixel read them. The numbers are those of a Sampler
+// without it, bit for bit. One per pixel and thread (not shared between threads: it is written).
+class PixelSeeds {
+ public:
+  PixelSeeds(uint64_t seed, uint64_t pixel, SamplerKind kind = SamplerKind::Sobol);
+
+ private:
+  friend class Sampler;
+  // Requests kept: a path of the default depth (8) with two lights and the sky sampled at every
+  // vertex makes 6 a vertex, 49 in all; later ones are hashed each time.
+  static constexpr uint32_t kKept = 64;
+  uint64_t seed_, pixel_, key_;
+  SamplerKind kind_;
+  uint32_t kept_ = 0;  // seeds_[0, kept_) are filled
+  sampler_detail::DimensionSeeds seeds_[kKept];
+};
+
 class Sampler {
  public:
   Sampler(uint64_t seed, uint64_t pixel, uint64_t sample, SamplerKind kind = SamplerKind::Sobol);
+  // The same numbers as Sampler(seed, pixel, sample, kind) of `pixel`'s arguments, the per-pixel
+  // hashes read from (and added to) `pixel`, which must outlive the sampler.
+  Sampler(PixelSeeds& pixel, uint64_t sample);
   float uniform();  // [0, 1), 24 bits: never 1
   Vec2 uniform2();  // [0, 1)^2
 
@@ -106,10 +140,9 @@ class Sampler {
 
  private:
   uint32_t next_u32_pcg();
-  struct DimensionSeeds {
-    uint32_t shuffle, x, y;
-  };
-  DimensionSeeds dimension_seeds();  // the seeds of the next request (advances the request counter)
+  void seed_pcg(uint64_t seed, uint64_t pixel, uint64_t sample);
+  // The seeds of the next request (advances the request counter).
+  sampler_detail::DimensionSeeds dimension_seeds();
   static float to_unit(uint32_t x) { return float(x >> 8) * 0x1.0p-24f; }
 
   SamplerKind kind_;
@@ -117,7 +150,18 @@ class Sampler {
   uint32_t index_reversed_ = 0;   // the sample index within the pixel, bits reversed
   uint32_t dimension_ = 0;        // requests made so far
   uint64_t state_ = 0, inc_ = 1;  // PCG32 (independent)
+  PixelSeeds* pixel_seeds_ = nullptr;  // the pixel's kept seeds, if any
 };
+
+inline Sampler::Sampler(PixelSeeds& pixel, uint64_t sample) : kind_(pixel.kind_) {
+  if (kind_ == SamplerKind::Independent) {
+    seed_pcg(pixel.seed_, pixel.pixel_, sample);
+    return;
+  }
+  key_ = pixel.key_;
+  index_reversed_ = sampler_detail::reverse_bits(uint32_t(sample));
+  pixel_seeds_ = &pixel;
+}
 
 inline uint32_t Sampler::next_u32_pcg() {
   const uint64_t old = state_;
@@ -127,11 +171,17 @@ inline uint32_t Sampler::next_u32_pcg() {
   return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31u));
 }
 
-inline Sampler::DimensionSeeds Sampler::dimension_seeds() {
-  uint64_t x = key_ + uint64_t(dimension_++) * 0xd1b54a32d192ed03ull;
-  using sampler_detail::splitmix64;
-  const uint64_t a = splitmix64(x), b = splitmix64(x);
-  return {uint32_t(a), uint32_t(a >> 32), uint32_t(b)};
+inline sampler_detail::DimensionSeeds Sampler::dimension_seeds() {
+  const uint32_t d = dimension_++;
+  if (pixel_seeds_ && d < PixelSeeds::kKept) {
+    PixelSeeds& p = *pixel_seeds_;
+    if (d < p.kept_) return p.seeds_[d];
+    const sampler_detail::DimensionSeeds s = sampler_detail::dimension_seeds(key_, d);
+    // Requests come in order (d = 0, 1, ...), so the first sample past the kept ones extends them.
+    if (d == p.kept_) p.seeds_[p.kept_++] = s;
+    return s;
+  }
+  return sampler_detail::dimension_seeds(key_, d);
 }
 
 inline float Sampler::uniform() {
@@ -141,7 +191,7 @@ inline float Sampler::uniform() {
   // point, each with a seed of its own.
   // Written out with fewer bit reversals: the shuffled index's van der Corput point sobol(i, 0) =
   // reverse(i) is LK(reverse(index)), and its scramble reverse(LK(reverse(.))) = reverse(LK(i)).
-  const DimensionSeeds s = dimension_seeds();
+  const sampler_detail::DimensionSeeds s = dimension_seeds();
   const uint32_t i = reverse_bits(laine_karras_permutation(index_reversed_, s.shuffle));  // shuffled index
   return to_unit(reverse_bits(laine_karras_permutation(i, s.x)));
 }
@@ -154,7 +204,7 @@ inline Vec2 Sampler::uniform2() {
   }
   // Listing 4 in two dimensions: one shuffled index, its two Sobol' coordinates scrambled apart.
   // (The first coordinate as in uniform(); the second through the table of sobol(., 1).)
-  const DimensionSeeds s = dimension_seeds();
+  const sampler_detail::DimensionSeeds s = dimension_seeds();
   const uint32_t i = reverse_bits(laine_karras_permutation(index_reversed_, s.shuffle));
   // The second: nested_uniform_scramble(sobol(i, 1), s.y), its first reversal taken by the table.
   return Vec2(to_unit(reverse_bits(laine_karras_permutation(i, s.x))),
