@@ -146,10 +146,10 @@ class Sampler {
   static float to_unit(uint32_t x) { return float(x >> 8) * 0x1.0p-24f; }
 
   SamplerKind kind_;
-  uint64_t key_ = 0;              // hash of (seed, pixel)
-  uint32_t index_reversed_ = 0;   // the sample index within the pixel, bits reversed
-  uint32_t dimension_ = 0;        // requests made so far
-  uint64_t state_ = 0, inc_ = 1;  // PCG32 (independent)
+  uint64_t key_ = 0;                   // hash of (seed, pixel)
+  uint32_t index_reversed_ = 0;        // the sample index within the pixel, bits reversed
+  uint32_t dimension_ = 0;             // requests made so far
+  uint64_t state_ = 0, inc_ = 1;       // PCG32 (independent)
   PixelSeeds* pixel_seeds_ = nullptr;  // the pixel's kept seeds, if any
 };
 
