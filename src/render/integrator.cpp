@@ -130,6 +130,20 @@ bool sample_light(const Light& l, const Vec3& p, const Vec2& u, LightSample* s) 
   return false;
 }
 
+// Whether every direction from p towards the sphere light l lies below the plane of the geometric
+// normal ng, where next-event estimation rejects it (dot(wi, ng) > 0 fails): the cone about the
+// axis to the centre, of half-angle theta_max with sin theta_max = r / d, is wholly below when
+// cos(axis, ng) < -sin theta_max, that is dot(to_centre, ng) < -r. The margin of 1e-3 d (an angle
+// of 1e-3 rad) is far above the rounding of a sampled direction, so that no sample this skips
+// could have passed the test.
+bool sphere_light_below(const Light& l, const Vec3& p, const Vec3& ng) {
+  const Vec3 to_c = l.position - p;
+  const float c = glm::dot(to_c, ng);
+  if (!(c < 0.0f)) return false;
+  const float d = std::sqrt(glm::dot(to_c, to_c));
+  return c < -l.radius - 1e-3f * d;
+}
+
 float sphere_light_pdf(const Light& l, const Vec3& p) {
   const SphereCone c = sphere_cone(l, p);
   return c.valid ? 1.0f / (2.0f * kPi<float> * c.one_minus_cos_max) : 0.0f;
@@ -460,8 +474,17 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         }
       };
       if (sample_all_) {
-        for (size_t i = 0; i < light_prob_.size(); ++i)
-          if (light_prob_[i] > 0.0f) sample_candidate(i, rng.uniform2());
+        for (size_t i = 0; i < light_prob_.size(); ++i) {
+          if (!(light_prob_[i] > 0.0f)) continue;
+          // A sphere light wholly below the surface: add_direct would reject its sample whatever u
+          // is, so the request is passed over (every later request gets the same numbers).
+          if (i < scene_.lights.size() && scene_.lights[i].kind == LightKind::Sphere &&
+              sphere_light_below(scene_.lights[i], hit.p, hit.ng)) {
+            rng.skip2();
+            continue;
+          }
+          sample_candidate(i, rng.uniform2());
+        }
       } else {
         // One emitter, chosen by power (integrator.h), from the same 2D sample that then places
         // the point on it: u.x picks the candidate whose cdf interval holds it and is rescaled to

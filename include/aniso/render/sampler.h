@@ -49,6 +49,21 @@ constexpr uint32_t reverse_bits(uint32_t x) {
 }
 static_assert(reverse_bits(1u) == 0x80000000u && reverse_bits(0x12345678u) == 0x1e6a2c48u);
 
+// Two 32-bit reversals for the price of one 64-bit one: reversing the 64 bits of (a << 32 | b)
+// gives reverse_bits(b) in the high half and reverse_bits(a) in the low half.
+struct ReversedPair {
+  uint32_t a, b;  // reverse_bits of the inputs a and b
+};
+constexpr ReversedPair reverse_bits_pair(uint32_t a, uint32_t b) {
+  uint64_t x = __builtin_bswap64((uint64_t(a) << 32) | b);
+  x = ((x >> 1) & 0x5555555555555555ull) | ((x & 0x5555555555555555ull) << 1);
+  x = ((x >> 2) & 0x3333333333333333ull) | ((x & 0x3333333333333333ull) << 2);
+  x = ((x >> 4) & 0x0f0f0f0f0f0f0f0full) | ((x & 0x0f0f0f0f0f0f0f0full) << 4);
+  return {uint32_t(x), uint32_t(x >> 32)};
+}
+static_assert(reverse_bits_pair(0x12345678u, 1u).a == reverse_bits(0x12345678u) &&
+              reverse_bits_pair(0x12345678u, 1u).b == reverse_bits(1u));
+
 // Burley 2020, Listing 2: a hash that, applied to the bit-reversed value, is a nested uniform
 // (Owen) scramble: each output bit is flipped or not depending only on the bits above it. The
 // constants are Burley's (after Laine & Karras 2011, "Stratified sampling for stochastic
@@ -133,6 +148,9 @@ class Sampler {
   Sampler(PixelSeeds& pixel, uint64_t sample);
   float uniform();  // [0, 1), 24 bits: never 1
   Vec2 uniform2();  // [0, 1)^2
+  // Passes over the request uniform2() would make: every later request gets the numbers it gets
+  // after uniform2() (a caller that knows it would discard them saves their hashing).
+  void skip2();
 
   // The building blocks, exposed for tests (Burley 2020, Listings 1-3).
   static uint32_t sobol(uint32_t index, int dim);  // dim 0 (van der Corput) or 1, unscrambled
@@ -196,6 +214,15 @@ inline float Sampler::uniform() {
   return to_unit(reverse_bits(laine_karras_permutation(i, s.x)));
 }
 
+inline void Sampler::skip2() {
+  if (kind_ == SamplerKind::Independent) {
+    next_u32_pcg();
+    next_u32_pcg();
+    return;
+  }
+  dimension_seeds();  // advances the request counter (and keeps the pixel's seeds in order)
+}
+
 inline Vec2 Sampler::uniform2() {
   using namespace sampler_detail;
   if (kind_ == SamplerKind::Independent) {
@@ -207,8 +234,10 @@ inline Vec2 Sampler::uniform2() {
   const sampler_detail::DimensionSeeds s = dimension_seeds();
   const uint32_t i = reverse_bits(laine_karras_permutation(index_reversed_, s.shuffle));
   // The second: nested_uniform_scramble(sobol(i, 1), s.y), its first reversal taken by the table.
-  return Vec2(to_unit(reverse_bits(laine_karras_permutation(i, s.x))),
-              to_unit(reverse_bits(laine_karras_permutation(kSobolDim1Reversed(i), s.y))));
+  // The two last reversals in one.
+  const ReversedPair r =
+      reverse_bits_pair(laine_karras_permutation(i, s.x), laine_karras_permutation(kSobolDim1Reversed(i), s.y));
+  return Vec2(to_unit(r.a), to_unit(r.b));
 }
 
 }  // namespace aniso::render
