@@ -363,6 +363,39 @@ TEST(EnvironmentMap, SampleAgreesWithPdfAndEval) {
   EXPECT_LE(rejected, 2);  // only by rounding onto a texel edge next to a black texel
 }
 
+// sample_above(u, n) is sample(u) wherever its direction is above the plane of n, bit for bit, and
+// no sample below it: maps (sky with and without a sun, a rotated random map) and a constant one.
+TEST(EnvironmentMap, SampleAboveIsTheSampleAboveThePlane) {
+  SkyParams sun;
+  sun.sun_radiance = RGB(2000.0f);
+  sun.resolution = 64;
+  SkyParams plain;
+  plain.resolution = 64;
+  const Environment envs[] = {Environment::from_image(random_map(), kScale, kRotation), Environment::sky(sun),
+                              Environment::sky(plain), Environment::uniform(RGB(0.5f, 1.0f, 2.0f))};
+  Rng rng(29);
+  for (const Environment& env : envs) {
+    int above = 0, below = 0;
+    for (int i = 0; i < 4000; ++i) {
+      const Vec2 u(rng.uniform_as<float>(), rng.uniform_as<float>());
+      const Vec3 n = glm::normalize(Vec3(rng.uniform_as<float>() - 0.5f, rng.uniform_as<float>() - 0.5f,
+                                         rng.uniform_as<float>() - 0.5f));
+      const EnvSample all = env.sample(u), kept = env.sample_above(u, n);
+      if (all.pdf > 0.0f && glm::dot(all.w, n) > 0.0f) {
+        ++above;
+        ASSERT_EQ(kept.w, all.w);
+        ASSERT_EQ(kept.radiance, all.radiance);
+        ASSERT_EQ(kept.pdf, all.pdf);
+      } else {
+        ++below;
+        ASSERT_EQ(kept.pdf, 0.0f);
+      }
+    }
+    EXPECT_GT(above, 1000);
+    EXPECT_GT(below, 1000);
+  }
+}
+
 TEST(EnvironmentMap, PdfPositiveWhereverRadianceIs) {
   const Environment env = Environment::from_image(random_map(), kScale, kRotation);
   Rng rng(19);

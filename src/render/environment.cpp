@@ -438,7 +438,7 @@ RGB Environment::eval(const Vec3& w) const { return lookup(w).radiance; }
 
 float Environment::pdf(const Vec3& w) const { return lookup(w).pdf; }
 
-EnvSample Environment::sample(const Vec2& u) const {
+template <bool kAbove> EnvSample Environment::sample_impl(const Vec2& u, const Vec3& n) const {
   EnvSample s;
   switch (kind_) {
     case Kind::None: return s;
@@ -448,6 +448,7 @@ EnvSample Environment::sample(const Vec2& u) const {
       const float r = safe_sqrt(1.0f - y * y);
       const float phi = 2.0f * kPi * u.y;
       s.w = Vec3(r * std::cos(phi), y, r * std::sin(phi));
+      if (kAbove && !(glm::dot(s.w, n) > 0.0f)) return EnvSample{};
       s.radiance = uniform_;
       s.pdf = 1.0f / (4.0f * kPi);
       return s;
@@ -458,6 +459,7 @@ EnvSample Environment::sample(const Vec2& u) const {
   // map's distribution never picks a texel of weight 0).
   const Vec2 uv = dist_->sample(u, nullptr);
   s.w = direction_of(uv, rotation_rad_);
+  if (kAbove && !(glm::dot(s.w, n) > 0.0f)) return EnvSample{};
   // Radiance and pdf through eval() and pdf() of the direction itself, not from (uv, pdf_uv): a
   // sample that lands on a texel edge may round into the neighbour texel, and the estimator
   // radiance / pdf and the MIS weights need the values eval() and pdf() give for s.w exactly.
@@ -467,5 +469,9 @@ EnvSample Environment::sample(const Vec2& u) const {
   if (!(s.pdf > 0.0f)) return EnvSample{};  // rounded into a black texel or onto a pole
   return s;
 }
+
+EnvSample Environment::sample(const Vec2& u) const { return sample_impl<false>(u, Vec3(0.0f)); }
+
+EnvSample Environment::sample_above(const Vec2& u, const Vec3& n) const { return sample_impl<true>(u, n); }
 
 }  // namespace aniso::render

@@ -113,14 +113,6 @@ SceneGeometry::~SceneGeometry() {
   if (impl_->device) rtcReleaseDevice(impl_->device);
 }
 
-Vec3 SceneGeometry::offset_origin(const Vec3& p, const Vec3& ng, const Vec3& d) {
-  // Embree intersects in float: a hit point is off the true surface by a few ulps of its largest
-  // coordinate. 1e-4 relative (plus 1e-4 absolute near the origin) clears that with a wide margin
-  // while staying far below the size of any feature in a scene of unit-sized objects.
-  const float scale = 1e-4f * (1.0f + std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))));
-  return p + (glm::dot(d, ng) >= 0.0f ? scale : -scale) * ng;
-}
-
 Vec3 SceneGeometry::triangle_normal(const Vec3& e1, const Vec3& e2) {
   // Each edge scaled by its largest component first: |e1 x e2|^2 overflows float once the edges
   // are longer than about 4e9 (a triangle of size 1e11 had a zero normal and rendered black), and

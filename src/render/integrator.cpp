@@ -469,7 +469,8 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
             add_direct(ls.wi, ls.li, ls.pdf * p_choice, ls.delta, ls.dist, l.kind == LightKind::Sphere ? &l : nullptr);
           }
         } else {
-          const EnvSample es = env.sample(ul);
+          // Directions below the surface, which add_direct rejects, come back without a lookup.
+          const EnvSample es = env.sample_above(ul, hit.ng);
           if (es.pdf > 0.0f) add_direct(es.w, es.radiance, es.pdf * p_choice, false, INFINITY, nullptr);
         }
       };

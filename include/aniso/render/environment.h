@@ -131,6 +131,10 @@ class Environment {
   // radiance == eval(w) and pdf == pdf(w) exactly. pdf = 0 means no sample: always for black
   // environments, otherwise only when rounding puts w on a pole or into a black neighbour texel.
   EnvSample sample(const Vec2& u) const;
+  // sample(u) where its direction w has dot(w, n) > 0, else no sample (pdf 0) and no lookup of w:
+  // for next-event estimation, which rejects directions below the surface (the lookup was half the
+  // cost of such a sample).
+  EnvSample sample_above(const Vec2& u, const Vec3& n) const;
 
  private:
   enum class Kind { None, Uniform, Map };
@@ -154,6 +158,7 @@ class Environment {
   float variation_ = 0.0f;  // max over channels of (max - min) / max over the texels (0: uniform)
   RGB max_radiance_{0.0f};  // per channel, over the texels (uniform: the radiance)
   std::shared_ptr<const Distribution2D> dist_;
+  template <bool kAbove> EnvSample sample_impl(const Vec2& u, const Vec3& n) const;
 };
 
 }  // namespace aniso::render

@@ -13,6 +13,8 @@
 // Sphere lights are in the same BVH (emitters only: they reflect nothing).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 
 #include "aniso/core/frame.h"
@@ -57,7 +59,14 @@ class SceneGeometry {
   float bounding_radius() const;
   // Ray origin for leaving p towards d without hitting the surface it sits on: offset along the
   // geometric normal by a few float ulps of the coordinates' magnitude.
-  static Vec3 offset_origin(const Vec3& p, const Vec3& ng, const Vec3& d);
+  // Inline: every shadow ray and every bounce takes one.
+  static Vec3 offset_origin(const Vec3& p, const Vec3& ng, const Vec3& d) {
+    // Embree intersects in float: a hit point is off the true surface by a few ulps of its largest
+    // coordinate. 1e-4 relative (plus 1e-4 absolute near the origin) clears that with a wide margin
+    // while staying far below the size of any feature in a scene of unit-sized objects.
+    const float scale = 1e-4f * (1.0f + std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))));
+    return p + (glm::dot(d, ng) >= 0.0f ? scale : -scale) * ng;
+  }
   // The unit normal of a triangle with edges e1, e2 (right-handed, e1 x e2); +y for a degenerate
   // one. Finite for any finite edges (no overflow of the cross product).
   static Vec3 triangle_normal(const Vec3& e1, const Vec3& e2);
