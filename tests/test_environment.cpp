@@ -378,8 +378,8 @@ TEST(EnvironmentMap, SampleAboveIsTheSampleAboveThePlane) {
     int above = 0, below = 0;
     for (int i = 0; i < 4000; ++i) {
       const Vec2 u(rng.uniform_as<float>(), rng.uniform_as<float>());
-      const Vec3 n = glm::normalize(Vec3(rng.uniform_as<float>() - 0.5f, rng.uniform_as<float>() - 0.5f,
-                                         rng.uniform_as<float>() - 0.5f));
+      const Vec3 n =
+          glm::normalize(Vec3(rng.uniform_as<float>() - 0.5f, rng.uniform_as<float>() - 0.5f, rng.uniform_as<float>() - 0.5f));
       const EnvSample all = env.sample(u), kept = env.sample_above(u, n);
       if (all.pdf > 0.0f && glm::dot(all.w, n) > 0.0f) {
         ++above;
