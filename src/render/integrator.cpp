@@ -362,6 +362,9 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
   const bool use_nee = strategy != Strategy::Bsdf && light_cdf_.back() > 0.0f;
   const Environment& env = scene_.environment;
   const float env_prob = light_prob_.back();
+  // Read once (a vector's size is a subtraction and a division by the element size at every use).
+  const Light* const lights = scene_.lights.data();
+  const size_t light_count = scene_.lights.size(), candidates = light_prob_.size();
   RGB L(0.0f), beta(1.0f);
   float prev_pdf = 0.0f;     // solid-angle pdf of the BRDF sample that made `ray` (0: camera ray)
   float min_pdf = INFINITY;  // the smallest of the path's BRDF-sample pdfs (Cycles' min_ray_pdf)
@@ -460,12 +463,12 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
       // One sample of candidate i (a light, or the environment for i == lights.size()).
       const auto sample_candidate = [&](size_t i, const Vec2& ul) {
         const float p_choice = light_prob_[i];
-        if (i < scene_.lights.size()) {
+        if (i < light_count) {
           LightSample ls;
-          if (sample_light(scene_.lights[i], hit.p, ul, &ls)) {
+          if (sample_light(lights[i], hit.p, ul, &ls)) {
             // L - E(w) with the environment behind the light as a control variate (integrator.h).
             if (env_behind_light_[i]) ls.li -= env.eval(ls.wi);
-            const Light& l = scene_.lights[i];
+            const Light& l = lights[i];
             add_direct(ls.wi, ls.li, ls.pdf * p_choice, ls.delta, ls.dist, l.kind == LightKind::Sphere ? &l : nullptr);
           }
         } else {
@@ -475,12 +478,11 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
         }
       };
       if (sample_all_) {
-        for (size_t i = 0; i < light_prob_.size(); ++i) {
+        for (size_t i = 0; i < candidates; ++i) {
           if (!(light_prob_[i] > 0.0f)) continue;
           // A sphere light wholly below the surface: add_direct would reject its sample whatever u
           // is, so the request is passed over (every later request gets the same numbers).
-          if (i < scene_.lights.size() && scene_.lights[i].kind == LightKind::Sphere &&
-              sphere_light_below(scene_.lights[i], hit.p, hit.ng)) {
+          if (i < light_count && lights[i].kind == LightKind::Sphere && sphere_light_below(lights[i], hit.p, hit.ng)) {
             rng.skip2();
             continue;
           }
