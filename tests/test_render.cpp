@@ -10,12 +10,15 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
+#include <random>
 
 #include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "aniso/core/sampling.h"
 #include "aniso/render/integrator.h"
 #include "aniso/render/scene.h"
 #include "chi2.h"
@@ -679,6 +682,61 @@ TEST(RenderSampler, SobolHasLowerErrorThanIndependentAtEqualSpp) {
 }
 
 // --- light selection -----------------------------------------------------------------------------
+
+// Next-event estimation passes over a sphere light (no sample drawn) only where every sample of it
+// would have been rejected: for random lights, points and normals, and for normals placed just past
+// the test's edge (the cone 2e-3 rad and 1e-2 rad below the plane), every sampled direction of a
+// passed-over light is below the plane. And the test is not empty: lights above the plane or
+// straddling it are never passed over.
+TEST(RenderLights, SphereLightPassedOverOnlyWhenEverySampleIsBelow) {
+  std::mt19937 gen(31);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  int passed_over = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    Light l;
+    l.kind = LightKind::Sphere;
+    l.position = Vec3(uni(gen) * 8.0f - 4.0f, uni(gen) * 8.0f - 4.0f, uni(gen) * 8.0f - 4.0f);
+    l.radius = 0.01f + uni(gen) * 1.5f;
+    l.power = RGB(1.0f);
+    const Vec3 p(uni(gen) * 2.0f - 1.0f, uni(gen) * 2.0f - 1.0f, uni(gen) * 2.0f - 1.0f);
+    const Vec3 to_c = l.position - p;
+    const float d = glm::length(to_c);
+    if (!(d > l.radius * 1.01f)) continue;
+    const Vec3 axis = to_c / d;
+    const float theta_max = std::asin(l.radius / d);
+    // A normal at angle pi / 2 + theta_max + gap from the axis (the cone that far below the plane),
+    // or a random one.
+    Vec3 ng;
+    const int kind = trial % 4;
+    if (kind < 3) {
+      Vec3 t, b;
+      orthonormal_basis(axis, t, b);
+      const float gap = kind == 0 ? 2e-3f : kind == 1 ? 1e-2f : -1e-2f;  // below, well below, straddling
+      const float angle = 0.5f * std::numbers::pi_v<float> + theta_max + gap;
+      ng = glm::normalize(std::cos(angle) * axis + std::sin(angle) * t);
+    } else {
+      ng = glm::normalize(Vec3(uni(gen) - 0.5f, uni(gen) - 0.5f, uni(gen) - 0.5f));
+    }
+    const bool below = sphere_light_below(l, p, ng);
+    if (kind == 2 || glm::dot(to_c, ng) >= 0.0f) {
+      EXPECT_FALSE(below) << "trial " << trial;  // straddling or above: some samples are above
+    }
+    if (kind == 1 && l.radius / d < 0.9f) {
+      EXPECT_TRUE(below) << "trial " << trial;  // ten times the margin below, a cone under 2 x 64 degrees
+    }
+    if (!below) continue;
+    ++passed_over;
+    for (int i = 0; i < 16; ++i)
+      for (int j = 0; j < 16; ++j) {
+        // Stratified, with the square's edges and corners (the cone's rim) among them.
+        const Vec2 u(std::min((float(i) + uni(gen) * float(i < 15)) / 15.0f, 0x1.fffffep-1f),
+                     std::min((float(j) + uni(gen) * float(j < 15)) / 15.0f, 0x1.fffffep-1f));
+        const Vec3 wi = sphere_light_sample_direction(l, p, u);
+        ASSERT_FALSE(glm::dot(wi, ng) > 0.0f) << "trial " << trial << " u " << u.x << " " << u.y;
+      }
+  }
+  EXPECT_GT(passed_over, 800);
+}
 
 // Many lights of very different power over a Lambert plane, direct lighting only: each pixel is
 // kd / pi times the sum over the lights of

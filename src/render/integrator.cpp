@@ -130,20 +130,6 @@ bool sample_light(const Light& l, const Vec3& p, const Vec2& u, LightSample* s) 
   return false;
 }
 
-// Whether every direction from p towards the sphere light l lies below the plane of the geometric
-// normal ng, where next-event estimation rejects it (dot(wi, ng) > 0 fails): the cone about the
-// axis to the centre, of half-angle theta_max with sin theta_max = r / d, is wholly below when
-// cos(axis, ng) < -sin theta_max, that is dot(to_centre, ng) < -r. The margin of 1e-3 d (an angle
-// of 1e-3 rad) is far above the rounding of a sampled direction, so that no sample this skips
-// could have passed the test.
-bool sphere_light_below(const Light& l, const Vec3& p, const Vec3& ng) {
-  const Vec3 to_c = l.position - p;
-  const float c = glm::dot(to_c, ng);
-  if (!(c < 0.0f)) return false;
-  const float d = std::sqrt(glm::dot(to_c, to_c));
-  return c < -l.radius - 1e-3f * d;
-}
-
 float sphere_light_pdf(const Light& l, const Vec3& p) {
   const SphereCone c = sphere_cone(l, p);
   return c.valid ? 1.0f / (2.0f * kPi<float> * c.one_minus_cos_max) : 0.0f;
@@ -259,6 +245,25 @@ class MaterialAtWo {
 };
 
 }  // namespace
+
+// Every direction from p towards the sphere light l below the plane of the geometric normal ng,
+// where next-event estimation rejects it (dot(wi, ng) > 0 fails): the cone about the axis to the
+// centre, of half-angle theta_max with sin theta_max = r / d, is wholly below when cos(axis, ng) <
+// -sin theta_max, that is dot(to_centre, ng) < -r. The margin of 1e-3 d (an angle of 1e-3 rad) is
+// far above the rounding of a sampled direction, so that no sample this skips could have passed
+// the test (tests/test_render.cpp, RenderLights.SphereLightPassedOverOnlyWhenEverySampleIsBelow).
+bool sphere_light_below(const Light& l, const Vec3& p, const Vec3& ng) {
+  const Vec3 to_c = l.position - p;
+  const float c = glm::dot(to_c, ng);
+  if (!(c < 0.0f)) return false;
+  const float d = std::sqrt(glm::dot(to_c, to_c));
+  return c < -l.radius - 1e-3f * d;
+}
+
+Vec3 sphere_light_sample_direction(const Light& l, const Vec3& p, const Vec2& u) {
+  LightSample s;
+  return sample_light(l, p, u, &s) ? s.wi : Vec3(0.0f);
+}
 
 void roughen(Material& m, float alpha) {
   if (!(alpha > 0.0f)) return;

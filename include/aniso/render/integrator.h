@@ -175,6 +175,13 @@ struct RecordedRay {
 // Raises the roughness of m's lobes to at least alpha (integrator.filter_glossy above).
 void roughen(Material& m, float alpha);
 
+// Next-event estimation's test for passing over a sphere light (integrator.cpp): every direction
+// from p towards l lies below the plane of the geometric normal ng, where any sample of it would be
+// rejected. Exposed for tests, with the direction next-event estimation samples for u (zero when
+// l gives no sample from p).
+bool sphere_light_below(const Light& l, const Vec3& p, const Vec3& ng);
+Vec3 sphere_light_sample_direction(const Light& l, const Vec3& p, const Vec2& u);
+
 class PathTracer {
  public:
   PathTracer(const Scene& scene, const SceneGeometry& geometry);
