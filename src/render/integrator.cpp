@@ -469,11 +469,11 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
       const auto sample_candidate = [&](size_t i, const Vec2& ul) {
         const float p_choice = light_prob_[i];
         if (i < light_count) {
+          const Light& l = lights[i];
           LightSample ls;
-          if (sample_light(lights[i], hit.p, ul, &ls)) {
+          if (sample_light(l, hit.p, ul, &ls)) {
             // L - E(w) with the environment behind the light as a control variate (integrator.h).
             if (env_behind_light_[i]) ls.li -= env.eval(ls.wi);
-            const Light& l = lights[i];
             add_direct(ls.wi, ls.li, ls.pdf * p_choice, ls.delta, ls.dist, l.kind == LightKind::Sphere ? &l : nullptr);
           }
         } else {
