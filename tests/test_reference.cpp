@@ -7,11 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -531,6 +533,30 @@ TEST(ReferenceFresnel, ConductorMatchesTheComplexForm) {
   EXPECT_NEAR(F.y, R::fresnel_conductor(0.5, 0.9, 2.4), 1e-12);
   EXPECT_NEAR(F.z, R::fresnel_conductor(0.5, 1.1, 2.2), 1e-12);
   std::printf("[reference] F_Conductor vs complex form: max rel. error double %.2e, float %.2e\n", max_rel_d, max_rel_f);
+}
+
+// The float RGB overload (fresnel.h: the three channels in one SSE register where the host has
+// SSE2) gives each channel's scalar value bit for bit, NaN and out-of-range cosines included.
+TEST(ReferenceFresnel, FloatChannelsAtOnceAreTheScalarOnesBitForBit) {
+  std::mt19937 rng(27);
+  std::uniform_real_distribution<float> cos_d(-0.1f, 1.1f), eta_d(0.01f, 5.0f), k_d(0.0f, 10.0f);
+  std::vector<float> cosines = {0.0f, 1.0f, -0.0f, 1e-30f, 0.5f, std::nanf("")};
+  for (int i = 0; i < 20000; ++i) cosines.push_back(cos_d(rng));
+  int compared = 0;
+  for (size_t i = 0; i < cosines.size(); ++i) {
+    const float c = cosines[i];
+    aniso::RGBT<float> eta(eta_d(rng), eta_d(rng), eta_d(rng)), k(k_d(rng), k_d(rng), k_d(rng));
+    if (i % 7 == 0) eta.y = 1.0f, k.y = 0.0f;  // matched to air: the clamp at 0
+    if (i % 11 == 0) k.z = 0.0f;               // a dielectric channel
+    const aniso::RGBT<float> f = aniso::F_Conductor<float>(c, eta, k);
+    for (int ch = 0; ch < 3; ++ch) {
+      const float scalar = aniso::F_Conductor<float>(c, eta[ch], k[ch]);
+      ASSERT_EQ(std::bit_cast<uint32_t>(f[ch]), std::bit_cast<uint32_t>(scalar))
+          << "cos " << c << " eta " << eta[ch] << " k " << k[ch] << " channel " << ch << ": " << f[ch] << " vs " << scalar;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 3 * int(cosines.size()));
 }
 
 TEST(ReferenceFresnel, Schlick) {

@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "aniso/image/canvas.h"
 #include "aniso/image/image_io.h"
 #include "aniso/render/gallery.h"
 #include "aniso/render/integrator.h"
@@ -402,6 +403,42 @@ TEST(RenderFireflies, OffByDefaultInTheGallery) {
     EXPECT_EQ(sc.integrator.clamp, 0.0f);
     EXPECT_EQ(sc.integrator.filter_glossy, 0.0f);
     EXPECT_EQ(sc.film.noise_threshold, 0.0f);
+  }
+}
+
+// Every caption stays inside its cell at any figure width (a narrow figure shrinks the captions,
+// then cuts the longest with an ellipsis), and the default width shows every caption whole.
+TEST(GalleryCaptions, FitTheirCellAtEveryWidth) {
+  const json& cells = gallery_document().at("cells");
+  for (const int width : {128, 256, 400, 512, 1024, 2048}) {
+    GalleryOptions opt;
+    opt.width = width;
+    const GalleryLayout l = gallery_layout(opt);
+    const int room = l.cell_width - 4;
+    int cut = 0;
+    for (const auto& cell : cells)
+      for (const auto& [key, px] : {std::pair{"label", l.label_px}, std::pair{"detail", l.detail_px}}) {
+        const std::string text = cell.at(key).get<std::string>(), shown = fit_caption(text, px, room);
+        EXPECT_LE(text_width(shown, px), room) << width << " px: " << text;
+        if (shown != text) {
+          ++cut;
+          EXPECT_TRUE(shown.empty() || shown.ends_with("\u2026")) << shown;
+          EXPECT_EQ(text.rfind(shown.substr(0, shown.size() - 3), 0), 0u) << shown;  // a prefix of the text
+        }
+      }
+    if (width >= 1024) {
+      EXPECT_EQ(cut, 0) << width << " px";
+    }
+    EXPECT_GE(l.label_px, 7.0f);
+  }
+  // A cut lands on a character boundary: the degree sign (two bytes) is kept whole or dropped.
+  const std::string deg = "spiral at 45\u00b0 between";
+  for (int room = 1; room < 200; ++room) {
+    const std::string shown = fit_caption(deg, 10.0f, room);
+    if (shown.empty() || shown == deg) continue;
+    const std::string kept = shown.substr(0, shown.size() - 3);
+    EXPECT_EQ(deg.rfind(kept, 0), 0u) << room;
+    EXPECT_FALSE(!kept.empty() && (static_cast<unsigned char>(kept.back()) == 0xC2)) << room;  // no half character
   }
 }
 

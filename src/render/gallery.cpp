@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -78,6 +79,9 @@ constexpr const char* kGalleryJson = R"json({
   ]
 })json";
 
+// The smallest caption size: below it DejaVu Sans's letters run together.
+constexpr float kMinCaptionPx = 7.0f;
+
 }  // namespace
 
 const nlohmann::json& gallery_document() {
@@ -102,13 +106,40 @@ GalleryLayout gallery_layout(const GalleryOptions& opt) {
   l.rows = (l.cells + l.columns - 1) / l.columns;
   l.margin = std::max(4, opt.width / 128);
   l.cell_width = std::max(16, (opt.width - l.margin * (l.columns + 1)) / l.columns);
-  l.label_px = std::max(9.0f, float(l.cell_width) * 0.07f);
-  l.detail_px = l.label_px * 0.8f;
+  // Captions scale with the cell, and shrink further where the widest would overrun its cell (a
+  // narrow figure: --width 256), down to kMinCaptionPx; a caption still too wide is cut short
+  // (fit_caption). The text width is proportional to the pixel height up to rounding, hence the
+  // measurement at a large size.
+  constexpr float kMeasurePx = 100.0f;
+  float widest_label = 0.0f, widest_detail = 0.0f;  // at kMeasurePx
+  for (const auto& cell : doc.at("cells")) {
+    widest_label = std::max(widest_label, float(text_width(cell.at("label").get<std::string>(), kMeasurePx)));
+    widest_detail = std::max(widest_detail, float(text_width(cell.at("detail").get<std::string>(), kMeasurePx)));
+  }
+  const float room = float(l.cell_width - 4);  // the caption starts 2 px in and keeps 2 px clear
+  const float fit_px = std::min(room / widest_label, room / (0.8f * widest_detail)) * kMeasurePx * 0.98f;
+  l.label_px = std::max(kMinCaptionPx, std::min(float(l.cell_width) * 0.07f, fit_px));
+  l.detail_px = std::max(kMinCaptionPx, l.label_px * 0.8f);
   l.strip = int(l.label_px * 1.35f + l.detail_px * 1.35f) + l.margin;
   l.cell_height = l.cell_width;
   if (opt.height > 0) l.cell_height = std::max(16, (opt.height - l.margin * (l.rows + 1)) / l.rows - l.strip);
   l.figure_height = opt.height > 0 ? opt.height : l.margin + l.rows * (l.cell_height + l.strip + l.margin);
   return l;
+}
+
+std::string fit_caption(const std::string& text, float px, int room) {
+  if (text_width(text, px) <= room) return text;
+  const std::string ellipsis = "\u2026";
+  size_t end = text.size();
+  while (end > 0) {
+    --end;
+    while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;  // to the character's lead byte
+    std::string cut = text.substr(0, end);
+    while (!cut.empty() && cut.back() == ' ') cut.pop_back();  // no space before the ellipsis
+    cut += ellipsis;
+    if (text_width(cut, px) <= room) return cut;
+  }
+  return text_width(ellipsis, px) <= room ? ellipsis : std::string();
 }
 
 GalleryResult render_gallery(const GalleryOptions& opt) {
@@ -143,10 +174,11 @@ GalleryResult render_gallery(const GalleryOptions& opt) {
     const int x = margin + col * (cell_w + margin), y = margin + row * (cell_h + strip + margin);
     blit(res.image, tonemap(img, opt.tonemap), x, y);
     const auto& cell = doc.at("cells").at(size_t(c));
-    draw_text(res.image, x + 2, y + cell_h + int(label_px * 0.25f), cell.at("label").get<std::string>(), label_px,
-              glm::u8vec3(20, 20, 20));
-    draw_text(res.image, x + 2, y + cell_h + int(label_px * 1.45f), cell.at("detail").get<std::string>(), detail_px,
-              glm::u8vec3(90, 90, 90));
+    const int room = cell_w - 4;
+    draw_text(res.image, x + 2, y + cell_h + int(label_px * 0.25f),
+              fit_caption(cell.at("label").get<std::string>(), label_px, room), label_px, glm::u8vec3(20, 20, 20));
+    draw_text(res.image, x + 2, y + cell_h + int(label_px * 1.45f),
+              fit_caption(cell.at("detail").get<std::string>(), detail_px, room), detail_px, glm::u8vec3(90, 90, 90));
   };
 
   // Ctrl-C (RenderOptions::cancel) keeps the single image's promise for the whole figure (docs/

@@ -42,6 +42,10 @@ struct GalleryLayout {
   float label_px = 0.0f, detail_px = 0.0f;
 };
 GalleryLayout gallery_layout(const GalleryOptions& opt);
+// A caption as render_gallery draws it in `room` pixels at `px`: the text, or, where it is wider,
+// the text cut at a UTF-8 character boundary and ended with an ellipsis (empty where not even the
+// ellipsis fits).
+std::string fit_caption(const std::string& text, float px, int room);
 
 GalleryResult render_gallery(const GalleryOptions& opt);
 

@@ -105,6 +105,27 @@ static_assert(kSobolDim1.v[1] == 0xc0000000u && kSobolDim1.v[2] == 0xa0000000u &
 static_assert(kSobolDim1(3u) == (0x80000000u ^ 0xc0000000u));
 static_assert(kSobolDim1Reversed(0x9abcdef1u) == reverse_bits(kSobolDim1(0x9abcdef1u)));
 
+// What a request needs of the shuffled index i, read from its reversal j = reverse_bits(i) (the
+// shuffle's output): i itself and kSobolDim1Reversed(i), both linear over GF(2) in the bits of j,
+// so one table a byte of j gives both (i in the low half, the reversed Sobol' coordinate in the
+// high half): four 64-bit lookups in place of a bit reversal and four 32-bit lookups.
+struct UnreversedIndex {
+  uint64_t table[4][256];
+  constexpr UnreversedIndex() : table{} {
+    for (int b = 0; b < 4; ++b)
+      for (uint32_t x = 0; x < 256; ++x) {
+        const uint32_t i = reverse_bits(x << (8 * b));
+        table[b][x] = uint64_t(i) | (uint64_t(kSobolDim1Reversed(i)) << 32);
+      }
+  }
+  constexpr uint64_t operator()(uint32_t j) const {
+    return table[0][j & 255u] ^ table[1][(j >> 8) & 255u] ^ table[2][(j >> 16) & 255u] ^ table[3][j >> 24];
+  }
+};
+inline constexpr UnreversedIndex kUnreversedIndex{};
+static_assert(uint32_t(kUnreversedIndex(0x9abcdef1u)) == reverse_bits(0x9abcdef1u) &&
+              uint32_t(kUnreversedIndex(0x9abcdef1u) >> 32) == kSobolDim1Reversed(reverse_bits(0x9abcdef1u)));
+
 // The three 32-bit seeds of one request (a "dimension" d of Burley 2020, Listing 4): the index
 // shuffle's and each coordinate's scramble, hashed from the (seed, pixel) key and d alone.
 struct DimensionSeeds {
@@ -210,7 +231,7 @@ inline float Sampler::uniform() {
   // Written out with fewer bit reversals: the shuffled index's van der Corput point sobol(i, 0) =
   // reverse(i) is LK(reverse(index)), and its scramble reverse(LK(reverse(.))) = reverse(LK(i)).
   const sampler_detail::DimensionSeeds s = dimension_seeds();
-  const uint32_t i = reverse_bits(laine_karras_permutation(index_reversed_, s.shuffle));  // shuffled index
+  const uint32_t i = uint32_t(kUnreversedIndex(laine_karras_permutation(index_reversed_, s.shuffle)));  // shuffled index
   return to_unit(reverse_bits(laine_karras_permutation(i, s.x)));
 }
 
@@ -232,11 +253,12 @@ inline Vec2 Sampler::uniform2() {
   // Listing 4 in two dimensions: one shuffled index, its two Sobol' coordinates scrambled apart.
   // (The first coordinate as in uniform(); the second through the table of sobol(., 1).)
   const sampler_detail::DimensionSeeds s = dimension_seeds();
-  const uint32_t i = reverse_bits(laine_karras_permutation(index_reversed_, s.shuffle));
+  // The shuffled index i and reverse_bits(sobol(i, 1)) from one lookup on i's reversal.
+  const uint64_t t = kUnreversedIndex(laine_karras_permutation(index_reversed_, s.shuffle));
+  const uint32_t i = uint32_t(t), sobol1_reversed = uint32_t(t >> 32);
   // The second: nested_uniform_scramble(sobol(i, 1), s.y), its first reversal taken by the table.
   // The two last reversals in one.
-  const ReversedPair r =
-      reverse_bits_pair(laine_karras_permutation(i, s.x), laine_karras_permutation(kSobolDim1Reversed(i), s.y));
+  const ReversedPair r = reverse_bits_pair(laine_karras_permutation(i, s.x), laine_karras_permutation(sobol1_reversed, s.y));
   return Vec2(to_unit(r.a), to_unit(r.b));
 }
 
