@@ -542,7 +542,6 @@ TEST(ReferenceFresnel, FloatChannelsAtOnceAreTheScalarOnesBitForBit) {
   std::uniform_real_distribution<float> cos_d(-0.1f, 1.1f), eta_d(0.01f, 5.0f), k_d(0.0f, 10.0f);
   std::vector<float> cosines = {0.0f, 1.0f, -0.0f, 1e-30f, 0.5f, std::nanf("")};
   for (int i = 0; i < 20000; ++i) cosines.push_back(cos_d(rng));
-  int compared = 0;
   for (size_t i = 0; i < cosines.size(); ++i) {
     const float c = cosines[i];
     aniso::RGBT<float> eta(eta_d(rng), eta_d(rng), eta_d(rng)), k(k_d(rng), k_d(rng), k_d(rng));
@@ -553,10 +552,8 @@ TEST(ReferenceFresnel, FloatChannelsAtOnceAreTheScalarOnesBitForBit) {
       const float scalar = aniso::F_Conductor<float>(c, eta[ch], k[ch]);
       ASSERT_EQ(std::bit_cast<uint32_t>(f[ch]), std::bit_cast<uint32_t>(scalar))
           << "cos " << c << " eta " << eta[ch] << " k " << k[ch] << " channel " << ch << ": " << f[ch] << " vs " << scalar;
-      ++compared;
     }
   }
-  EXPECT_EQ(compared, 3 * int(cosines.size()));
 }
 
 TEST(ReferenceFresnel, Schlick) {

@@ -117,6 +117,7 @@ GalleryLayout gallery_layout(const GalleryOptions& opt) {
     widest_detail = std::max(widest_detail, float(text_width(cell.at("detail").get<std::string>(), kMeasurePx)));
   }
   const float room = float(l.cell_width - 4);  // the caption starts 2 px in and keeps 2 px clear
+  // 0.98: the width scales with the size only up to the rounding of advances and the final ceil.
   const float fit_px = std::min(room / widest_label, room / (0.8f * widest_detail)) * kMeasurePx * 0.98f;
   l.label_px = std::max(kMinCaptionPx, std::min(float(l.cell_width) * 0.07f, fit_px));
   l.detail_px = std::max(kMinCaptionPx, l.label_px * 0.8f);

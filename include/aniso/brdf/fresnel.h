@@ -73,8 +73,8 @@ template <typename T> ANISO_INLINE RGBT<T> F_Conductor(T cos_theta, const RGBT<T
 // its order (sqrt, add, multiply and divide are correctly rounded in SSE as in scalar code, and
 // max(x, 0) is x > 0 ? x : 0, NaN included, as maxps returns its second operand on NaN), so the
 // result is the scalar one bit for bit (tests/test_reference.cpp,
-// ReferenceFresnel.FloatChannelsAtOnceAreTheScalarOnesBitForBit). The metal's hot path evaluates it twice a
-// vertex; written out because the compiler keeps the channels apart.
+// ReferenceFresnel.FloatChannelsAtOnceAreTheScalarOnesBitForBit). The metal's hot path evaluates
+// it twice a vertex; written out because the compiler keeps the channels apart.
 template <> inline RGBT<float> F_Conductor<float>(float cos_theta, const RGBT<float>& eta, const RGBT<float>& k) {
   const FresnelAngleT<float> angle = Fresnel_Angle(cos_theta);
   const __m128 zero = _mm_setzero_ps(), half = _mm_set1_ps(0.5f);
