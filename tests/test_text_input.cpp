@@ -1,16 +1,29 @@
 // tests/test_text_input.cpp: the number rule of io/text_input.h (decimal only, underflow to zero,
 // overflow and non-finite values rejected; whole decimal integers in range) and the direction lines
-// of `aniso eval` (vectors or angles, blank and comment lines, messages naming line and field).
+// of `aniso eval` (vectors or angles, blank and comment lines, messages naming line and field);
+// the size limit of every whole-file read (io/json_read.h).
+#include <fcntl.h>
+#include <pthread.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <csignal>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
+#include <thread>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "aniso/io/input_error.h"
 #include "input_error_text.h"
+#include "io/json_read.h"
 #include "io/text_input.h"
+#include "temp_dir.h"
 
 namespace aniso {
 namespace {
@@ -49,6 +62,47 @@ TEST(NumberRule, DirectionLines) {
   EXPECT_NEAR(a.wi.x, 0.5, 1e-15);
   EXPECT_NEAR(a.wo.x, -0.5, 1e-15);
   EXPECT_TRUE(contains(error_of([] { parse_direction_line("91 0 0 0", 3, true); }), "theta must be in [0, 90]"));
+}
+
+// Issue 40 item 5: `-m /dev/zero` grew to 16.8 GB, `-m /dev/urandom` never ended. A regular file
+// over the limit is refused by its size before it is read (a sparse file: no disk used); a device
+// or a FIFO is read up to one byte past the limit (here 1 MiB, to stay fast), then refused.
+TEST(ReadTextFile, SizeLimitNamesTheFileAndTheLimit) {
+  const test::TempDir dir;
+  const std::string big = dir.path("big.json");
+  { std::ofstream(big) << "{}"; }
+  std::filesystem::resize_file(big, kMaxJsonFileBytes + 1);
+  EXPECT_EQ(error_of([&] { (void)read_json_file(big); }),
+            fmt::format("{}: {} bytes: larger than 64 MiB, the limit for a JSON file (docs/cli.md, \"Size limits\")", big,
+                        kMaxJsonFileBytes + 1));
+  std::filesystem::resize_file(big, 1 << 20);  // at the limit given: read whole (zeros: not JSON, but read)
+  EXPECT_EQ(read_text_file(big, "a test file", size_t(1) << 20).size(), size_t(1) << 20);
+  if (::access("/dev/zero", R_OK) == 0) {
+    EXPECT_EQ(error_of([] { (void)read_text_file("/dev/zero", "a test file", size_t(1) << 20); }),
+              "/dev/zero: larger than 1 MiB, the limit for a test file (docs/cli.md, \"Size limits\")");
+  }
+  if (::access("/dev/urandom", R_OK) == 0) {
+    EXPECT_TRUE(contains(error_of([] { (void)read_text_file("/dev/urandom", "a test file", size_t(1) << 20); }),
+                         "/dev/urandom: larger than 1 MiB"));
+  }
+  // A FIFO fed 2 MiB: refused after 1 MiB. The writer blocks SIGPIPE (sent to the writing
+  // thread), so that the reader's close ends its write with EPIPE instead of the process.
+  const std::string fifo = dir.path("fifo.json");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer([&] {
+    sigset_t pipe;
+    sigemptyset(&pipe);
+    sigaddset(&pipe, SIGPIPE);
+    ::pthread_sigmask(SIG_BLOCK, &pipe, nullptr);
+    const int fd = ::open(fifo.c_str(), O_WRONLY);
+    if (fd < 0) return;
+    const std::string block(1 << 16, ' ');
+    for (int i = 0; i < 32; ++i)
+      if (::write(fd, block.data(), block.size()) < 0) break;
+    ::close(fd);
+  });
+  EXPECT_TRUE(contains(error_of([&] { (void)read_text_file(fifo, "a test file", size_t(1) << 20); }), "larger than 1 MiB"));
+  writer.join();
 }
 
 }  // namespace

@@ -106,7 +106,9 @@ nlohmann::json parse_json_text(std::string_view text, const std::string& where) 
   }
 }
 
-std::string read_text_file(const std::string& path, std::string_view what) {
+std::string mib_text(size_t bytes) { return fmt::format("{} MiB", bytes >> 20); }
+
+std::string read_text_file(const std::string& path, std::string_view what, size_t max_bytes) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     const int err = errno;
@@ -114,11 +116,20 @@ std::string read_text_file(const std::string& path, std::string_view what) {
     throw InputError(fmt::format("{}: cannot access: {}", path, std::strerror(err)));
   }
   if (S_ISDIR(st.st_mode)) throw InputError(fmt::format("{}: is a directory, expected {}", path, what));
+  const auto too_large = [&](const std::string& size) {
+    return InputError(fmt::format("{}: {}larger than {}, the limit for {} (docs/cli.md, \"Size limits\")", path, size,
+                                  mib_text(max_bytes), what));
+  };
+  if (S_ISREG(st.st_mode) && uintmax_t(st.st_size) > max_bytes) throw too_large(fmt::format("{} bytes: ", uintmax_t(st.st_size)));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open for reading: {}", path, std::strerror(errno)));
+  // A FIFO or a device has no size: read up to one byte past the limit.
   std::string text;
   char buf[1 << 16];
-  while (in.read(buf, sizeof buf) || in.gcount() > 0) text.append(buf, size_t(in.gcount()));
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    text.append(buf, size_t(in.gcount()));
+    if (text.size() > max_bytes) throw too_large("");
+  }
   if (in.bad()) throw InputError(fmt::format("{}: read error: {}", path, std::strerror(errno)));
   return text;
 }

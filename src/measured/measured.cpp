@@ -166,7 +166,9 @@ std::shared_ptr<const MeasuredData> load_measured(const std::string& path) {
     if (const auto it = registry.find(key); it != registry.end()) return it->second;
   }
   MerlBrdf brdf = read_merl(path);
-  const std::string hash = sha256_file(path);
+  // The hash reads the file a second time: a FIFO or a pipe has given its bytes to read_merl and
+  // would block, so it stays unrecognised (no sha256).
+  const std::string hash = fs::is_regular_file(path, ec) ? sha256_file(path) : std::string();
   auto built = make_measured(std::move(brdf), path);
   auto d = std::const_pointer_cast<MeasuredData>(built);
   d->sha256 = hash;

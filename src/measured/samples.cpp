@@ -105,7 +105,7 @@ void check_phi(double phi, double full_turn, const std::string& path, size_t lin
 }  // namespace
 
 SampleSet read_samples_csv(const std::string& path) {
-  const std::string text = read_text_file(path, "a CSV file of samples");
+  const std::string text = read_text_file(path, "a CSV file of samples", kMaxSampleFileBytes);
   SampleSet set;
   set.source = path;
   set.format = "csv";
@@ -204,7 +204,7 @@ SampleSet read_samples_csv(const std::string& path) {
 }
 
 SampleSet read_cornell(const std::string& path) {
-  const std::string text = read_text_file(path, "a Cornell .brdf file");
+  const std::string text = read_text_file(path, "a Cornell .brdf file", kMaxSampleFileBytes);
   SampleSet set;
   set.source = path;
   set.format = "cornell";

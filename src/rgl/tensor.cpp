@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "aniso/io/params.h"
+#include "io/json_read.h"
 
 namespace aniso::rgl {
 
@@ -182,11 +183,9 @@ TensorFile parse_tensor(std::span<const uint8_t> bytes, const std::string& where
 }
 
 TensorFile read_tensor_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open the file", path));
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(fmt::format("{}: read error", path));
-  return parse_tensor(bytes, path);
+  // The common whole-file reader: its file-kind messages and its size limit (io/json_read.h).
+  const std::string text = read_text_file(path, "an RGL tensor file (.bsdf)", kMaxTensorFileBytes);
+  return parse_tensor(std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()), path);
 }
 
 std::vector<uint8_t> serialize_tensor(std::vector<TensorField> fields) {
