@@ -79,6 +79,39 @@ TEST(SceneObj, NumbersThatAreNotFiniteDecimalsNameTheFileAndLine) {
   }
 }
 
+// Issue 40 item 12: tinyobjloader reads face indices with atoi, so "1.5" was 1, 4294967297 and
+// 9223372036854775808 wrapped, and a vt / vn index past the end dropped the mesh's UVs or normals
+// without a word. Each is an error naming the file, the line and the index.
+TEST(SceneObj, FaceIndicesOutOfRangeOrNotWholeNameTheFileLineAndIndex) {
+  const ObjDir d;
+  const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+  EXPECT_EQ(d.error_for(head + "f 1/1/1 2/1/1 3/1/1\n"), "(no error)");
+  EXPECT_EQ(d.error_for(head + "f 1//1 2//1 3//1\n"), "(no error)");
+  EXPECT_EQ(d.error_for(head + "f -3/-1 -2/-1 -1/-1\n"), "(no error)");
+  EXPECT_EQ(d.error_for("f 1 2 3\n" + head), "(no error)");  // a face may name later vertices
+  struct Case {
+    std::string line, expect;
+  };
+  for (const Case& c :
+       {Case{"f 1/1 2/5 3/1", "line 6: \"f 1/1 2/5 3/1\": vertex \"2/5\": vt index 5: the file has 1 \"vt\" line"},
+        Case{"f 1//7 2//1 3//1", "line 6: \"f 1//7 2//1 3//1\": vertex \"1//7\": vn index 7: the file has 1 \"vn\" line"},
+        Case{"f 1 2 99", "vertex \"99\": v index 99: the file has 3 \"v\" lines"},
+        Case{"f 1 2 4294967297", "vertex 3 \"4294967297\": v index \"4294967297\": above 2147483647"},
+        Case{"f 1 2 9223372036854775808", "v index \"9223372036854775808\": above 2147483647"},
+        Case{"f 1.5 2 3", "vertex 1 \"1.5\": v index \"1.5\": expected a whole decimal number"},
+        Case{"f 1e0 2 3", "v index \"1e0\": expected a whole decimal number"},
+        Case{"f x 2 3", "v index \"x\": expected a whole decimal number"},
+        Case{"f 0 2 3", "v index \"0\": expected a number from 1, or negative"},
+        Case{"f -4 2 3", "v index \"-4\": counts back past the first element: 3 \"v\" lines before this face"},
+        Case{"f 1/-2 2 3", "vt index \"-2\": counts back past the first element: 1 \"vt\" line before this face"},
+        Case{"f 1/ 2 3", "vertex 1 \"1/\": expected an index after \"/\""},
+        Case{"f 1/1/1/1 2 3", "expected v, v/vt, v//vn or v/vt/vn"}, Case{"f 1 2", "a face needs at least 3 vertices, got 2"}}) {
+    const std::string err = d.error_for(head + c.line + "\n");
+    EXPECT_TRUE(contains(err, "s.json: objects[0].file: " + d.dir() + "/m.obj: line 6: \"" + c.line + "\": ")) << err;
+    EXPECT_TRUE(contains(err, c.expect)) << err << "\n  expected: " << c.expect;
+  }
+}
+
 TEST(SceneBounds, DocumentedLimitsThemselvesAreAccepted) {
   json j = base_scene();
   j["objects"][0]["radius"] = 1e15;

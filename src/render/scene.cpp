@@ -8,7 +8,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -305,22 +307,91 @@ glm::mat3 rotation_xyz_deg(const Vec3& deg) {
   return rz * ry * rx;  // X first, then Y, then Z
 }
 
-// Checks every number on the OBJ's "v", "vn" and "vt" lines before tinyobjloader reads them:
-// tinyobjloader's parser turns text that is not a number ("v hello -1 0", "nan", "inf") into 0 and
-// a missing coordinate ("v -1") into 0 without a word, so after it has read the file the mistake
-// can no longer be told from a real 0. Numbers follow the CLI's rule (io/text_input.h: decimal,
-// finite); "v" takes x y z [w] or x y z r g b (tinyobjloader's two forms, tiny_obj_loader.h
-// parseVertexWithColor), "vn" x y z, "vt" u [v [w]].
-void check_obj_numbers(const std::string& file, const std::string& where) {
+// Checks every number on the OBJ's "v", "vn" and "vt" lines and every index on its "f" lines
+// before tinyobjloader reads them. tinyobjloader's parser turns text that is not a number ("v hello
+// -1 0", "nan", "inf") into 0 and a missing coordinate ("v -1") into 0 without a word, so after it
+// has read the file the mistake can no longer be told from a real 0. Its face indices go through
+// atoi (tiny_obj_loader.h parseTriple): "1.5" is read as 1, 4294967297 and 9223372036854775808
+// wrap to some int, and a "vt" or "vn" index past the last one only drops the mesh's UVs or
+// normals. Numbers follow the CLI's rule (io/text_input.h: decimal, finite); "v" takes x y z [w] or
+// x y z r g b (tinyobjloader's two forms, parseVertexWithColor), "vn" x y z, "vt" u [v [w]]. A face
+// vertex is v, v/vt, v//vn or v/vt/vn, each a whole decimal number: 1 to the number of such
+// elements in the file, or negative, counting back from the last one read before the face
+// (Wavefront's relative indices, as tinyobjloader's fixIndex); a face has at least 3 vertices.
+void check_obj_text(const std::string& file, const std::string& where) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: {}: cannot open ({})", where, file, std::strerror(errno)));
   std::string line;
   size_t line_no = 0;
   const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  // Elements read so far: v, vt, vn; and per kind the largest positive index a face names, with
+  // where (checked against the whole file's count at the end: a face may name a later element).
+  int64_t count[3] = {0, 0, 0};
+  struct Largest {
+    int64_t index = 0;
+    size_t line_no = 0;
+    std::string line, token;
+  } largest[3];
+  constexpr const char* kKind[3] = {"v", "vt", "vn"};
+  const auto quote = [](std::string_view s, size_t n) { return text_escape(s.substr(0, n)); };
   while (std::getline(in, line)) {
     ++line_no;
     size_t i = 0;
     while (i < line.size() && is_space(line[i])) ++i;
+    const auto fail = [&](const std::string& problem) {
+      throw InputError(fmt::format("{}: {}: line {}: \"{}\": {}", where, file, line_no, quote(line, 80), problem));
+    };
+    const size_t comment = line.find('#', i);
+    if (i < line.size() && line[i] == 'f' && i + 1 < line.size() && is_space(line[i + 1])) {
+      const std::string_view rest =
+          std::string_view(line).substr(i + 1, comment == std::string::npos ? std::string::npos : comment - i - 1);
+      size_t j = 0, vertices = 0;
+      while (true) {
+        while (j < rest.size() && is_space(rest[j])) ++j;
+        if (j == rest.size()) break;
+        size_t end = j;
+        while (end < rest.size() && !is_space(rest[end])) ++end;
+        const std::string_view token = rest.substr(j, end - j);
+        ++vertices;
+        // Up to three parts separated by '/': v, vt (may be empty when vn follows), vn.
+        size_t start = 0;
+        for (int part = 0; part < 3 && start <= token.size(); ++part) {
+          const size_t slash = token.find('/', start);
+          const std::string_view text =
+              token.substr(start, slash == std::string_view::npos ? std::string_view::npos : slash - start);
+          const bool last = slash == std::string_view::npos;
+          if (part == 2 && !last)
+            fail(fmt::format("vertex {} \"{}\": expected v, v/vt, v//vn or v/vt/vn", vertices, quote(token, 40)));
+          if (!(part == 1 && text.empty() && !last)) {
+            const auto bad = [&](const std::string& why) {
+              fail(fmt::format("vertex {} \"{}\": {} index \"{}\": {}", vertices, quote(token, 40), kKind[part], quote(text, 40),
+                               why));
+            };
+            std::string why;
+            const std::optional<double> v = parse_decimal(text, &why);
+            if (!v || *v != std::floor(*v) || text.find_first_of(".eE") != std::string_view::npos)
+              bad("expected a whole decimal number (1 is the first element, -1 the last one read)");
+            if (*v == 0) bad("expected a number from 1, or negative (0 is no element in OBJ)");
+            if (*v < 0) {
+              if (-*v > double(count[part]))
+                bad(fmt::format("counts back past the first element: {} \"{}\" line{} before this face", count[part], kKind[part],
+                                count[part] == 1 ? "" : "s"));
+            } else if (*v > double(std::numeric_limits<int>::max())) {
+              bad(fmt::format("above {} (the largest index this reader takes)", std::numeric_limits<int>::max()));
+            } else if (int64_t(*v) > largest[part].index) {
+              largest[part] = Largest{int64_t(*v), line_no, line.substr(0, 80), std::string(token.substr(0, 40))};
+            }
+          }
+          if (last) break;
+          start = slash + 1;
+          if (part == 0 && start == token.size())
+            fail(fmt::format("vertex {} \"{}\": expected an index after \"/\"", vertices, quote(token, 40)));
+        }
+        j = end;
+      }
+      if (vertices < 3) fail(fmt::format("a face needs at least 3 vertices, got {}", vertices));
+      continue;
+    }
     if (i >= line.size() || line[i] != 'v') continue;
     size_t k = i + 1;
     char kind = 'v';  // "v", "vn" or "vt"; any other word starting with v ("vp") is not checked
@@ -330,14 +401,9 @@ void check_obj_numbers(const std::string& file, const std::string& where) {
     const char* layout = kind == 'v' ? "x y z [w], or x y z r g b" : kind == 'n' ? "x y z" : "u [v [w]]";
     const size_t min = kind == 't' ? 1 : 3, max = kind == 'v' ? 6 : 3;
     i = k;
-    const size_t comment = line.find('#', i);
     const std::string_view rest =
         std::string_view(line).substr(i, comment == std::string::npos ? std::string::npos : comment - i);
-    size_t count = 0, j = 0;
-    const auto fail = [&](const std::string& problem) {
-      throw InputError(fmt::format("{}: {}: line {}: \"{}\": {}", where, file, line_no,
-                                   text_escape(std::string_view(line).substr(0, 80)), problem));
-    };
+    size_t n = 0, j = 0;
     while (true) {
       while (j < rest.size() && is_space(rest[j])) ++j;
       if (j == rest.size()) break;
@@ -345,22 +411,33 @@ void check_obj_numbers(const std::string& file, const std::string& where) {
       while (end < rest.size() && !is_space(rest[end])) ++end;
       std::string why;
       if (!parse_decimal(rest.substr(j, end - j), &why))
-        fail(fmt::format("field {}: expected a finite decimal number, got \"{}\" ({})", count + 1,
+        fail(fmt::format("field {}: expected a finite decimal number, got \"{}\" ({})", n + 1,
                          text_escape(rest.substr(j, std::min<size_t>(end - j, 40))), why));
-      ++count;
+      ++n;
       j = end;
     }
-    if (count < min || count > max || (kind == 'v' && count == 5))
-      fail(fmt::format("expected the numbers of a \"{}\" line ({}), got {}", name, layout, count));
+    if (n < min || n > max || (kind == 'v' && n == 5))
+      fail(fmt::format("expected the numbers of a \"{}\" line ({}), got {}", name, layout, n));
+    ++count[kind == 'v' ? 0 : kind == 't' ? 1 : 2];
   }
   if (in.bad()) throw InputError(fmt::format("{}: {}: read error ({})", where, file, std::strerror(errno)));
+  for (int part = 0; part < 3; ++part) {
+    const Largest& l = largest[part];
+    if (l.index > count[part])
+      throw InputError(fmt::format("{}: {}: line {}: \"{}\": vertex \"{}\": {} index {}: the file has {} \"{}\" line{}", where,
+                                   file, l.line_no, text_escape(l.line), text_escape(l.token), kKind[part], l.index, count[part],
+                                   kKind[part], count[part] == 1 ? "" : "s"));
+  }
 }
 
 std::shared_ptr<Mesh> load_obj(const std::string& file, const std::string& where) {
   std::error_code ec;
   if (!fs::exists(file, ec)) throw InputError(fmt::format("{}: {}: no such file", where, file));
   if (!fs::is_regular_file(file, ec)) throw InputError(fmt::format("{}: {}: not a regular file", where, file));
-  check_obj_numbers(file, where);
+  if (const uintmax_t size = fs::file_size(file, ec); !ec && size > kMaxObjFileBytes)
+    throw InputError(fmt::format("{}: {}: {} bytes: larger than {}, the limit for an OBJ file (docs/cli.md, \"Size limits\")",
+                                 where, file, size, mib_text(kMaxObjFileBytes)));
+  check_obj_text(file, where);
   tinyobj::ObjReaderConfig cfg;
   cfg.triangulate = true;
   cfg.vertex_color = false;
