@@ -8,18 +8,28 @@
 //   aniso serve [--port P]   a static server for the built page on 127.0.0.1.
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <poll.h>
+#include <pthread.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
+#include <mutex>
+#include <optional>
 #include <sstream>
+#include <string_view>
+#include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -218,10 +228,22 @@ json web_data() {
 // A minimal HTTP/1.0 GET server on 127.0.0.1 for the static page. Hand-written on POSIX sockets:
 // Debian has no maintained C++ HTTP server library packaged for this (cpp-httplib is not in
 // Debian 12; libmicrohttpd would do but adds a dependency for ~100 lines of static file serving).
-// It serves only the files directly in the page's folder (no subfolders, no "..").
+// It serves only the regular files directly in the page's folder (no subfolders, no "..").
+//
+// No request can stop or hold it (docs/web.md, "Bounds"): each connection is served on its own
+// thread, at most kMaxConnections at once (one more is answered 503 at once); the request line
+// must arrive whole within kRequestSeconds of the connection (408 otherwise) and within
+// kMaxRequestLine bytes (431); a response is sent within kResponseSeconds or the connection is
+// closed. A request line that is not `METHOD TARGET [HTTP/x.y]` is a 400; a name that is not a
+// regular file in the folder is a 404.
 
 volatile std::sig_atomic_t g_stop = 0;
 extern "C" void on_stop(int) { g_stop = 1; }
+
+constexpr int kMaxConnections = 32;
+constexpr double kRequestSeconds = 5.0;
+constexpr double kResponseSeconds = 30.0;
+constexpr size_t kMaxRequestLine = 8192;
 
 std::string content_type(const std::string& name) {
   const auto ends = [&](std::string_view s) {
@@ -235,43 +257,153 @@ std::string content_type(const std::string& name) {
   return "application/octet-stream";
 }
 
-void send_all(int fd, const std::string& s) {
+using Clock = std::chrono::steady_clock;
+
+// Milliseconds left until `deadline` for poll(), at least 0.
+int millis_left(Clock::time_point deadline) {
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+  return int(std::clamp<long long>(left, 0, 60'000));
+}
+
+// Sends all of `s` before `deadline`; false when the client went away or was too slow.
+bool send_all(int fd, std::string_view s, Clock::time_point deadline) {
   size_t off = 0;
   while (off < s.size()) {
-    const ssize_t n = ::send(fd, s.data() + off, s.size() - off, MSG_NOSIGNAL);
-    if (n <= 0) return;  // the client went away: nothing to do
+    pollfd p{fd, POLLOUT, 0};
+    const int ready = ::poll(&p, 1, millis_left(deadline));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) return false;
+    const ssize_t n = ::send(fd, s.data() + off, s.size() - off, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) continue;
+    if (n <= 0) return false;
     off += size_t(n);
+  }
+  return true;
+}
+
+// The request line, without its line end (CR LF or a bare LF); nullopt with `status` set when it
+// does not arrive whole in time or in kMaxRequestLine bytes, or the client closes first (status
+// empty: nothing to answer).
+std::optional<std::string> read_request_line(int fd, Clock::time_point deadline, std::string& status) {
+  std::string req;
+  char buf[2048];
+  while (true) {
+    if (const size_t eol = req.find('\n'); eol != std::string::npos) {
+      std::string line = req.substr(0, eol);
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      return line;
+    }
+    if (req.size() >= kMaxRequestLine) {
+      status = "431 Request Header Fields Too Large";
+      return std::nullopt;
+    }
+    pollfd p{fd, POLLIN, 0};
+    const int ready = ::poll(&p, 1, millis_left(deadline));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready == 0 || (ready < 0 && Clock::now() >= deadline)) {
+      status = "408 Request Timeout";
+      return std::nullopt;
+    }
+    if (ready < 0) return std::nullopt;
+    const ssize_t n = ::recv(fd, buf, std::min(sizeof buf, kMaxRequestLine - req.size()), MSG_DONTWAIT);
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) continue;
+    if (n <= 0) return std::nullopt;
+    req.append(buf, size_t(n));
   }
 }
 
-void respond(int fd, const std::filesystem::path& root) {
-  std::string req;
-  char buf[2048];
-  while (req.find("\r\n") == std::string::npos && req.size() < 8192) {
-    const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
-    if (n <= 0) return;
-    req.append(buf, size_t(n));
+// Splits "METHOD TARGET [VERSION]" at single spaces (RFC 9112 Sec. 3); false for anything else:
+// a control byte (NUL included), a missing or empty part, more than three parts, a target that is
+// not an absolute path, a version that is not HTTP/x.y.
+bool parse_request_line(std::string_view line, std::string& method, std::string& target) {
+  for (const char ch : line)
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) return false;
+  std::vector<std::string_view> parts;
+  size_t start = 0;
+  while (true) {
+    const size_t sp = line.find(' ', start);
+    parts.push_back(line.substr(start, sp == std::string_view::npos ? std::string_view::npos : sp - start));
+    if (sp == std::string_view::npos) break;
+    start = sp + 1;
   }
-  std::istringstream line(req.substr(0, req.find("\r\n")));
-  std::string method, target;
-  line >> method >> target;
-  const auto status = [&](const char* code, const std::string& body) {
-    send_all(fd, fmt::format("HTTP/1.0 {}\r\nContent-Type: text/plain\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{}", code,
-                             body.size(), body));
+  if (parts.size() < 2 || parts.size() > 3) return false;
+  for (const std::string_view part : parts)
+    if (part.empty()) return false;
+  if (parts[1][0] != '/') return false;
+  if (parts.size() == 3 && (parts[2].size() != 8 || parts[2].substr(0, 5) != "HTTP/")) return false;
+  method = parts[0];
+  target = parts[1];
+  return true;
+}
+
+void respond(int fd, const std::filesystem::path& root) {
+  namespace fs = std::filesystem;
+  const Clock::time_point accepted = Clock::now();
+  const auto request_deadline =
+      accepted + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kRequestSeconds));
+  const auto response_deadline =
+      accepted + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kRequestSeconds + kResponseSeconds));
+  const auto status = [&](const std::string& code, const std::string& body) {
+    send_all(fd,
+             fmt::format("HTTP/1.0 {}\r\nContent-Type: text/plain\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{}", code,
+                         body.size(), body),
+             response_deadline);
   };
+  std::string why;
+  const std::optional<std::string> line = read_request_line(fd, request_deadline, why);
+  if (!line) {
+    if (!why.empty()) status(why, why.substr(4) + "\n");
+    return;
+  }
+  std::string method, target;
+  if (!parse_request_line(*line, method, target)) return status("400 Bad Request", "bad request line\n");
   if (method != "GET" && method != "HEAD") return status("405 Method Not Allowed", "only GET\n");
   std::string name = target.substr(0, target.find_first_of("?#"));
   if (name == "/") name = "/index.html";
   name = name.substr(1);
   if (name.empty() || name.find('/') != std::string::npos || name.find("..") != std::string::npos || name[0] == '.')
     return status("404 Not Found", "not found\n");
-  std::ifstream in(root / name, std::ios::binary);
-  if (!in) return status("404 Not Found", "not found\n");
-  const std::string body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  send_all(fd, fmt::format("HTTP/1.0 200 OK\r\nContent-Type: {}\r\nContent-Length: {}\r\nCache-Control: no-cache\r\n"
-                           "Connection: close\r\n\r\n",
-                           content_type(name), body.size()));
-  if (method == "GET") send_all(fd, body);
+  // Only a regular file (after links): a folder, a FIFO or a device in the root is not served (a
+  // FIFO would block the open).
+  std::error_code ec;
+  const fs::path file = root / name;
+  if (!fs::is_regular_file(file, ec)) return status("404 Not Found", "not found\n");
+  const uintmax_t size = fs::file_size(file, ec);
+  std::ifstream in(file, std::ios::binary);
+  if (ec || !in) return status("404 Not Found", "not found\n");
+  if (!send_all(fd,
+                fmt::format("HTTP/1.0 200 OK\r\nContent-Type: {}\r\nContent-Length: {}\r\nCache-Control: no-cache\r\n"
+                            "Connection: close\r\n\r\n",
+                            content_type(name), size),
+                response_deadline) ||
+      method != "GET")
+    return;
+  std::vector<char> buf(size_t(1) << 16);
+  for (uintmax_t left = size; left > 0;) {
+    in.read(buf.data(), std::streamsize(std::min<uintmax_t>(left, buf.size())));
+    const size_t n = size_t(in.gcount());
+    if (n == 0 || !send_all(fd, std::string_view(buf.data(), n), response_deadline)) return;  // shortened, or gone
+    left -= n;
+  }
+}
+
+// Answers one connection and closes it. Unread request bytes (headers after the request line) are
+// read away before the close, briefly, so that the kernel does not reset the connection under the
+// response (RFC 9112 Sec. 9.6, "tear-down").
+void serve_connection(int c, const std::filesystem::path& root) {
+  try {
+    respond(c, root);
+  } catch (...) {  // out of memory or a stream failure: this connection only
+  }
+  ::shutdown(c, SHUT_WR);
+  const Clock::time_point until = Clock::now() + std::chrono::milliseconds(500);
+  char buf[4096];
+  while (true) {
+    pollfd p{c, POLLIN, 0};
+    if (::poll(&p, 1, millis_left(until)) <= 0) break;
+    if (::recv(c, buf, sizeof buf, MSG_DONTWAIT) <= 0) break;
+  }
+  ::close(c);
 }
 
 void serve(const std::string& root_arg, int port) {
@@ -286,7 +418,7 @@ void serve(const std::string& root_arg, int port) {
   if (!fs::is_regular_file(root / "index.html"))
     throw InputError(
         fmt::format("--root {}: no index.html (build the page: cmake --build ... --target aniso_web)", root.string()));
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
   if (fd < 0) throw std::runtime_error(fmt::format("socket: {}", std::strerror(errno)));
   const int one = 1;
   ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
@@ -299,24 +431,70 @@ void serve(const std::string& root_arg, int port) {
     ::close(fd);
     throw InputError(fmt::format("--port {}: cannot listen on 127.0.0.1:{}: {}", port, port, std::strerror(err)));
   }
-  ::listen(fd, 16);
+  ::listen(fd, 64);
   socklen_t len = sizeof addr;
   ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
   fmt::print("aniso serve: http://127.0.0.1:{}/ (serving {}; Ctrl-C stops)\n", ntohs(addr.sin_port), root.string());
   std::fflush(stdout);
   struct sigaction sa {};
-  sa.sa_handler = on_stop;  // no SA_RESTART: accept() returns EINTR
+  sa.sa_handler = on_stop;  // no SA_RESTART: poll() returns EINTR
   ::sigaction(SIGINT, &sa, nullptr);
   ::sigaction(SIGTERM, &sa, nullptr);
+  // The connection threads block SIGINT and SIGTERM (they inherit the mask set around their
+  // creation), so that the signal reaches this thread's poll().
+  sigset_t stop_signals, previous;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  // Shared with the detached connection threads, which may still hold it after serve() returns.
+  struct Connections {
+    std::mutex mutex;
+    std::condition_variable idle;
+    int active = 0;
+  };
+  const auto state = std::make_shared<Connections>();
+  std::mutex& mutex = state->mutex;
+  int& active = state->active;
   while (!g_stop) {
-    const int c = ::accept(fd, nullptr, nullptr);
-    if (c < 0) continue;
-    timeval tv{5, 0};  // a client that sends nothing does not hold the server
-    ::setsockopt(c, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-    respond(c, root);
-    ::close(c);
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, 250) <= 0) continue;  // the timeout rechecks g_stop
+    const int c = ::accept4(fd, nullptr, nullptr, SOCK_CLOEXEC);
+    if (c < 0) {
+      if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));  // out of descriptors: let connections end
+      continue;
+    }
+    {
+      std::unique_lock lock(mutex);
+      if (active >= kMaxConnections) {
+        lock.unlock();
+        const std::string busy =
+            "HTTP/1.0 503 Service Unavailable\r\nContent-Type: text/plain\r\nContent-Length: 5\r\n"
+            "Connection: close\r\n\r\nbusy\n";
+        ::send(c, busy.data(), busy.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        ::close(c);
+        continue;
+      }
+      ++active;
+    }
+    ::pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
+    try {
+      std::thread([c, root, state] {
+        serve_connection(c, root);
+        const std::lock_guard lock(state->mutex);
+        if (--state->active == 0) state->idle.notify_all();
+      }).detach();
+    } catch (const std::system_error&) {  // no thread to be had: this connection is dropped
+      ::close(c);
+      const std::lock_guard lock(mutex);
+      --active;
+    }
+    ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
   }
   ::close(fd);
+  // The connections under way end within their deadlines.
+  std::unique_lock lock(mutex);
+  state->idle.wait(lock, [&] { return active == 0; });
 }
 
 }  // namespace
