@@ -108,12 +108,31 @@ def parse_models(models):
     return out
 
 
-def find_inputs(inputs):
+def _written_by_fit_db(out_real, root, dirs, files):
+    """Prunes, in place, what fit-db writes from one step of a folder walk: the output folder
+    (`out_real`, a real path) when the walk meets it below its start, and in any folder that is a
+    fit-db output (it holds .fit-db/: this run's or an earlier one's, the walk's start included) its
+    results.csv (which has a measured file's extension), materials/ and .fit-db/."""
+    if out_real is not None:
+        dirs[:] = [d for d in dirs if os.path.realpath(os.path.join(root, d)) != out_real]
+    if STATE_DIR in dirs or (out_real is not None and os.path.realpath(root) == out_real):
+        dirs[:] = [d for d in dirs if d not in ("materials", STATE_DIR)]
+        files[:] = [f for f in files if f != "results.csv"]
+
+
+def find_inputs(inputs, out=None, notes=None):
     """Files and folders -> [(name, path)]: a file as given, a folder's measured files (.binary,
     .brdf, .bsdf, .csv, searched recursively, in sorted order). The name is the file name without its
-    extension; two inputs of one name are refused (their results would share files)."""
+    extension; two inputs of one name are refused (their results would share files).
+
+    A folder's entries that are not regular files (a FIFO, a device, a broken link) are skipped,
+    each with a line in `notes` (a list, when given): reading them could block for ever. So are the
+    files fit-db writes: the output folder `out` below an input folder, and the results.csv,
+    materials/ and .fit-db/ of any fit-db output folder, so that a second run does not take its own
+    results.csv for a measured file."""
     if isinstance(inputs, (str, os.PathLike)):
         inputs = [inputs]
+    out_real = os.path.realpath(os.fspath(out)) if out is not None else None
     paths = []
     for given in inputs:
         p = os.fspath(given)
@@ -121,7 +140,16 @@ def find_inputs(inputs):
             found = []
             for root, dirs, files in os.walk(p):
                 dirs.sort()
-                found += [os.path.join(root, f) for f in sorted(files) if f.endswith(MEASURED_EXTENSIONS)]
+                _written_by_fit_db(out_real, root, dirs, files)
+                for f in sorted(files):
+                    if not f.endswith(MEASURED_EXTENSIONS):
+                        continue
+                    path = os.path.join(root, f)
+                    if not os.path.isfile(path):  # follows links: a link to a regular file is read
+                        if notes is not None:
+                            notes.append(f"{path}: not a regular file (a FIFO, a device or a broken link): skipped")
+                        continue
+                    found.append(path)
             if not found:
                 raise FitDbError(f"{p}: no measured files in this folder (expected {', '.join(MEASURED_EXTENSIONS)})")
             paths += found
@@ -349,7 +377,15 @@ def results_csv(rows):
 
 
 def _metric_column(metric):
-    return "log" if metric == "log" else "l2cos"
+    """The column the report ranks by: for l2cos fits the relative l2cos error (l2cos over the
+    data's own norm, docs/fitting.md "Metrics"), so that a bright material's fit does not look
+    worse than a dark one's for its brightness alone; for log fits the log error they minimised.
+    The absolute l2cos is in results.csv."""
+    return "log" if metric == "log" else "relative_l2cos"
+
+
+def _metric_name(metric):
+    return "log" if metric == "log" else "relative l2cos"
 
 
 def _error_table(rows, model_labels, metric):
@@ -357,52 +393,70 @@ def _error_table(rows, model_labels, metric):
     col = _metric_column(metric)
     table = {}
     for r in rows:
-        if r["status"] == "ok":
+        if r["status"] == "ok" and r.get(col) not in (None, ""):
             table.setdefault(r["material"], {})[r["model"]] = float(r[col])
     return table
 
 
-def write_figure(path, rows, model_labels, metric):
-    """Ngan et al. 2005's figure: the materials on x, sorted by the best model's error, one line
-    per model, the error on a log scale. False (nothing written) without a successful row."""
+def _figure(rows, model_labels, metric):
+    """The matplotlib figure of write_figure, or None without a successful row."""
     table = _error_table(rows, model_labels, metric)
     if not table:
-        return False
+        return None
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     materials = sorted(table, key=lambda m: (min(table[m].values()), m))
     x = np.arange(len(materials))
-    fig, ax = plt.subplots(figsize=(max(6.0, min(24.0, 0.22 * len(materials) + 3.0)), 4.2), dpi=100)
+    fontsize = 7 if len(materials) > 30 else 8
+    # Room below the axes for the longest name, rotated: about 0.6 em per character (DejaVu Sans's
+    # mean advance), 1 pt = 1/72 in.
+    labels_in = max(len(m) for m in materials) * 0.6 * fontsize / 72.0
+    fig, ax = plt.subplots(figsize=(max(6.0, min(24.0, 0.22 * len(materials) + 3.0)), 3.4 + labels_in), dpi=100)
     for label in model_labels:
         y = np.array([table[m].get(label, np.nan) for m in materials])
         y[~(y > 0)] = np.nan  # an exact fit (0) has no place on a log scale
         ax.plot(x, y, marker="o", markersize=3, linewidth=1.2, label=label)
     ax.set_yscale("log")
     ax.set_xticks(x)
-    ax.set_xticklabels(materials, rotation=90, fontsize=7 if len(materials) > 30 else 8)
+    # "$" would start matplotlib's mathtext: the names are shown as they are.
+    ax.set_xticklabels([m.replace("$", r"\$") for m in materials], rotation=90, fontsize=fontsize)
     ax.set_xlim(-0.5, len(materials) - 0.5)
-    ax.set_ylabel(f"{_metric_column(metric)} error (all channels)")
-    ax.set_title(f"{len(materials)} materials sorted by the best model's {_metric_column(metric)} error")
+    ax.set_ylabel(f"{_metric_name(metric)} error (all channels)")
+    ax.set_title(f"{len(materials)} materials sorted by the best model's {_metric_name(metric)} error")
     ax.grid(True, which="major", axis="y", alpha=0.3)
     ax.legend(fontsize=8, ncol=min(len(model_labels), 4))
     fig.tight_layout()
+    return fig
+
+
+def write_figure(path, rows, model_labels, metric):
+    """Ngan et al. 2005's figure: the materials on x, sorted by the best model's error, one line
+    per model, the error on a log scale. False (nothing written) without a successful row."""
+    fig = _figure(rows, model_labels, metric)
+    if fig is None:
+        return False
+    import matplotlib.pyplot as plt
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", metadata={"Software": None})
+    # bbox_inches="tight" also grows the image to hold every label whole, should a name's glyphs be
+    # wider than _figure's estimate.
+    fig.savefig(buf, format="png", metadata={"Software": None}, bbox_inches="tight", pad_inches=0.1)
     plt.close(fig)
     write_atomically(path, buf.getvalue())
     return True
 
 
 def report_markdown(rows, model_labels, metric, figure):
-    col = _metric_column(metric)
+    col = _metric_name(metric)
     table = _error_table(rows, model_labels, metric)
     materials = sorted({r["material"] for r in rows})
     failed = [r for r in rows if r["status"] != "ok"]
     lines = ["# Fits of a database", "",
              f"{len(materials)} materials x {len(model_labels)} models ({', '.join(model_labels)}): "
              f"{len(rows) - len(failed)} pairs fitted, {len(failed)} failed. Errors are the {col} error over every "
-             f"sample and channel (docs/fitting.md, \"Metrics\"); every figure is in results.csv.", ""]
+             f"sample and channel (docs/fitting.md, \"Metrics\")"
+             + ("; relative: the l2cos error over the data's own l2cos norm, so that materials of any brightness "
+                "compare" if metric != "log" else "") + "; every figure (absolute l2cos too) is in results.csv.", ""]
     if figure:
         lines += [f"![{col} error per material, sorted by the best model's]({figure})", ""]
     wins = dict.fromkeys(model_labels, 0)
@@ -626,7 +680,11 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
     model_list = parse_models(models)
     labels = [label for label, _ in model_list]
     _check_options(options, model_list)
-    files = find_inputs(inputs)
+    notes = []
+    files = find_inputs(inputs, out=out, notes=notes)
+    if progress is not False:
+        for note in notes:
+            sys.stderr.write(f"aniso: note: {note}\n")
     if options.get("grid") is not None and not any(os.fspath(p).endswith(RGL_EXTENSION) for _, p in files):
         raise FitDbError("grid applies to RGL tensor files (.bsdf) only, which have no samples of their own; "
                          "none of the inputs is one")
@@ -635,6 +693,12 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
 
     rows, tasks = {}, []
     for name, path in files:
+        if not os.path.isfile(path):  # named on the command line: its pairs fail (a FIFO's read could block)
+            for label, _ in model_list:
+                rows[(name, label)] = _row(name, label, path, "", _options_for(path, options), version,
+                                           {"status": "failed",
+                                            "error": f"{path}: not a regular file (a FIFO or a device): not read"})
+            continue
         try:
             sha = _file_sha256(path)
         except OSError as e:
