@@ -4,13 +4,17 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "aniso/io/input_error.h"
 #include "io/atomic_file.h"
+#include "io/text_escape.h"
 #include "io/text_input.h"
+
+#include <unistd.h>
 
 namespace aniso {
 
@@ -46,6 +50,21 @@ void write_atomically(const std::string& path, const std::string& text) {
     if (!e.created()) throw InputError(fmt::format("-o {}: cannot open for writing: {}", path, e.reason()));
     throw std::runtime_error(fmt::format("-o {}: write error: {}", path, e.reason()));
   }
+}
+
+void check_writable(const std::string& path, std::string_view option) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(fmt::format("{} {}: is a directory", option, text_escape(path)));
+  const fs::path dir = fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+  if (!fs::exists(dir, ec))
+    throw InputError(fmt::format("{} {}: cannot open for writing: the folder {} does not exist", option, text_escape(path),
+                                 text_escape(dir.string())));
+  if (!fs::is_directory(dir, ec))
+    throw InputError(fmt::format("{} {}: {} is not a folder", option, text_escape(path), text_escape(dir.string())));
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw InputError(fmt::format("{} {}: cannot write in the folder {}: {}", option, text_escape(path), text_escape(dir.string()),
+                                 std::strerror(errno)));
 }
 
 CLI::Validator finite_range(double lo, double hi) {

@@ -32,6 +32,11 @@ void write_all(std::FILE* f, const std::string& text, const std::string& what);
 // InputError for a directory or a path that cannot be created, exit 1 for a failed write.
 void write_atomically(const std::string& path, const std::string& text);
 
+// For a command that writes several files: checks, before any is written, that `path` can be
+// written (not a directory; its folder exists, is a folder and is writable), else InputError naming
+// `option` (exit 2, docs/cli.md "Exit status": nothing written).
+void check_writable(const std::string& path, std::string_view option);
+
 // A numeric option's range check that also rejects NaN (CLI11's Range lets NaN through: every
 // comparison with NaN is false) and says what the option means by its range.
 CLI::Validator finite_range(double lo, double hi);

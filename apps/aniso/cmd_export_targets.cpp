@@ -2,12 +2,14 @@
 // native format of Blender, Mitsuba 3, pbrt-v4, MaterialX (standard_surface, OpenPBR) or glTF, with the target's conventions
 // (include/aniso/export/targets.h) and a report of how close it is (include/aniso/export/export.h).
 //
-// Everything is computed before anything is written; each file goes through the one atomic writer
-// (io/atomic_file.h). glTF writes two files: the .bin first, then the .gltf; if the .gltf cannot be
-// written, a .bin this command created is removed again, so a failed export leaves nothing.
+// Everything is computed and every output path checked before anything is written; each file goes
+// through the one atomic writer (io/atomic_file.h). glTF writes two files: the .bin first, then the
+// .gltf; a --preview comes last. If a later file cannot be written, the files this command created
+// are removed again, so a failed export leaves nothing new.
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -16,6 +18,7 @@
 #include "aniso/render/scene.h"
 #include "commands.h"
 #include "io/json_read.h"
+#include "io/text_escape.h"
 
 namespace aniso {
 
@@ -113,6 +116,33 @@ void run_export(const ExportArgs& a) {
     throw InputError(fmt::format("--material is required ({}), or --scene with --object", kMaterialHelp));
   if (info->target == Target::Gltf && (a.output.empty() || a.output == "-"))
     throw InputError("--to gltf writes two files (.gltf and .bin): give -o FILE.gltf");
+  if (const std::optional<size_t> bad = first_invalid_utf8(a.name))
+    throw InputError(
+        fmt::format("--name: expected UTF-8 text (the name is written into the file), got the byte 0x{:02x} at "
+                    "offset {} in \"{}\"",
+                    static_cast<unsigned char>(a.name[*bad]), *bad, text_escape(a.name)));
+  namespace fs = std::filesystem;
+  std::string bin_name;
+  if (info->target == Target::Gltf) {
+    // The buffer goes beside the .gltf as <stem>.bin: an -o of that very name would write the JSON
+    // over its own buffer.
+    bin_name = fs::path(a.output).stem().string() + ".bin";
+    if (fs::path(a.output).filename() == bin_name)
+      throw InputError(fmt::format("-o {}: --to gltf writes its buffer beside the .gltf as {}: give -o FILE.gltf",
+                                   text_escape(a.output), text_escape(bin_name)));
+  }
+  // Every output checked before any is written (docs/cli.md: exit 2, nothing written).
+  if (!a.preview.empty()) {
+    if (!a.preview.ends_with(".png") && !a.preview.ends_with(".pfm") && !a.preview.ends_with(".exr"))
+      throw InputError(
+          fmt::format("--preview {}: expected a .png file (or .pfm / .exr: linear radiance)", text_escape(a.preview)));
+    check_writable(a.preview, "--preview");
+  }
+  if (!a.output.empty() && a.output != "-") {
+    check_writable(a.output, "-o");
+    if (!a.preview.empty() && fs::weakly_canonical(a.preview) == fs::weakly_canonical(a.output))
+      throw InputError(fmt::format("--preview {}: the same file as -o", text_escape(a.preview)));
+  }
   ExportOptions o;
   o.target = a.to;
   o.name = a.name;
@@ -133,37 +163,34 @@ void run_export(const ExportArgs& a) {
     if (o.name.empty()) o.name = object->name;
   }
   const std::string label = object ? object->label : a.material;
-  namespace fs = std::filesystem;
-  std::string bin_name;
-  if (info->target == Target::Gltf) bin_name = fs::path(a.output).stem().string() + ".bin";
   const ExportResult r = export_material(desc, label, o, bin_name);
   const bool to_stdout = a.output.empty() || a.output == "-";
-  if (!a.preview.empty()) {
-    if (!a.preview.ends_with(".png") && !a.preview.ends_with(".pfm") && !a.preview.ends_with(".exr"))
-      throw InputError(fmt::format("--preview {}: expected a .png file (or .pfm / .exr: linear radiance)", a.preview));
-    if (fs::is_directory(a.preview)) throw InputError(fmt::format("--preview {}: is a directory", a.preview));
-  }
-  if (r.files.size() == 2) {
-    const fs::path bin = fs::path(a.output).parent_path() / r.files[1].path;
-    std::error_code ec;
-    const bool existed = fs::exists(bin, ec);
-    // The .gltf's folder must be writable before the .bin is written next to it.
-    if (fs::is_directory(a.output, ec)) throw InputError(fmt::format("-o {}: is a directory", a.output));
-    write_atomically(bin.string(), r.files[1].content);
-    try {
-      write_atomically(a.output, r.files[0].content);
-    } catch (...) {
-      if (!existed) fs::remove(bin, ec);
-      throw;
+  // The files in order (the .bin before the .gltf that names it, the preview last); if one fails,
+  // the files this command created are removed again, so a failed export leaves nothing new.
+  std::vector<std::string> created;
+  std::error_code ec;
+  const auto write = [&](const std::string& path, const auto& writer) {
+    const bool existed = !path.empty() && path != "-" && fs::exists(path, ec);
+    writer();
+    if (!existed && !path.empty() && path != "-") created.push_back(path);
+  };
+  try {
+    if (r.files.size() == 2) {
+      const std::string bin = (fs::path(a.output).parent_path() / r.files[1].path).string();
+      write(bin, [&] { write_atomically(bin, r.files[1].content); });
     }
-  } else {
-    write_atomically(a.output, r.files[0].content);
-  }
-  if (!a.preview.empty()) {
-    MaterialDesc plain = desc;
-    if (plain.params.values.count("rotation_deg")) plain.params.values["rotation_deg"] = 0.0;
-    write_preview(a.preview, build_material<double>(plain), r.model, "source: " + desc.model,
-                  std::string(info->name) + (r.report.exact ? " (exact)" : " (fitted)"), a.preview_size);
+    write(a.output, [&] { write_atomically(a.output, r.files[0].content); });
+    if (!a.preview.empty()) {
+      MaterialDesc plain = desc;
+      if (plain.params.values.count("rotation_deg")) plain.params.values["rotation_deg"] = 0.0;
+      write(a.preview, [&] {
+        write_preview(a.preview, build_material<double>(plain), r.model, "source: " + desc.model,
+                      std::string(info->name) + (r.report.exact ? " (exact)" : " (fitted)"), a.preview_size);
+      });
+    }
+  } catch (...) {
+    for (const std::string& path : created) fs::remove(path, ec);
+    throw;
   }
   fmt::print(to_stdout ? stderr : stdout, "{}", r.report.text());
   if (!to_stdout) fmt::print("wrote {}{}\n", a.output, r.files.size() == 2 ? " and " + r.files[1].path : std::string());

@@ -30,7 +30,7 @@ int cmd_presets(const std::string& show, bool show_given) {
     }
     if (rgl::is_rgl_file_name(show)) {
       // An RGL tensor file: its fields, grids, isotropy and description (docs/rgl.md).
-      write_stdout(rgl::describe_rgl(*rgl::load_rgl(show)));
+      write_stdout(terminal_text(rgl::describe_rgl(*rgl::load_rgl(show))));
       return 0;
     }
     if (!find_preset(show)) {

@@ -12,6 +12,7 @@
 
 #include "aniso/io/params.h"
 #include "cli_common.h"
+#include "io/text_escape.h"
 #include "io/text_input.h"
 
 namespace aniso {
@@ -24,7 +25,8 @@ struct CommandExit {
 
 // Runs a command inside CLI11's callback with main()'s error conventions (docs/cli.md, "Exit
 // status"): InputError exits 2 with "aniso: error: <message>", out of memory and any other error
-// exit 1; success ends parsing with exit code 0 (CLI::Success). `fn` returns nothing or the
+// exit 1 (the message through terminal_text: no control byte or invalid UTF-8 from an input reaches
+// the terminal); success ends parsing with exit code 0 (CLI::Success). `fn` returns nothing or the
 // command's exit status (CommandExit when it is not 0).
 template <typename Fn> void run_command(Fn&& fn) {
   int status = 0;
@@ -34,13 +36,13 @@ template <typename Fn> void run_command(Fn&& fn) {
     else
       status = fn();
   } catch (const InputError& e) {
-    fmt::print(stderr, "aniso: error: {}\n", e.what());
+    fmt::print(stderr, "aniso: error: {}\n", terminal_text(e.what()));
     throw CLI::RuntimeError(2);
   } catch (const std::bad_alloc&) {
     fmt::print(stderr, "aniso: error: out of memory\n");
     throw CLI::RuntimeError(1);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "aniso: error: {}\n", e.what());
+    fmt::print(stderr, "aniso: error: {}\n", terminal_text(e.what()));
     throw CLI::RuntimeError(1);
   }
   if (status != 0) throw CommandExit{status};

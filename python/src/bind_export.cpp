@@ -14,6 +14,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "io/atomic_file.h"
+#include "io/text_escape.h"
 
 namespace aniso::python {
 
@@ -59,6 +60,11 @@ void bind_export(py::module_& m) {
           if (const size_t slash = stem.find_last_of('/'); slash != std::string::npos) stem = stem.substr(slash + 1);
           if (const size_t dot = stem.find_last_of('.'); dot != std::string::npos && dot > 0) stem.resize(dot);
           bin_name = stem + ".bin";
+          if (std::string_view(*path).substr(path->find_last_of('/') + 1) == bin_name)  // npos + 1 == 0
+            throw InputError(
+                fmt::format("path {}: to=\"gltf\" writes its buffer beside the .gltf as {}: give a path "
+                            "ending in .gltf",
+                            text_escape(*path), text_escape(bin_name)));
         }
         exporter::ExportResult r;
         {
@@ -86,7 +92,7 @@ void bind_export(py::module_& m) {
             }
           } catch (const io::FileWriteError& e) {
             for (const std::string& w : written) std::remove(w.c_str());
-            PyErr_SetString(PyExc_OSError, e.what());
+            PyErr_SetString(PyExc_OSError, terminal_text(e.what()).c_str());
             throw py::error_already_set();
           }
         }

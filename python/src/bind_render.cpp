@@ -18,6 +18,7 @@
 #include "aniso/render/scene.h"
 #include "bindings.h"
 #include "convert.h"
+#include "io/text_escape.h"
 #include "io/text_input.h"
 
 namespace aniso::python {
@@ -148,7 +149,7 @@ void save_image_py(const py::object& img_in, const py::object& path_in, std::opt
     render::write_image(path, img, tm);
   } catch (const std::runtime_error& e) {
     if (dynamic_cast<const InputError*>(&e)) throw;
-    PyErr_SetString(PyExc_OSError, e.what());
+    PyErr_SetString(PyExc_OSError, terminal_text(e.what()).c_str());
     throw py::error_already_set();
   }
 }

@@ -19,6 +19,7 @@
 #include "aniso/io/input_error.h"
 #include "aniso/version.h"
 #include "bindings.h"
+#include "io/text_escape.h"
 
 PYBIND11_MODULE(_aniso, m) {
   using namespace aniso;
@@ -32,7 +33,7 @@ PYBIND11_MODULE(_aniso, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(PyExc_ValueError, terminal_text(e.what()).c_str());
     }
   });
 

@@ -17,6 +17,7 @@
 #include "aniso/image/image_io.h"
 #include "aniso/image/tonemap.h"
 #include "aniso/io/input_error.h"
+#include "io/text_escape.h"
 
 namespace aniso::exporter {
 
@@ -233,15 +234,31 @@ std::string identifier(std::string_view s) {
   if (o.empty()) o = "material";
   return o;
 }
-std::string py_string(std::string_view s) {
+// A Python string literal (the Python Language Reference, 2.4.1, "String and Bytes literals") holding
+// exactly the text: backslash, quote and every control character (C0, DEL, C1) and line separator
+// as an escape sequence, so a name can neither end the literal nor the line. Text that is not UTF-8
+// (a script must be, PEP 3120) is made so first by text_escape (its bad bytes become "\xNN").
+std::string py_string(std::string_view in) {
+  const std::string s = first_invalid_utf8(in) ? text_escape(in) : std::string(in);
   std::string o = "\"";
-  for (char c : s) {
-    if (c == '\\' || c == '"') o += '\\';
-    if (c == '\n') {
+  for (size_t i = 0; i < s.size(); ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c == '\\' || c == '"')
+      o += '\\', o += s[i];
+    else if (c == '\n')
       o += "\\n";
-      continue;
-    }
-    o += c;
+    else if (c == '\r')
+      o += "\\r";
+    else if (c == '\t')
+      o += "\\t";
+    else if (c < 0x20 || c == 0x7f)
+      o += fmt::format("\\x{:02x}", c);
+    else if (c == 0xc2 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) < 0xa0)  // U+0080 to U+009F
+      o += fmt::format("\\x{:02x}", static_cast<unsigned char>(s[++i]));
+    else if (c == 0xe2 && s.compare(i + 1, 1, "\x80") == 0 && i + 2 < s.size() && (s[i + 2] == '\xa8' || s[i + 2] == '\xa9'))
+      o += s[i + 2] == '\xa8' ? "\\u2028" : "\\u2029", i += 2;
+    else
+      o += s[i];
   }
   return o + "\"";
 }
@@ -1052,8 +1069,19 @@ std::string ExportReport::text(std::string_view pre) const {
 
 namespace {
 
+// The report as a comment of the written file, `pre` starting each line ("# " for Python and pbrt-v4,
+// whose comments end at '\n' or '\r'; spaces inside an XML comment). The source's label (a file
+// name, a scene object's name) and every other line go through text_escape: no line break, control
+// byte or invalid UTF-8 from an input can end the comment, so no input text becomes code.
 std::string comment_block(const ExportReport& r, const std::string& source, std::string_view pre) {
-  return std::string(pre) + "Exported by aniso " ANISO_VERSION " from " + source + "\n" + r.text(pre);
+  const std::string raw = "Exported by aniso " ANISO_VERSION " from " + text_escape(source) + "\n" + r.text("");
+  std::string s;
+  for (size_t i = 0, j; i < raw.size(); i = j + 1) {
+    j = raw.find('\n', i);
+    if (j == std::string::npos) j = raw.size();
+    s += std::string(pre) + text_escape(std::string_view(raw).substr(i, j - i)) + "\n";
+  }
+  return s;
 }
 
 double num(const json& p, const char* k) { return p.at(k).get<double>(); }
@@ -1155,7 +1183,7 @@ std::string write_mitsuba(const std::string& name, const json& p, const std::str
   conductor += fmt::format("        <float name=\"alpha_u\" value=\"{:.9g}\"/>\n", num(p, "alpha_u"));
   conductor += fmt::format("        <float name=\"alpha_v\" value=\"{:.9g}\"/>\n", num(p, "alpha_v"));
   if (p.contains("material"))
-    conductor += fmt::format("        <string name=\"material\" value=\"{}\"/>\n", p["material"].get<std::string>());
+    conductor += fmt::format("        <string name=\"material\" value=\"{}\"/>\n", xml_escape(p["material"].get<std::string>()));
   else
     conductor += fmt::format("        <rgb name=\"eta\" value=\"{}\"/>\n        <rgb name=\"k\" value=\"{}\"/>\n",
                              fmt3(col(p, "eta")), fmt3(col(p, "k")));
@@ -1340,7 +1368,7 @@ void write_gltf(const std::string& name, const json& p, const ExportReport& r, c
   json doc = {{"asset",
                {{"version", "2.0"},
                 {"generator", "aniso " ANISO_VERSION " export --to gltf"},
-                {"extras", {{"source", source}, {"aniso_export", r.to_json()}}}}},
+                {"extras", {{"source", text_escape(source)}, {"aniso_export", r.to_json()}}}}},
               {"extensionsUsed", used},
               {"scene", 0},
               {"scenes", {{{"nodes", {0}}}}},
@@ -1656,6 +1684,9 @@ void check_export_options(const ExportOptions& o) {
         fmt::format("blender_version: expected {} to {}, got {}", kBlenderVersionMin, kBlenderVersionMax, o.blender_version));
   if (!std::isfinite(o.tangent_angle_deg))
     throw InputError(fmt::format("tangent_angle_deg: expected a finite angle in degrees, got {}", o.tangent_angle_deg));
+  if (const std::optional<size_t> bad = first_invalid_utf8(o.name))
+    throw InputError(fmt::format("name: expected UTF-8 text, got the byte 0x{:02x} at offset {} in \"{}\"",
+                                 static_cast<unsigned char>(o.name[*bad]), *bad, text_escape(o.name)));
 }
 
 ExportResult export_material(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o,
@@ -1767,6 +1798,7 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
       name = name.substr(slash + 1);
     if (name.size() > 5 && name.ends_with(".json")) name.resize(name.size() - 5);
     if (name.empty() || name.front() == '{') name = "aniso-" + desc.model;
+    name = text_escape(name);  // a file name need not be UTF-8; the written name is
   }
   switch (info->target) {
     case Target::Blender: res.files.push_back({"", write_blender(name, params, comment_block(r, source_label, "# "))}); break;

@@ -9,19 +9,16 @@
 
 #include "aniso/gl/glsl_library.h"
 #include "aniso/gl/glsl_material.h"
+#include "io/text_escape.h"
 
 namespace aniso::gl {
 
 namespace {
 
-// The material's name for a one-line comment: an inline JSON material may hold line breaks, which
-// would end the comment (and in a .brdf, turn the rest into a parameter line).
-std::string one_line(const std::string& what) {
-  std::string s = what;
-  for (char& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
-  return s;
-}
+// The material's name for a one-line comment: a file name or an inline JSON material may hold line
+// breaks, which would end the comment (and in a .brdf, turn the rest into a parameter line), and
+// control bytes or bytes that are not UTF-8: text_escape leaves none of them.
+std::string one_line(const std::string& what) { return text_escape(what); }
 
 // A slider's bound: the table's range, written so that BRDF Explorer's `float` reads it.
 std::string bound(double x) { return fmt::format("{:.9g}", x); }

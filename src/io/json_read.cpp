@@ -15,25 +15,6 @@
 
 namespace aniso {
 
-std::string text_escape(std::string_view s) {
-  std::string out;
-  out.reserve(s.size());
-  for (const char ch : s) {
-    const auto c = static_cast<unsigned char>(ch);
-    if (c == '\n')
-      out += "\\n";
-    else if (c == '\t')
-      out += "\\t";
-    else if (c == '\r')
-      out += "\\r";
-    else if (c < 0x20 || c == 0x7f)
-      out += fmt::format("\\u{:04x}", c);
-    else
-      out += ch;
-  }
-  return out;
-}
-
 namespace {
 
 // The parser callback sees every event with the current depth; a stack of frames tracks the JSON

@@ -16,6 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/text_escape.h"
+
 namespace aniso {
 
 // No material or scene nests more than 6 levels; 64 leaves room and keeps recursion shallow.
@@ -52,8 +54,5 @@ nlohmann::json read_json_file(const std::string& path);
 // "a JSON file", "a scene file"); more than `max_bytes` is an InputError naming the file and the
 // limit. Throws InputError.
 std::string read_text_file(const std::string& path, std::string_view what, size_t max_bytes = kMaxJsonFileBytes);
-
-// Printable form of user text for messages: control characters, DEL and NUL as \n, \t, \u0000.
-std::string text_escape(std::string_view s);
 
 }  // namespace aniso

@@ -1,14 +1,18 @@
 // rgl/rgl_material.cpp: reading an RGL tensor file into pbrt-v4's interpolants (rgl/rgl_material.h).
 #include "aniso/rgl/rgl_material.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <mutex>
+#include <set>
 
 #include <fmt/format.h>
 
 #include "aniso/io/params.h"
 #include "aniso/measured/spectral.h"
+#include "io/text_escape.h"
 
 namespace aniso::rgl {
 
@@ -112,15 +116,51 @@ void expect(const TensorFile& t, const TensorField& f, Dtype dtype, size_t ndim)
 // kMinSigma) and a cosine, all in float; 1e15 keeps that product below float's 3.4e38 for cosines
 // down to 0.1 (a GGX with alpha 0.001 peaks at D = 3e5: real tables are far below).
 constexpr float kMaxTableValue = 1e15f;
-constexpr float kMinSigma = 1e-6f;  // sigma(w) >= cos(theta) / 2 for every normalised D; 1e-6 is far below
+// The floor of sigma (f divides by it; smaller values are raised to it, with a note): sigma(w) >=
+// cos(theta) for every normalised D, so only the horizon row of a mirror-like table comes near it.
+constexpr float kMinSigma = 1e-6f;
 
 // Finite, >= 0 and <= kMaxTableValue: pbrt-v4 and Mitsuba build cdfs from these tables and divide
-// by their sums and by sigma; a NaN or a negative density would give NaN or negative pdfs.
+// by their sums and by sigma; a NaN or a negative density would give NaN or negative pdfs. Runs
+// after zero_rounding_noise, so a negative value here is beyond float rounding of 0.
 void finite_non_negative(const TensorFile& t, const std::string& name, const std::vector<float>& v) {
   for (size_t i = 0; i < v.size(); ++i)
     if (!std::isfinite(v[i]) || v[i] < 0.f || v[i] > kMaxTableValue)
-      fail(t.source, name, fmt::format("value {} at flat index {} (finite, in [0, {:g}] expected)", v[i], i, kMaxTableValue));
+      fail(t.source, name,
+           fmt::format("value {} at flat index {} (finite, in [0, {:g}] expected{})", v[i], i, kMaxTableValue,
+                       v[i] < 0.f ? fmt::format("; negatives down to {:.3g}, float rounding of 0 against the table's "
+                                                "largest value, are read as 0",
+                                                -rounding_noise_bound(v))
+                                  : ""));
 }
+
+}  // namespace
+
+double rounding_noise_bound(std::span<const float> v) {
+  float largest = 0.f;
+  for (const float x : v)
+    if (std::isfinite(x)) largest = std::max(largest, std::abs(x));
+  return kRoundingNoiseUlps * double(std::numeric_limits<float>::epsilon()) * double(largest);
+}
+
+std::string zero_rounding_noise(const std::string& where, const std::string& field, std::vector<float>& v) {
+  const double bound = rounding_noise_bound(v);
+  size_t count = 0, most_at = 0;
+  float most = 0.f;
+  for (size_t i = 0; i < v.size(); ++i)
+    if (v[i] < 0.f && double(v[i]) >= -bound) {
+      if (v[i] < most) most = v[i], most_at = i;
+      v[i] = 0.f;
+      ++count;
+    }
+  if (count == 0) return {};
+  return fmt::format(
+      "{}: field \"{}\": {} negative value{} read as 0 (float rounding of 0: at most {:g} x FLT_EPSILON x the table's "
+      "largest value, {:.3g}; the most negative {:.6g} at flat index {})",
+      where, field, count, count == 1 ? "" : "s", kRoundingNoiseUlps, bound, most, most_at);
+}
+
+namespace {
 
 void grid_at_least_2(const TensorFile& t, const TensorField& f, size_t a, size_t b) {
   // PiecewiseLinear2D divides by (size - 1) (sampling.h:1330-1331).
@@ -235,8 +275,20 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
     d->wavelengths = wavelengths->floats();
     increasing(t, "wavelengths", d->wavelengths, 1.f, 1e5f, "[1, 1e5] nm");
   }
-  const std::vector<float> ndf_v = ndf.floats(), sigma_v = sigma.floats(), vndf_v = vndf.floats(), lum_v = luminance.floats(),
-                           spec_v = spectra.floats();
+  std::set<std::string> changed;  // the fields read otherwise than they stand (RglData::read_as)
+  std::vector<float> ndf_v = ndf.floats(), sigma_v = sigma.floats(), vndf_v = vndf.floats(), lum_v = luminance.floats();
+  const std::vector<float> spec_v = spectra.floats();
+  // Rounding noise of the densities read as 0, with one note per field (kRoundingNoiseUlps,
+  // rgl_material.h); what is left negative is refused below. The colour tables keep their
+  // negatives (next comment).
+  for (auto [name, v] : {std::pair<const char*, std::vector<float>*>{"ndf", &ndf_v},
+                         {"sigma", &sigma_v},
+                         {"vndf", &vndf_v},
+                         {"luminance", &lum_v}})
+    if (std::string note = zero_rounding_noise(src, name, *v); !note.empty()) {
+      d->notes.push_back(std::move(note));
+      changed.insert(name);
+    }
   finite_non_negative(t, "ndf", ndf_v);
   finite_non_negative(t, "sigma", sigma_v);
   finite_non_negative(t, "vndf", vndf_v);
@@ -247,11 +299,26 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
     if (!std::isfinite(spec_v[i]) || std::abs(spec_v[i]) > kMaxTableValue)
       fail(src, spectra.name,
            fmt::format("value {} at flat index {} (finite, magnitude <= {:g} expected)", spec_v[i], i, kMaxTableValue));
-  for (size_t i = 0; i < sigma_v.size(); ++i)
-    if (!(sigma_v[i] >= kMinSigma))
-      fail(src, "sigma",
-           fmt::format("value {} at flat index {}: f divides by sigma (bxdfs.cpp:1049), >= {:g} expected", sigma_v[i], i,
-                       kMinSigma));
+  // f divides by sigma (pbrt-v4 bxdfs.cpp:1032-1033, Mitsuba 3 measured.cpp:333-335), which the
+  // readers take as it stands: a 0 there gives an infinite f at those viewing directions (sigma of
+  // a flat mirror is cos(theta), 0 at the horizon). aniso raises such values to kMinSigma and says
+  // so, rather than refusing a file the renderers read.
+  {
+    size_t raised = 0, first = 0;
+    float lowest = kMinSigma;
+    for (size_t i = 0; i < sigma_v.size(); ++i)
+      if (sigma_v[i] < kMinSigma) {
+        if (raised++ == 0) first = i;
+        lowest = std::min(lowest, sigma_v[i]);
+        sigma_v[i] = kMinSigma;
+      }
+    if (raised) changed.insert("sigma");
+    if (raised)
+      d->notes.push_back(
+          fmt::format("{}: field \"sigma\": {} value{} below {:g} (the lowest {:g}, the first at flat index "
+                      "{}) read as {:g}: f divides by sigma, the renderers would give an infinite f there",
+                      src, raised, raised == 1 ? "" : "s", kMinSigma, lowest, first, kMinSigma));
+  }
   // Every vndf and luminance slice is normalised by its sum (sampling.h:1404-1405): a zero slice
   // gives NaN densities.
   auto positive_slices = [&](const char* name, const std::vector<float>& v, uint64_t per_slice) {
@@ -268,6 +335,11 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
   };
   positive_slices("vndf", vndf_v, vndf.shape[2] * vndf.shape[3]);
   positive_slices("luminance", lum_v, luminance.shape[2] * luminance.shape[3]);
+  for (const auto& [f, v] : {std::pair<const TensorField*, const std::vector<float>*>{&ndf, &ndf_v},
+                             {&sigma, &sigma_v},
+                             {&vndf, &vndf_v},
+                             {&luminance, &lum_v}})
+    if (changed.count(f->name)) d->read_as.push_back(make_field(f->name, f->shape, *v));
 
   d->ndf_shape[0] = int(ndf.shape[0]);
   d->ndf_shape[1] = int(ndf.shape[1]);
@@ -315,6 +387,22 @@ std::shared_ptr<RglData> rgl_from_tensor(const TensorFile& t) {
   return d;
 }
 
+namespace {
+std::mutex& note_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::function<void(const std::string&)>& note_sink() {
+  static std::function<void(const std::string&)> sink;
+  return sink;
+}
+}  // namespace
+
+void set_note_sink(std::function<void(const std::string&)> sink) {
+  std::lock_guard lock(note_mutex());
+  note_sink() = std::move(sink);
+}
+
 std::shared_ptr<const RglData> load_rgl(const std::string& path) {
   static std::mutex mutex;
   static std::map<std::string, std::shared_ptr<const RglData>> registry;
@@ -323,8 +411,16 @@ std::shared_ptr<const RglData> load_rgl(const std::string& path) {
     if (auto it = registry.find(path); it != registry.end()) return it->second;
   }
   std::shared_ptr<const RglData> d = rgl_from_tensor(read_tensor_file(path));
-  std::lock_guard lock(mutex);
-  return registry.emplace(path, d).first->second;
+  std::unique_lock lock(mutex);
+  const auto [it, inserted] = registry.emplace(path, d);
+  lock.unlock();
+  // Once per file and process: the thread that registered it tells.
+  if (inserted) {
+    std::lock_guard note_lock(note_mutex());
+    if (note_sink())
+      for (const std::string& n : it->second->notes) note_sink()(n);
+  }
+  return it->second;
 }
 
 bool is_rgl_file_name(const std::string& spec) {
@@ -347,7 +443,7 @@ std::string describe_rgl(const RglData& d) {
                    d.colour_grid, d.colour_grid);
   s += "  fields:\n";
   for (const std::string& f : d.field_summary) s += "    " + f + "\n";
-  s += "  description: " + d.description + "\n";
+  s += "  description: " + text_escape(d.description) + "\n";  // the file's bytes: no control byte to the terminal
   return s;
 }
 

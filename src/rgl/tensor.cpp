@@ -150,7 +150,7 @@ TensorFile parse_tensor(std::span<const uint8_t> bytes, const std::string& where
     const std::string entry = fmt::format("field table entry {}", i);
     const uint16_t name_length = c.read<uint16_t>(entry + ": name length");
     f.name = c.read_string(name_length, entry + ": name");
-    const std::string label = fmt::format("field \"{}\"", f.name);
+    const std::string label = fmt::format("field \"{}\"", text_escape(f.name));  // a name may hold any byte
     const uint16_t ndim = c.read<uint16_t>(label + ": ndim");
     const uint8_t dtype = c.read<uint8_t>(label + ": dtype");
     f.offset = c.read<uint64_t>(label + ": offset");
