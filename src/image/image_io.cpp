@@ -92,6 +92,9 @@ std::vector<unsigned char> read_file(const std::string& path, const std::string&
   }
   if (fs::is_directory(st)) input_error(where, path, "is a directory, expected an image file");
   if (!fs::is_regular_file(st)) input_error(where, path, "not a regular file");
+  // stb_image takes the length as an int: refused by its size, before anything is read.
+  if (const uintmax_t size = fs::file_size(path, ec); !ec && size > uintmax_t(std::numeric_limits<int>::max()))
+    input_error(where, path, fmt::format("file too large ({} bytes, over 2 GiB)", size));
 
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) input_error(where, path, fmt::format("cannot open ({})", errno_text(errno)));
