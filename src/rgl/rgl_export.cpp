@@ -116,6 +116,12 @@ void set_metal_spectra(BrdfSource& s, const MaterialD& m, const MetalData& metal
 BrdfSource brdf_source(const MaterialD& m, const MetalData* metal) {
   BrdfSource s;
   s.f = [m](const Vec3d& wi, const Vec3d& wo) { return glm::dvec3(m.f(wi, wo)); };
+  s.measured = m.kind == ModelKind::Rgl || m.kind == ModelKind::Measured;
+  if (m.kind == ModelKind::Measured)
+    s.isotropic_by_construction = "a MERL table is isotropic by construction (theta_h, theta_d, phi_d)";
+  if (m.kind == ModelKind::Rgl && m.rgl.t->isotropic)
+    s.isotropic_by_construction =
+        "the tensor file has one phi_i, which pbrt-v4 and Mitsuba 3 read isotropic (bxdfs.cpp:938, measured.cpp:165)";
   if (metal && m.kind == ModelKind::Metal) set_metal_spectra(s, m, *metal);
   // The closed-form GGX distribution is the lobe's in its own frame: a turned material
   // (rotation_deg) takes the general path, like every other model.
@@ -146,6 +152,64 @@ bool is_isotropic(const BrdfSource& src) {
       if (std::abs(f0[ch] - f1[ch]) > 1e-6 * std::max({std::abs(f0[ch]), std::abs(f1[ch]), 1e-12})) return false;
   }
   return true;
+}
+
+double rotation_difference(const BrdfSource& src) {
+  constexpr int kPairs = 256;
+  constexpr double kMaxTheta = 80.0 * kPiD / 180.0;  // Ngan et al. 2005's range
+  double num = 0.0, den = 0.0;
+  for (int k = 0; k < kPairs; ++k) {
+    // Golden-ratio sequences (as is_isotropic): fixed, evenly spread.
+    const double a = std::fmod(0.5 + k * 0.6180339887498949, 1.0), b = std::fmod(0.3 + k * 0.7548776662466927, 1.0);
+    const double c = std::fmod(0.1 + k * 0.5698402909980532, 1.0), e = std::fmod(0.7 + k * 0.3247179572447460, 1.0);
+    const double rot = 0.3 + 2.0 * std::fmod(0.2 + k * 0.4142135623730950, 1.0);
+    const Vec3d wo = dir(kMaxTheta * std::sqrt(a), 2.0 * kPiD * b);  // sqrt: uniform in solid angle near the normal
+    Vec3d wi;
+    if (k % 2 == 0) {
+      // A mirror pair about h, theta_h = 60 deg x c^2: half of these within 15 degrees of the normal.
+      const Vec3d h = dir((60.0 * kPiD / 180.0) * c * c, 2.0 * kPiD * e);
+      wi = 2.0 * glm::dot(wo, h) * h - wo;
+      if (!(wi.z > std::cos(kMaxTheta))) continue;
+    } else {
+      wi = dir(kMaxTheta * std::sqrt(c), 2.0 * kPiD * e);
+    }
+    const double turn_o = std::atan2(wo.y, wo.x) + rot, turn_i = std::atan2(wi.y, wi.x) + rot;
+    const double ti = std::acos(std::clamp(wi.z, -1.0, 1.0)), to = std::acos(std::clamp(wo.z, -1.0, 1.0));
+    const glm::dvec3 f0 = src.f(wi, wo), f1 = src.f(dir(ti, turn_i), dir(to, turn_o));
+    const double w = wi.z * wo.z;
+    const glm::dvec3 d = f1 - f0, m = 0.5 * (f0 + f1);
+    num += w * glm::dot(d, d);
+    den += w * glm::dot(m, m);
+  }
+  return den > 0.0 ? std::sqrt(num / den) : 0.0;
+}
+
+IsotropyDecision decide_isotropy(const BrdfSource& src, const ExportOptions& opt) {
+  IsotropyDecision r;
+  using I = ExportOptions::Isotropy;
+  if (opt.isotropy != I::Auto) {
+    r.isotropic = opt.isotropy == I::Isotropic;
+    r.why = r.isotropic ? "--isotropic: one phi_i slice, f as seen from azimuth 0" : "--anisotropic: phi_i over the full circle";
+    return r;
+  }
+  if (!src.isotropic_by_construction.empty()) {
+    r.isotropic = true;
+    r.why = src.isotropic_by_construction;
+    return r;
+  }
+  if (src.measured) {
+    r.rotation_difference = rotation_difference(src);
+    r.isotropic = r.rotation_difference <= kMeasuredIsotropyTolerance;
+    r.why = fmt::format(
+        "f changes by {:.2f} % (relative RMS) under rotations about the normal, {} the {:.0f} % allowed for "
+        "measurement noise (--isotropic or --anisotropic decide otherwise)",
+        100.0 * r.rotation_difference, r.isotropic ? "within" : "beyond", 100.0 * kMeasuredIsotropyTolerance);
+    return r;
+  }
+  r.isotropic = is_isotropic(src);
+  r.why =
+      r.isotropic ? "f is unchanged (to 1e-6) under rotations about the normal" : "f changes under rotations about the normal";
+  return r;
 }
 
 namespace {
@@ -437,7 +501,9 @@ std::vector<float> place_phi_by_blend_error(const BrdfSource& src, const PL2D& n
 // The tables of one file, D as opt.d_estimate names it (LobeAverage, else the retro-reflection).
 std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOptions& opt, ExportReport* report) {
   const double t0 = cpu_seconds();
-  const bool iso = is_isotropic(src);
+  // export_rgl passes its decision (decide_isotropy); Auto only from a direct caller.
+  const bool iso = opt.isotropy == ExportOptions::Isotropy::Auto ? decide_isotropy(src, opt).isotropic
+                                                                 : opt.isotropy == ExportOptions::Isotropy::Isotropic;
   const int N = opt.ndf;
   const int NV = opt.vndf > 0 ? opt.vndf : (iso ? N : 32);  // the vndf grid (below, "vndf")
   // The share of each slice's own f in its warp (warp_slice): 0.8 with the envelope D (measured on
@@ -836,11 +902,93 @@ double roundtrip_score(const BrdfSource& src, const std::vector<TensorField>& fi
 }
 }  // namespace
 
-std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& opt, ExportReport* report) {
+std::vector<TensorField> transcode_tensor(const RglData& d, const BrdfSource& src, bool spectral) {
+  const TensorFile t = read_tensor_file(d.source);
+  std::vector<TensorField> out;
+  const std::string desc = src.description.empty() ? d.description : fmt::format("{} ({})", d.description, src.description);
+  for (const TensorField& f : t.fields) {
+    if (f.name == "description") {
+      out.push_back(
+          make_field("description", {desc.size()}, std::span(reinterpret_cast<const uint8_t*>(desc.data()), desc.size())));
+      continue;
+    }
+    if (auto it = std::find_if(d.read_as.begin(), d.read_as.end(), [&](const TensorField& r) { return r.name == f.name; });
+        it != d.read_as.end()) {
+      out.push_back(*it);
+      continue;
+    }
+    const bool colour = f.name == "rgb" || f.name == "spectra" || f.name == "wavelengths";
+    if (!colour || spectral == d.spectral) {
+      out.push_back(f);
+      continue;
+    }
+    if (f.name != (d.spectral ? "spectra" : "rgb")) continue;  // wavelengths: written with the spectra, or dropped
+    const size_t slices = size_t(f.shape[0] * f.shape[1]), plane = size_t(f.shape[3] * f.shape[4]);
+    const std::vector<float> in = f.floats();
+    if (spectral) {
+      // rgb -> box spectra: each grid point's coefficients (rgb_to_box_coefficients, clamped at 0
+      // as box_spectrum's) spread over its band; the reduction gives the rgb back within the box
+      // gamut.
+      const std::vector<float> lambda = export_wavelengths();
+      const glm::dmat3 to_box = rgb_to_box_coefficients();
+      std::vector<float> spec(slices * lambda.size() * plane);
+      for (size_t s = 0; s < slices; ++s)
+        for (size_t k = 0; k < plane; ++k) {
+          const glm::dvec3 rgb(in[(s * 3 + 0) * plane + k], in[(s * 3 + 1) * plane + k], in[(s * 3 + 2) * plane + k]);
+          const glm::dvec3 coef = glm::max(to_box * rgb, glm::dvec3(0.0));
+          for (size_t j = 0; j < lambda.size(); ++j) {
+            double v = 0.0;
+            for (int c = 0; c < 3; ++c) v += coef[c] * box(c, lambda[j]);
+            spec[(s * lambda.size() + j) * plane + k] = float(v);
+          }
+        }
+      out.push_back(make_field("wavelengths", {lambda.size()}, lambda));
+      out.push_back(make_field("spectra", {f.shape[0], f.shape[1], lambda.size(), f.shape[3], f.shape[4]}, spec));
+    } else {
+      // spectra -> rgb: the reduction rgl_from_tensor applies (measured/spectral.h).
+      const std::vector<double> lambda(d.wavelengths.begin(), d.wavelengths.end());
+      const SpectralToRgb reduce(lambda);
+      std::vector<float> rgb(slices * 3 * plane, 0.f);
+      for (size_t s = 0; s < slices; ++s)
+        for (size_t j = 0; j < lambda.size(); ++j)
+          for (int c = 0; c < 3; ++c)
+            for (size_t k = 0; k < plane; ++k)
+              rgb[(s * 3 + size_t(c)) * plane + k] += float(reduce.weights[j][c]) * in[(s * lambda.size() + j) * plane + k];
+      out.push_back(make_field("rgb", {f.shape[0], f.shape[1], 3, f.shape[3], f.shape[4]}, rgb));
+    }
+  }
+  return out;
+}
+
+std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& opt_in, ExportReport* report) {
+  const double t_start = cpu_seconds();
+  const IsotropyDecision decision = decide_isotropy(src, opt_in);
+  ExportOptions opt = opt_in;
+  opt.isotropy = decision.isotropic ? ExportOptions::Isotropy::Isotropic : ExportOptions::Isotropy::Anisotropic;
+  const std::string decided = fmt::format("{}: {}", decision.isotropic ? "isotropic" : "anisotropic", decision.why);
+  // A tensor source whose isotropy stays: its own tables, exactly (no grid of ours can do better,
+  // and the file stays the source's size; docs/rgl.md "From a tensor file").
+  if (src.tensor && !opt.resample && decision.isotropic == src.tensor->isotropic) {
+    std::vector<TensorField> fields = transcode_tensor(*src.tensor, src, opt.spectral);
+    if (report) {
+      *report = ExportReport{};
+      report->isotropic = decision.isotropic;
+      report->transcoded = true;
+      report->d_method = "the source file's own tables";
+      report->spectra = !opt.spectral          ? ""
+                        : src.tensor->spectral ? "the source file's own spectra"
+                                               : "box spectra of the source file's rgb values";
+      report->isotropy = decided;
+      report->seconds = cpu_seconds() - t_start;
+    }
+    return fields;
+  }
   if (src.ggx_alpha || opt.d_estimate != ExportOptions::DEstimate::Auto) {
     ExportOptions o = opt;  // a fixed D: the tilt chosen by the caller, or none
     o.warp_tilt = std::max(0.0, opt.warp_tilt);
-    return export_tables(src, o, report);
+    std::vector<TensorField> fields = export_tables(src, o, report);
+    if (report) report->isotropy = decided;
+    return fields;
   }
   // No estimate of D wins for every model (docs/rgl.md, "Where the error comes from"): the lobe's
   // mean shape follows forward and grazing lobes (Ashikhmin-Shirley, anisotropic Ward), the
@@ -849,7 +997,6 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
   // Lafortune fit); and the warps of the two first either follow each wo (its VNDF) or, tilted
   // towards the normal, change less from slice to slice (warp_tilt). Each file is written (RGB)
   // and the one that reproduces f best is kept; warp_tilt >= 0 fixes the tilt.
-  const double t0 = cpu_seconds();
   using E = ExportOptions::DEstimate;
   struct Candidate {
     E d;
@@ -887,7 +1034,8 @@ std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& 
   if (report) {
     *report = best_report;
     report->d_method += fmt::format(" (chosen by the round trip: error {:.2f} %; {})", 100.0 * best_score, scores);
-    report->seconds = cpu_seconds() - t0;
+    report->seconds = cpu_seconds() - t_start;
+    report->isotropy = decided;
   }
   return best;
 }

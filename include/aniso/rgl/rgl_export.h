@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "aniso/brdf/material.h"
 #include "aniso/brdf/rgl.h"
 #include "aniso/data/metals.h"
+#include "aniso/rgl/rgl_material.h"
 #include "aniso/rgl/tensor.h"
 
 namespace aniso::rgl {
@@ -43,6 +45,13 @@ struct ExportOptions {
   // phi_i placement (anisotropic files): by the error of the readers' linear blend between azimuth
   // slices, symmetric about the material's mirror axes (default), or uniform over [-pi, pi].
   enum class PhiPlacement { BlendError, Uniform } phi_placement = PhiPlacement::BlendError;
+  // One phi_i slice (isotropic) or the full circle: decided from the source (Auto, decide_isotropy)
+  // or forced (`--isotropic`, `--anisotropic`). A forced isotropic file holds f as seen from
+  // azimuth 0.
+  enum class Isotropy { Auto, Isotropic, Anisotropic } isotropy = Isotropy::Auto;
+  // A tensor-file source (BrdfSource::tensor) is written from its own tables when the decision
+  // keeps its isotropy (transcode_tensor); true resamples it on the grids above instead.
+  bool resample = false;
 };
 
 struct BrdfSource {
@@ -59,13 +68,25 @@ struct BrdfSource {
   // spreads the RGB of f over box spectra (rgb_to_box_coefficients).
   std::function<void(const Vec3d& wi, const Vec3d& wo, double* out)> f_spectral;
   std::string spectral_origin;  // what f_spectral evaluates, for the report
+  // f is a measurement (a tensor file, a MERL table): the rotation test allows for its noise
+  // (kMeasuredIsotropyTolerance).
+  bool measured = false;
+  // The source is isotropic by construction, and why: a tensor file with one phi_i (pbrt-v4 and
+  // Mitsuba 3 read it isotropic, bxdfs.cpp:938, measured.cpp:165), a MERL table (its three
+  // angles are isotropic).
+  std::string isotropic_by_construction;
+  // The source is this tensor file (set by the caller, who holds the MaterialDesc): written from
+  // its own tables unless resampled (ExportOptions::resample).
+  std::shared_ptr<const RglData> tensor;
 };
 
 struct ExportReport {
   bool isotropic = true;
-  std::string d_method;  // how D was made ("exact GGX D and sigma", the estimate and its round-trip errors)
-  std::string spectra;   // how the spectra of a spectral file were made
-  double seconds = 0.0;  // CPU time of the export
+  std::string d_method;     // how D was made ("exact GGX D and sigma", the estimate and its round-trip errors)
+  std::string spectra;      // how the spectra of a spectral file were made
+  double seconds = 0.0;     // CPU time of the export
+  std::string isotropy;     // what was decided (isotropic or not) and why, one line
+  bool transcoded = false;  // written from a tensor source's own tables (transcode_tensor)
 };
 
 // The source material as a BrdfSource (exact D for GGX and GGX metal lobes); `description` is
@@ -75,8 +96,41 @@ struct ExportReport {
 BrdfSource brdf_source(const MaterialD& m, const MetalData* metal = nullptr);
 
 // f is isotropic when rotating both directions about the normal leaves it unchanged (checked at
-// fixed pseudo-random pairs and angles, relative tolerance 1e-6).
+// fixed pseudo-random pairs and angles, relative tolerance 1e-6). For analytic sources.
 bool is_isotropic(const BrdfSource& src);
+
+// How much f changes when both directions turn about the normal: the relative RMS difference
+//   sqrt( sum w |f(R wi, R wo) - f(wi, wo)|^2 / sum w |(f(R wi, R wo) + f(wi, wo)) / 2|^2 )
+// (|.| over the three channels, w = cos(theta_i) cos(theta_o)) over 256 fixed pairs with elevations
+// up to 80 degrees (Ngan et al. 2005's range: beyond it measurements are least reliable), half of
+// them mirror pairs about half vectors within 60 degrees of the normal (denser near it, where
+// sharp lobes are) and half spread over the hemispheres, each turned by an angle in [0.3, 2.3] rad.
+double rotation_difference(const BrdfSource& src);
+// The largest rotation_difference of a measured source that is still isotropic: 4 %. Isotropic
+// materials on anisotropic grids (33 phi_i slices written by export-rgl --anisotropic) change by
+// 0.28 % (chm_mint), 1.8 % (aurora_white), 0.36 % and 1.0 % (GGX alpha 0.1 and 0.3): the readers'
+// blend between azimuth slices; the RGL database's isotropic files by < 0.01 %. Anisotropy shows
+// beyond it: GGX with alpha_y / alpha_x = 1.5 changes by 7.3 % to 16 % (alpha 0.02 to 0.3), 1.2 by
+// 2.9 % to 7.2 %, 1.1 by 1.5 % to 3.7 % (read isotropic: within the noise). docs/rgl.md
+// "Isotropic or not".
+inline constexpr double kMeasuredIsotropyTolerance = 0.04;
+
+struct IsotropyDecision {
+  bool isotropic = true;
+  double rotation_difference = -1.0;  // when it was measured (measured sources), else -1
+  std::string why;                    // one line, for the user
+};
+// opt.isotropy when forced; else the source's construction (isotropic_by_construction), else the
+// rotation test: rotation_difference <= kMeasuredIsotropyTolerance for a measured source,
+// is_isotropic for an analytic one.
+IsotropyDecision decide_isotropy(const BrdfSource& src, const ExportOptions& opt);
+
+// A tensor source written from its own tables (no resampling): every field as read (the rounding
+// noise read as 0 and sigma raised as rgl_from_tensor does), the description prefixed to
+// src.description; an RGB source written spectral gets the box spectra of its rgb values at
+// export_wavelengths() (each grid point's, clamped at 0 as every spectral export's), a spectral
+// source written RGB the reduction of its spectra (measured/spectral.h).
+std::vector<TensorField> transcode_tensor(const RglData& d, const BrdfSource& src, bool spectral);
 
 std::vector<TensorField> export_rgl(const BrdfSource& src, const ExportOptions& opt, ExportReport* report = nullptr);
 

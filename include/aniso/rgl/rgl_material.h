@@ -6,7 +6,9 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -41,10 +43,39 @@ struct RglData {
   std::vector<float> theta_i, phi_i, wavelengths;
   int ndf_shape[2] = {0, 0}, sigma_shape[2] = {0, 0}, vndf_grid[2] = {0, 0}, colour_grid = 0;
   std::vector<std::string> field_summary;  // "name dtype [shape]" per field, in file order
+  // What was read otherwise than it stands in the file (rounding noise read as 0, sigma raised to
+  // its floor), one line per field, each naming the file: load_rgl hands them to the note sink.
+  std::vector<std::string> notes;
+  std::vector<TensorField> read_as;  // those fields as they were read (the tables a writer copies)
   uint64_t file_size = 0;
   PL2DTables ndf, sigma, vndf, luminance, rgb;
   RglTables tables;  // the views of the five above, what the kernel points to
 };
+
+// Rounding noise. Real tables hold values a little below 0 where the true value is 0 (the RGL
+// database's chm files: 16 luminance values down to -4e-10 against a largest value of order 1): a
+// float32 sum or interpolation whose exact result is 0 comes out with an error of a few units in
+// the last place of its largest terms (Higham, "Accuracy and Stability of Numerical Algorithms",
+// 2nd ed. 2002, section 4.2: |error| <= (n - 1) eps sum |x_i| for n terms). The terms of a table
+// entry are at most the table's largest value, so a negative value is rounding of 0 when
+//     |v| <= kRoundingNoiseUlps x FLT_EPSILON x max |table|   (64 x 1.19e-7 = 7.6e-6 relative),
+// 64 allowing sums of up to 64 terms of the table's largest size. -4e-10 is 1e4 times below that
+// for a table whose largest value is 1 (the chm files' luminance: 1.05 to 27.5); a value below the
+// bound is a negative measurement, not rounding, and stays an error. pbrt-v4 and Mitsuba 3 check
+// no value at all (bxdfs.cpp MeasuredBxDFData::Create, measured.cpp MeasuredBSDF(): only the
+// dtypes and shapes): aniso reads these files as they do and says so once.
+inline constexpr double kRoundingNoiseUlps = 64.0;
+// kRoundingNoiseUlps x FLT_EPSILON x the largest finite |value| of v.
+double rounding_noise_bound(std::span<const float> v);
+// Sets the values in [-rounding_noise_bound(v), 0) to 0; returns "" when there were none, else the
+// note: "<where>: field "<field>": N negative values read as 0 (... the most negative V at flat
+// index I)".
+std::string zero_rounding_noise(const std::string& where, const std::string& field, std::vector<float>& v);
+
+// Where load_rgl's notes go (one call per note, the first time each file is read): the command
+// line sets a sink that prints "aniso: note: ..." on stderr (apps/aniso/cmd_rgl.cpp); without one
+// the notes stay in RglData::notes. Library code writes nothing to stderr itself.
+void set_note_sink(std::function<void(const std::string&)> sink);
 
 // Checks the fields as pbrt-v4 (MeasuredBxDFData::Create, bxdfs.cpp:885-937) and Mitsuba 3
 // (measured.cpp:98-188) do, plus what both assume without checking (finite, non-negative tables,
