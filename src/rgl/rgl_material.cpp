@@ -12,6 +12,7 @@
 
 #include "aniso/io/params.h"
 #include "aniso/measured/spectral.h"
+#include "io/text_escape.h"
 
 namespace aniso::rgl {
 
@@ -442,7 +443,7 @@ std::string describe_rgl(const RglData& d) {
                    d.colour_grid, d.colour_grid);
   s += "  fields:\n";
   for (const std::string& f : d.field_summary) s += "    " + f + "\n";
-  s += "  description: " + d.description + "\n";
+  s += "  description: " + text_escape(d.description) + "\n";  // the file's bytes: no control byte to the terminal
   return s;
 }
 
