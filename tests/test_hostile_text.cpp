@@ -9,6 +9,7 @@
 #include <regex>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -51,6 +52,12 @@ TEST(TextEscape, InvalidUtf8BecomesHexAndValidTextStays) {
   const std::string e = text_escape(all + all.substr(128) + "\xe2\x80");
   EXPECT_EQ(first_invalid_utf8(e), std::nullopt);
   for (char c : e) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 || c == 0x7f) << e;
+}
+
+bool has_raw_control(const std::string& s) {
+  for (char c : s)
+    if ((static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') || c == 0x7f) return true;
+  return first_invalid_utf8(s).has_value();
 }
 
 // ---- exports with hostile text ---------------------------------------------------------------------
@@ -178,6 +185,27 @@ TEST_F(HostileText, SceneObjectNamesStayInTheComment) {
   EXPECT_FALSE(fs::exists(dir_ / "PWNED"));
 }
 
+// The data's file name goes into the fitted material's provenance (JSON: UTF-8 only) and a tensor
+// file's description: a name that is not UTF-8 is written escaped, not a JSON type error after the
+// fit's work (issue 40, item 2).
+TEST_F(HostileText, FitAndExportRglOfAFileWhoseNameIsNotUtf8) {
+  std::string csv = "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,r,g,b\n";
+  for (int ti = 5; ti < 90; ti += 20)
+    for (int to = 5; to < 90; to += 20)
+      for (int po = 0; po < 360; po += 45) csv += fmt::format("{},0,{},{},0.3,0.2,0.1\n", ti, to, po);
+  const std::string data = write("d\xff\x1b.csv", csv);
+  const std::string fitted = (dir_ / "f.json").string();
+  const Result r = run({"fit", data, "--model", "lambert", "--starts", "1", "-o", fitted});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(has_raw_control(r.out)) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(read_file(fitted))["fit"]["data"], text_escape(data));
+
+  const std::string bsdf = (dir_ / "g\xff.bsdf").string();
+  ASSERT_EQ(run({"export-rgl", "-m", "gold", "-o", bsdf, "--resolution", "8", "--theta-i", "4", "--ndf", "16"}).code, 0);
+  const Result e = run({"export-rgl", "-m", bsdf, "-o", (dir_ / "h.bsdf").string()});
+  EXPECT_EQ(e.code, 0) << e.err;
+}
+
 // ---- every output checked before any is written ------------------------------------------------------
 
 TEST_F(HostileText, GltfBufferCannotOverwriteTheDocument) {
@@ -203,12 +231,6 @@ TEST_F(HostileText, AnUnwritablePreviewWritesNothing) {
 }
 
 // ---- the terminal ---------------------------------------------------------------------------------
-
-bool has_raw_control(const std::string& s) {
-  for (char c : s)
-    if ((static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') || c == 0x7f) return true;
-  return first_invalid_utf8(s).has_value();
-}
 
 TEST_F(HostileText, ATensorFilesDescriptionAndFieldNamesReachTheTerminalEscaped) {
   // A valid tensor file's fields, its description holding ESC, BEL and NUL; then a field named with

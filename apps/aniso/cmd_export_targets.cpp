@@ -193,7 +193,8 @@ void run_export(const ExportArgs& a) {
     throw;
   }
   fmt::print(to_stdout ? stderr : stdout, "{}", r.report.text());
-  if (!to_stdout) fmt::print("wrote {}{}\n", a.output, r.files.size() == 2 ? " and " + r.files[1].path : std::string());
+  if (!to_stdout)
+    fmt::print("wrote {}{}\n", text_escape(a.output), r.files.size() == 2 ? " and " + text_escape(r.files[1].path) : std::string());
 }
 
 }  // namespace

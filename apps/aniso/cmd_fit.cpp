@@ -169,7 +169,7 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
     throw InputError(fmt::format("--progress-after: expected a finite decimal number >= 0, got \"{}\"", a.progress_after));
   auto display = std::make_shared<ProgressDisplay>(a.quiet, *after);
   o.progress = [display](const FitProgress& p) { (*display)(p); };
-  std::string out = fmt::format("data: {} ({}, {} samples)\n", data.source, data.format, data.samples.size());
+  std::string out = fmt::format("data: {} ({}, {} samples)\n", text_escape(data.source), data.format, data.samples.size());
   if (!data.description.empty()) out += fmt::format("sampled: {}\n", data.description);
 
   if (a.compare) {

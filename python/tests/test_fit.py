@@ -268,3 +268,14 @@ def test_ctrl_c_stops_a_fit_with_keyboard_interrupt():
     out, _ = p.communicate(timeout=120)
     assert out.strip() == "interrupted"
     assert time.monotonic() - start < 10
+
+
+def test_messages_quoting_bytes_that_are_not_utf8_are_whole(tmp_path):
+    # A file starting with \xff\xfe (a UTF-16 mark): the message quotes its first token, escaped
+    # (io/text_escape.h), not an empty ValueError (issue 40, item 8).
+    junk = tmp_path / "junk.brdf"
+    junk.write_bytes(b"\xff\xfejunk\x1b[31m\n")
+    with pytest.raises(ValueError) as e:
+        aniso.fit(junk, model="ggx")
+    message = str(e.value)
+    assert "junk.brdf" in message and "\\xff\\xfe" in message and "\\u001b" in message, message

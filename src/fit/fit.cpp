@@ -29,6 +29,7 @@
 #include "aniso/stats/albedo.h"
 #include "fit/models.h"
 #include "io/enum_names.h"
+#include "io/text_escape.h"
 #include "io/text_input.h"
 
 namespace aniso {
@@ -1133,9 +1134,10 @@ FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
 
 nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const FitOptions& o) {
   nlohmann::json f;
-  f["data"] = data.source;
+  // A file name need not be UTF-8 and a file's description may hold any byte: JSON needs UTF-8.
+  f["data"] = text_escape(data.source);
   f["format"] = data.format;
-  if (!data.description.empty()) f["sampled"] = data.description;
+  if (!data.description.empty()) f["sampled"] = text_escape(data.description);
   f["samples"] = r.samples_total;
   f["samples_in_solver"] = r.samples_used;
   f["model"] = o.model;
