@@ -418,7 +418,7 @@ void serve(const std::string& root_arg, int port) {
   if (!fs::is_regular_file(root / "index.html"))
     throw InputError(
         fmt::format("--root {}: no index.html (build the page: cmake --build ... --target aniso_web)", root.string()));
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);  // accept() after poll() never blocks
   if (fd < 0) throw std::runtime_error(fmt::format("socket: {}", std::strerror(errno)));
   const int one = 1;
   ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
