@@ -1,0 +1,84 @@
+// export/blender.cpp: --to blender, the Python script that builds the Principled BSDF (or 4.3's
+// Metallic BSDF) material.
+#include "export/writers.h"
+
+#include <fmt/format.h>
+
+namespace aniso::exporter {
+
+std::string write_blender(const std::string& name, const json& p, const std::string& comment) {
+  const glm::dvec3 base = col(p, "Base Color");
+  const bool metallic = num(p, "Metallic") > 0.5;
+  std::string s = comment;
+  s += "#\n# Builds the material for Blender 3.4 and 4.x (Principled BSDF input names differ: checked by\n"
+       "# bpy.app.version), assigns it to the active object if there is one, and takes the tangent from\n"
+       "# that object's active UV map (dp/du) when it has one.\n";
+  s += "import bpy\n\n";
+  s += fmt::format("NAME = {}\n", py_string(name));
+  s += "V4 = bpy.app.version >= (4, 0, 0)\n\n";
+  s += "mat = bpy.data.materials.get(NAME) or bpy.data.materials.new(NAME)\n"
+       "mat.use_nodes = True\n"
+       "nodes, links = mat.node_tree.nodes, mat.node_tree.links\n"
+       "nodes.clear()\n"
+       "out = nodes.new(\"ShaderNodeOutputMaterial\")\n"
+       "out.location = (300, 0)\n"
+       "bsdf = nodes.new(\"ShaderNodeBsdfPrincipled\")\n"
+       "bsdf.distribution = \"GGX\"  # single-scattering GGX, as the target model (not MULTI_GGX)\n"
+       "links.new(bsdf.outputs[\"BSDF\"], out.inputs[\"Surface\"])\n\n"
+       "def put(name, value):\n"
+       "    if name not in bsdf.inputs:\n"
+       "        raise KeyError(\"%s of Blender %s has no input %r\" % (bsdf.bl_idname, bpy.app.version_string, name))\n"
+       "    bsdf.inputs[name].default_value = value\n\n";
+  s += fmt::format("put(\"Base Color\", ({:.9g}, {:.9g}, {:.9g}, 1.0))\n", base.x, base.y, base.z);
+  s += fmt::format("put(\"Metallic\", {:.9g})\n", num(p, "Metallic"));
+  s += fmt::format("put(\"Roughness\", {:.9g})\n", num(p, "Roughness"));
+  s += fmt::format("put(\"Anisotropic\", {:.9g})\n", num(p, "Anisotropic"));
+  s += fmt::format("put(\"Anisotropic Rotation\", {:.9g})\n", num(p, "Anisotropic Rotation"));
+  s += "if V4:\n";
+  if (metallic) {
+    const glm::dvec3 t = col(p, "Specular Tint");
+    s += fmt::format("    put(\"Specular Tint\", ({:.9g}, {:.9g}, {:.9g}, 1.0))  # the F82 edge tint\n", t.x, t.y, t.z);
+  } else {
+    s += fmt::format("    put(\"IOR\", {:.9g})\n    put(\"Specular IOR Level\", {:.9g})\n", num(p, "IOR"),
+                     num(p, "Specular IOR Level"));
+  }
+  s += "else:\n";
+  if (metallic)
+    s += fmt::format(
+        "    put(\"Specular\", {:.9g})  # 3.4: the ior of the Fresnel curve's shape (no edge tint: Specular Tint is a float)\n",
+        num(p, "Specular"));
+  else
+    s += fmt::format("    put(\"Specular\", {:.9g})  # F0 = 0.08 Specular\n", num(p, "Specular"));
+  if (p.contains("Extinction")) {
+    // Blender 4.3+: the Metallic BSDF (node_shader_bsdf_metallic.cc: IOR and Extinction are
+    // vectors, Anisotropy and Rotation as the Principled BSDF's) replaces the Principled one.
+    const glm::dvec3 n = col(p, "IOR"), k = col(p, "Extinction");
+    s += "\nif bpy.app.version >= (4, 3, 0):  # the physical conductor: n, k themselves\n"
+         "    nodes.remove(bsdf)\n"
+         "    bsdf = nodes.new(\"ShaderNodeBsdfMetallic\")\n"
+         "    bsdf.distribution = \"GGX\"\n"
+         "    bsdf.fresnel_type = \"PHYSICAL_CONDUCTOR\"\n"
+         "    links.new(bsdf.outputs[\"BSDF\"], out.inputs[\"Surface\"])\n";
+    s += fmt::format("    put(\"IOR\", ({:.9g}, {:.9g}, {:.9g}))\n", n.x, n.y, n.z);
+    s += fmt::format("    put(\"Extinction\", ({:.9g}, {:.9g}, {:.9g}))\n", k.x, k.y, k.z);
+    s += fmt::format("    put(\"Roughness\", {:.9g})\n", num(p, "Roughness"));
+    s += fmt::format("    put(\"Anisotropy\", {:.9g})\n", num(p, "Anisotropic"));
+    s += fmt::format("    put(\"Rotation\", {:.9g})\n", num(p, "Anisotropic Rotation"));
+  }
+  s += "\nobj = bpy.context.view_layer.objects.active\n"
+       "if obj is not None and obj.type == \"MESH\":\n"
+       "    uv = obj.data.uv_layers.active\n"
+       "    if uv is not None:\n"
+       "        tangent = nodes.new(\"ShaderNodeTangent\")\n"
+       "        tangent.location = (-300, -300)\n"
+       "        tangent.direction_type = \"UV_MAP\"\n"
+       "        tangent.uv_map = uv.name\n"
+       "        links.new(tangent.outputs[\"Tangent\"], bsdf.inputs[\"Tangent\"])\n"
+       "    if obj.data.materials:\n"
+       "        obj.data.materials[0] = mat\n"
+       "    else:\n"
+       "        obj.data.materials.append(mat)\n";
+  return s;
+}
+
+}  // namespace aniso::exporter

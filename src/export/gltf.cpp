@@ -1,0 +1,104 @@
+// export/gltf.cpp: --to gltf, the .gltf with KHR_materials_anisotropy and its .bin UV sphere.
+#include "aniso/version.h"
+#include "export/writers.h"
+
+#include <cmath>
+#include <cstdint>
+
+#include "io/text_escape.h"
+
+namespace aniso::exporter {
+
+void write_gltf(const std::string& name, const json& p, const ExportReport& r, const std::string& source,
+                const std::string& bin_name, std::vector<ExportFile>& files) {
+  const SphereMesh mesh = uv_sphere(48, 96);
+  std::string bin;
+  const auto append = [&](const void* data, size_t bytes) {
+    bin.append(static_cast<const char*>(data), bytes);
+    while (bin.size() % 4) bin.push_back('\0');
+  };
+  const size_t nv = mesh.positions.size() / 3;
+  json views = json::array(), accessors = json::array();
+  const auto add = [&](const void* data, size_t bytes, int components, int ctype, const char* type, size_t count, int target,
+                       bool minmax) {
+    const size_t offset = bin.size();
+    append(data, bytes);
+    views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}, {"target", target}});
+    json a = {{"bufferView", views.size() - 1}, {"componentType", ctype}, {"count", count}, {"type", type}};
+    if (minmax) a["min"] = {-1.0, -1.0, -1.0}, a["max"] = {1.0, 1.0, 1.0};
+    (void)components;
+    accessors.push_back(a);
+  };
+  // 5126 FLOAT, 5123 UNSIGNED_SHORT; 34962 ARRAY_BUFFER, 34963 ELEMENT_ARRAY_BUFFER (glTF 2.0, 3.6.2).
+  add(mesh.positions.data(), mesh.positions.size() * 4, 3, 5126, "VEC3", nv, 34962, true);
+  add(mesh.normals.data(), mesh.normals.size() * 4, 3, 5126, "VEC3", nv, 34962, false);
+  add(mesh.tangents.data(), mesh.tangents.size() * 4, 4, 5126, "VEC4", nv, 34962, false);
+  add(mesh.uvs.data(), mesh.uvs.size() * 4, 2, 5126, "VEC2", nv, 34962, false);
+  add(mesh.indices.data(), mesh.indices.size() * 2, 1, 5123, "SCALAR", mesh.indices.size(), 34963, false);
+  const glm::dvec3 base = col(p, "baseColorFactor");
+  json material = {
+      {"name", name},
+      {"pbrMetallicRoughness",
+       {{"baseColorFactor", {base.x, base.y, base.z, 1.0}},
+        {"metallicFactor", num(p, "metallicFactor")},
+        {"roughnessFactor", num(p, "roughnessFactor")}}},
+      {"extensions",
+       {{"KHR_materials_anisotropy",
+         {{"anisotropyStrength", num(p, "anisotropyStrength")}, {"anisotropyRotation", num(p, "anisotropyRotation")}}}}}};
+  json used = {"KHR_materials_anisotropy"};
+  if (p.contains("specularFactor")) {
+    material["extensions"]["KHR_materials_specular"] = {{"specularFactor", num(p, "specularFactor")},
+                                                        {"specularColorFactor", p.at("specularColorFactor")}};
+    used.push_back("KHR_materials_specular");
+  }
+  json doc = {{"asset",
+               {{"version", "2.0"},
+                {"generator", "aniso " ANISO_VERSION " export --to gltf"},
+                {"extras", {{"source", text_escape(source)}, {"aniso_export", r.to_json()}}}}},
+              {"extensionsUsed", used},
+              {"scene", 0},
+              {"scenes", {{{"nodes", {0}}}}},
+              {"nodes", {{{"mesh", 0}, {"name", name}}}},
+              {"meshes",
+               {{{"name", "sphere"},
+                 {"primitives",
+                  {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TANGENT", 2}, {"TEXCOORD_0", 3}}},
+                    {"indices", 4},
+                    {"material", 0}}}}}}},
+              {"materials", {material}},
+              {"buffers", {{{"uri", bin_name}, {"byteLength", bin.size()}}}},
+              {"bufferViews", views},
+              {"accessors", accessors}};
+  files.push_back({"", doc.dump(2) + "\n"});
+  files.push_back({bin_name, bin});
+}
+
+SphereMesh uv_sphere(int rings, int segments) {
+  SphereMesh m;
+  // glTF is y-up. theta from +y, phi around it; u = phi / 2 pi, v = theta / pi. p = (sin t sin f,
+  // cos t, sin t cos f): dp/du ~ (cos f, 0, -sin f), the tangent, perpendicular to the normal
+  // everywhere (also at the poles, where each vertex of the seam row has its own phi).
+  for (int i = 0; i <= rings; ++i) {
+    const double t = kPi<double> * i / rings;
+    for (int j = 0; j <= segments; ++j) {
+      const double f = 2.0 * kPi<double> * j / segments;
+      const glm::dvec3 n(std::sin(t) * std::sin(f), std::cos(t), std::sin(t) * std::cos(f));
+      const glm::dvec3 tan(std::cos(f), 0.0, -std::sin(f));
+      for (int k = 0; k < 3; ++k) m.positions.push_back(float(n[k])), m.normals.push_back(float(n[k]));
+      for (int k = 0; k < 3; ++k) m.tangents.push_back(float(tan[k]));
+      m.tangents.push_back(1.0f);
+      m.uvs.push_back(float(double(j) / segments)), m.uvs.push_back(float(double(i) / rings));
+    }
+  }
+  const int row = segments + 1;
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const uint16_t a = uint16_t(i * row + j), b = uint16_t(a + row), c = uint16_t(a + 1), d = uint16_t(b + 1);
+      // Counter-clockwise seen from outside (glTF front faces).
+      if (i != 0) m.indices.insert(m.indices.end(), {a, b, c});
+      if (i != rings - 1) m.indices.insert(m.indices.end(), {c, b, d});
+    }
+  return m;
+}
+
+}  // namespace aniso::exporter
