@@ -20,21 +20,11 @@
 
 #include "aniso/brdf/material.h"
 #include "aniso/io/materials.h"
+#include "bench_common.h"
 #include "stats/rng.h"
 
 using namespace aniso;
 using nlohmann::json;
-
-// --- Shared with bench_sample.cpp (declared there with the same signatures) -------------------
-
-std::span<const Vec3> bench_wi();
-std::span<const Vec3> bench_wo();
-const Material& bench_material(const std::string& key);
-void register_sample_benchmarks();
-int check_sample();
-void register_batch_benchmarks();  // bench_batch.cpp
-void register_rgl_benchmarks();    // bench_rgl.cpp
-int check_batch();
 
 namespace {
 

@@ -17,12 +17,10 @@
 #include "aniso/rgl/rgl_export.h"
 #include "aniso/rgl/rgl_material.h"
 #include "aniso/rgl/tensor.h"
+#include "bench_common.h"
 #include "stats/rng.h"
 
 using namespace aniso;
-
-std::span<const Vec3> bench_wi();  // bench_eval.cpp
-std::span<const Vec3> bench_wo();
 
 namespace {
 

@@ -15,14 +15,10 @@
 #include <benchmark/benchmark.h>
 
 #include "aniso/brdf/material.h"
+#include "bench_common.h"
 #include "stats/rng.h"
 
 using namespace aniso;
-
-// Defined in bench_eval.cpp.
-std::span<const Vec3> bench_wi();
-std::span<const Vec3> bench_wo();
-const Material& bench_material(const std::string& key);
 
 namespace {
 
