@@ -105,7 +105,14 @@ std::string fitted_file(const FitResult& r, const SampleSet& data, const FitOpti
 
 // What the fit decided for the user: anisotropy and why, tied and weak parameters, energy.
 std::string fit_report(const FitResult& r, const FitOptions& o) {
-  std::string s = fmt::format("anisotropy: {}\n", r.anisotropy_reason);
+  std::string s =
+      r.max_theta_deg < 90.0
+          ? fmt::format(
+                "range: {} of {} samples have both directions within {:g} deg of the normal (Ngan 2005; --max-theta), "
+                "the rest are left out of the fit and its errors\n",
+                r.samples_total, r.samples_total + r.samples_beyond_range, r.max_theta_deg)
+          : fmt::format("range: every sample (--max-theta 90)\n");
+  s += fmt::format("anisotropy: {}\n", r.anisotropy_reason);
   for (const std::string& t : r.tied) s += fmt::format("tied: {}\n", t);
   if (!r.weakly_constrained.empty() && r.tied.empty()) {
     std::string list;
@@ -115,8 +122,9 @@ std::string fit_report(const FitResult& r, const FitOptions& o) {
   s += fmt::format("largest directional albedo: {:.4f} at theta_o {:g} deg, phi_o {:g} deg{}\n", r.largest_albedo,
                    r.largest_albedo_theta_deg, r.largest_albedo_phi_deg,
                    o.allow_energy_gain    ? " (energy gain allowed: --allow-energy-gain)"
-                   : r.energy_constrained ? fmt::format(" (constrained to <= 1; relative l2cos {:.4g} without the constraint)",
-                                                        r.unconstrained_l2cos)
+                   : r.energy_constrained ? fmt::format(" (constrained to <= 1: {}; without the constraint: relative l2cos "
+                                                        "{:.4g}, largest albedo {:.4f})",
+                                                        r.energy_method, r.unconstrained_l2cos, r.unconstrained_albedo)
                                           : "");
   return s;
 }
@@ -194,10 +202,10 @@ void run_fit(const FitArgs& a, const CLI::App& fit) {
     const bool by_log = o.metric == FitMetric::Log;
     std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
       return by_log ? rows[x].result.errors.log_all < rows[y].result.errors.log_all
-                    : rows[x].result.errors.l2cos_all < rows[y].result.errors.l2cos_all;
+                    : rows[x].result.errors.relative_l2cos < rows[y].result.errors.relative_l2cos;
     });
-    out +=
-        fmt::format("ranked by the {} error (fitted with it); errors over all samples and channels\n", by_log ? "log" : "l2cos");
+    out += fmt::format("ranked by the {} (each fitted with the {} metric); errors over every sample in range and channel\n",
+                       by_log ? "log error" : "relative l2cos error (l2cos / the data's norm)", by_log ? "log" : "l2cos");
     out += fmt::format("{:<4} {:<28} {:<6} {:>11} {:>11} {:>9} {:>8}  {}\n", "rank", "model", "aniso", "l2cos", "log", "relative",
                        "time_s", "parameters");
     for (size_t i = 0; i < order.size(); ++i) {
@@ -284,6 +292,11 @@ void add_fit_command(CLI::App& app) {
       ->type_name("UINT64")
       ->capture_default_str();
   fit->add_option("--threads", a->options.threads, "solver threads; 0: all cores")->type_name("INT")->capture_default_str();
+  fit->add_option("--max-theta", a->options.max_theta,
+                  "leave out samples with either direction farther than this from the normal, degrees in (0, 90] (Ngan "
+                  "2005's range; 90 keeps every sample)")
+      ->type_name("DEG")
+      ->capture_default_str();
   fit->add_option("--max-iterations", a->options.max_iterations, "Levenberg-Marquardt iterations of the final refinement")
       ->type_name("INT")
       ->capture_default_str();

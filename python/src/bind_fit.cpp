@@ -146,7 +146,8 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
                    bool allow_energy_gain, bool shared_exponents, const std::string& normalization, const py::object& metal,
                    const std::string& metal_lobe, const std::string& metric, const std::string& loss,
                    const py::object& loss_scale, const py::object& starts, const py::object& seed, const py::object& threads,
-                   const py::object& max_iterations, const py::object& progress, const py::object& grid) {
+                   const py::object& max_iterations, const py::object& max_theta_deg, const py::object& progress,
+                   const py::object& grid) {
   FitOptionText t;
   t.model = model;
   t.lobes = option_text(lobes, "lobes");
@@ -170,6 +171,7 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
   t.seed = option_text(seed, "seed");
   t.threads = option_text(threads, "threads");
   t.max_iterations = option_text(max_iterations, "max_iterations");
+  t.max_theta = option_text(max_theta_deg, "max_theta_deg");
   FitOptions o = parse_fit_options(t);
 
   SampleSet data;
@@ -345,8 +347,8 @@ void bind_fit(py::module_& m) {
         py::arg("anisotropic") = "auto", py::arg("allow_energy_gain") = false, py::arg("shared_exponents") = false,
         py::arg("normalization") = "ward", py::arg("metal") = py::none(), py::arg("metal_lobe") = "ggx",
         py::arg("metric") = "l2cos", py::arg("loss") = "none", py::arg("loss_scale") = 0.0, py::arg("starts") = 6,
-        py::arg("seed") = 1, py::arg("threads") = 0, py::arg("max_iterations") = 200, py::arg("progress") = py::none(),
-        py::arg("grid") = py::none(),
+        py::arg("seed") = 1, py::arg("threads") = 0, py::arg("max_iterations") = 200, py::arg("max_theta_deg") = kNganMaxThetaDeg,
+        py::arg("progress") = py::none(), py::arg("grid") = py::none(),
         "Fits a model to measured data, as `aniso fit` (docs/fitting.md): the same solver, options, starts\n"
         "and error figures; the same data, options and seed give the same material.\n\n"
         "data: a path to a MERL .binary, Cornell .brdf, RGL tensor .bsdf or CSV file of samples (what `aniso fit\n"
@@ -358,7 +360,8 @@ void bind_fit(py::module_& m) {
         "rotation_deg too), allow_energy_gain (else every directional albedo stays <= 1), shared_exponents, normalization (Ward: "
         "ward | duer | balanced), metal (a named metal; None fits eta\n"
         "and k), metal_lobe (ggx | ward | ashikhmin-shirley), metric (l2cos | log), loss (none | huber |\n"
-        "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations, grid (an RGL\n"
+        "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations, max_theta_deg\n"
+        "(samples with a direction farther from the normal are left out: Ngan 2005's 80 degrees), grid (an RGL\n"
         ".bsdf file's sampling: N theta_h x N/2 theta_d x N phi_d, N even in [4, 256]; None: 64 isotropic, 32\n"
         "anisotropic).\n"
         "progress: None (a line on stderr when it is a terminal, as the CLI), True, False, or a callable\n"

@@ -178,6 +178,9 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
   // correct it.
   fo.anisotropy = Anisotropy::Yes;
   fo.allow_energy_gain = true;
+  // Every sample of the source's grid, grazing ones included: the export's errors are measured
+  // over all of them (target_errors), so the fit sees the same set.
+  fo.max_theta_deg = 90.0;
   fo.metric = o.metric;
   fo.starts = o.starts;
   fo.seed = o.seed;

@@ -27,6 +27,7 @@
 #include "aniso/io/materials.h"
 #include "aniso/io/presets.h"
 #include "aniso/stats/albedo.h"
+#include "fit/linear.h"
 #include "fit/models.h"
 #include "io/enum_names.h"
 #include "io/text_escape.h"
@@ -578,6 +579,238 @@ struct Solved {
   std::string termination;
 };
 
+// --- Separable least squares (fit/linear.h) ----------------------------------------------------
+
+// The linear entries of a model, by their names in its defs (models.h): the diffuse and specular
+// weights of each channel ("kd.r", "ks.g", "f0.b", "rho_d.r", "ks_scale.g"), in which f_c is affine
+// when the other entries are held: kd / pi, ks times Ward's or Phong's lobe, ks_scale times the AS
+// lobe, F0 in Schlick's F0 (1 - (1 - c)^5) + (1 - c)^5 times the GGX lobe, rho_d / pi beside the
+// Lafortune lobes. A model with none (metal: eta and k; principled) gets an empty layout.
+template <class Model> LinearLayout linear_layout(const Model& model) {
+  static constexpr std::string_view kLinear[] = {"kd", "ks", "f0", "rho_d", "ks_scale"};
+  LinearLayout layout;
+  for (size_t i = 0; i < model.defs.size(); ++i) {
+    const std::string_view n = model.defs[i].name;
+    const size_t dot = n.find('.');
+    if (dot == std::string_view::npos || dot + 2 != n.size()) continue;
+    const int c = n[dot + 1] == 'r' ? 0 : n[dot + 1] == 'g' ? 1 : n[dot + 1] == 'b' ? 2 : -1;
+    if (c >= 0 && std::find(std::begin(kLinear), std::end(kLinear), n.substr(0, dot)) != std::end(kLinear))
+      layout.channel[size_t(c)].push_back(int(i));
+  }
+  if (layout.channel[0].size() != layout.channel[1].size() || layout.channel[0].size() != layout.channel[2].size()) return {};
+  return layout;
+}
+
+// The kernels of the basis: x with every linear entry 0 (part 0), then with entry j of every
+// channel 1 and the others 0 (part j + 1); f_c = f_c(part 0) + sum_j b_cj (f_c(part j+1) - f_c(part 0)).
+template <class Model> auto basis_kernels(const Model& model, const LinearLayout& layout, const std::vector<double>& x) {
+  const size_t k = layout.channel[0].size();
+  using Kernel = decltype(model.template build<double>(x.data()));
+  std::vector<Kernel> out;
+  for (size_t j = 0; j <= k; ++j) {
+    std::vector<double> v = x;
+    for (const std::vector<int>& ch : layout.channel)
+      for (size_t i = 0; i < k; ++i) v[size_t(ch[i])] = (j == i + 1) ? 1.0 : 0.0;
+    out.push_back(model.template build<double>(v.data()));
+  }
+  return out;
+}
+
+// The normal equations of each channel's linear entries over `samples` (l2cos metric): A_j =
+// sqrt(w) cos_i g_cj, y = sqrt(w) (target_c - cos_i f_c(part 0)); N = A^T A, r = A^T y, t = y^T y.
+struct LinearSystem {
+  std::array<Eigen::MatrixXd, 3> N;
+  std::array<Eigen::VectorXd, 3> r;
+  std::array<double, 3> t{};
+};
+template <class Model> LinearSystem linear_system(const Model& model, const LinearLayout& layout, const std::vector<double>& x,
+                                                  const std::vector<Prepared>& samples) {
+  const int k = int(layout.channel[0].size());
+  const auto kernels = basis_kernels(model, layout, x);
+  const Turn<double> turn = turn_of(model, x.data());
+  LinearSystem sys;
+  for (int c = 0; c < 3; ++c) sys.N[size_t(c)] = Eigen::MatrixXd::Zero(k, k), sys.r[size_t(c)] = Eigen::VectorXd::Zero(k);
+  std::vector<RGBT<double>> f(size_t(k) + 1);
+  Eigen::VectorXd a(k);
+  for (const Prepared& s : samples) {
+    const Vec3d wi = turn(s.wi), wo = turn(s.wo);
+    for (size_t j = 0; j < kernels.size(); ++j) f[j] = kernels[j].f(wi, wo);
+    for (int c = 0; c < 3; ++c) {
+      for (int j = 0; j < k; ++j) a[j] = s.sqrt_w * s.wi.z * (f[size_t(j) + 1][c] - f[0][c]);
+      const double y = s.sqrt_w * (s.target[c] - s.wi.z * f[0][c]);
+      sys.N[size_t(c)].noalias() += a * a.transpose();
+      sys.r[size_t(c)] += a * y;
+      sys.t[size_t(c)] += y * y;
+    }
+  }
+  return sys;
+}
+
+// The linear entries of x solved exactly at its other entries (fit/linear.h): per channel, the
+// bounded least squares over `samples`, with `extra` rows G b <= h per channel (the energy
+// constraint) when given. Returns the data cost sum r^2 at the result (infinity when a channel
+// has no feasible point; x is then unchanged).
+template <class Model> double solve_linear(const Model& model, const LinearLayout& layout, std::vector<double>& x,
+                                           const std::vector<Prepared>& samples,
+                                           const std::array<std::pair<Eigen::MatrixXd, Eigen::VectorXd>, 3>* extra = nullptr) {
+  const LinearSystem sys = linear_system(model, layout, x, samples);
+  const size_t k = layout.channel[0].size();
+  std::vector<double> out = x;
+  double total = 0.0;
+  for (size_t c = 0; c < 3; ++c) {
+    Eigen::MatrixXd G(0, int(k));
+    Eigen::VectorXd h(0);
+    if (extra) G = (*extra)[c].first, h = (*extra)[c].second;
+    std::vector<double> lo, hi;
+    for (int i : layout.channel[c]) lo.push_back(model.defs[size_t(i)].lo), hi.push_back(model.defs[size_t(i)].hi);
+    add_box(lo, hi, G, h);
+    Eigen::VectorXd b;
+    double cost = 0.0;
+    if (!constrained_lsq(sys.N[c], sys.r[c], sys.t[c], G, h, b, &cost)) return INFINITY;
+    for (size_t i = 0; i < k; ++i) out[size_t(layout.channel[c][i])] = std::clamp(b[int(i)], lo[i], hi[i]);
+    total += std::max(cost, 0.0);
+  }
+  x = std::move(out);
+  return total;
+}
+
+// The data cost sum r^2 of x over `samples` in the fit's metric (as the Ceres blocks compute it).
+template <class Model>
+double data_cost(const Model& model, const std::vector<double>& x, const std::vector<Prepared>& samples, FitMetric metric) {
+  const auto m = model.template build<double>(x.data());
+  const Turn<double> turn = turn_of(model, x.data());
+  double e = 0.0;
+  for (const Prepared& s : samples) {
+    const RGBT<double> f = m.f(turn(s.wi), turn(s.wo));
+    for (int c = 0; c < 3; ++c) e += sqr(metric_residual(metric, f[c], s.wi.z, s.target[c], s.sqrt_w));
+  }
+  return std::isfinite(e) ? e : INFINITY;
+}
+
+// The roughness entries a separable grid search runs over (by name): GGX's and Ward's alpha, AS's
+// and Phong's exponents; both of an anisotropic pair take the grid's value (an isotropic seed that
+// the turned starts and the solver then open up).
+constexpr std::string_view kRoughnessNames[] = {"alpha", "alpha_x", "alpha_y", "n", "n_u", "n_v", "exponent"};
+
+// The separable grid start: the moments start with its roughness entries at kGridSteps values,
+// log-spaced over [kGridLow, kGridHigh] clamped to their bounds, the linear entries solved
+// exactly at each; the best. Nothing when the model has no roughness entry by those names or no
+// linear entries (Lafortune: its lobes' C and n are many; its other starts cover them).
+template <class Model> std::optional<StartPoint> separable_grid_start(const Model& model, const LinearLayout& layout,
+                                                                      const DataMoments& dm,
+                                                                      const std::vector<Prepared>& samples) {
+  if (layout.empty()) return std::nullopt;
+  std::vector<int> rough;
+  for (size_t i = 0; i < model.defs.size(); ++i)
+    if (std::find(std::begin(kRoughnessNames), std::end(kRoughnessNames), model.defs[i].name) != std::end(kRoughnessNames))
+      rough.push_back(int(i));
+  if (rough.empty()) return std::nullopt;
+  const std::string_view first = model.defs[size_t(rough[0])].name;
+  const bool exponent = first == "n" || first == "n_u" || first == "exponent";
+  // alpha 0.002 to 0.8 (GGX and Ward lobes from near-mirror to matte); exponents 1 to 1e5.
+  const double lo = exponent ? 1.0 : 0.002, hi = exponent ? 1e5 : 0.8;
+  constexpr int kGridSteps = 24;
+  StartPoint best{"", {}};
+  double best_cost = INFINITY;
+  for (int g = 0; g < kGridSteps; ++g) {
+    std::vector<double> x = model.moment_start(dm);
+    const double v = lo * std::pow(hi / lo, double(g) / (kGridSteps - 1));
+    for (int i : rough) x[size_t(i)] = std::clamp(v, model.defs[size_t(i)].lo, model.defs[size_t(i)].hi);
+    const double cost = solve_linear(model, layout, x, samples);
+    if (cost < best_cost) best_cost = cost, best = {fmt::format("separable grid ({} {:.4g})", first, v), x};
+  }
+  if (!std::isfinite(best_cost)) return std::nullopt;
+  return best;
+}
+
+// The energy constraint on the linear entries (fit_with, "Energy"): the albedo in a watched
+// direction wo is estimated with fixed directions wi_j and densities (WatchedDirection: drawn once,
+// so the estimate is affine in the linear entries, as f is), which makes "albedo_c(wo) <=
+// kAlbedoTarget" one linear inequality per direction and channel; the linear entries are then
+// solved exactly under them (solve_linear). Directions whose measured albedo (albedo_grid, the
+// model's own sampler) still exceeds kAlbedoLimit join the watched ones for another round.
+constexpr int kEnergyRounds = 4, kMaxWatched = 24;
+template <class Model, class Build>
+std::optional<std::vector<double>> energy_by_linear(const Model& model, const LinearLayout& layout, std::vector<double> x,
+                                                    std::vector<AlbedoAt> grid, const std::vector<Prepared>& samples,
+                                                    const Build& build_fitted) {
+  constexpr int kWatchSamples = 1024;
+  const int k = int(layout.channel[0].size());
+  std::vector<Vec3d> watched;
+  for (int round = 0; round < kEnergyRounds; ++round) {
+    for (const AlbedoAt& a : grid)
+      if (a.value > kAlbedoTarget && int(watched.size()) < kMaxWatched &&
+          std::find(watched.begin(), watched.end(), a.wo) == watched.end())
+        watched.push_back(a.wo);
+    const MaterialD current = build_fitted(x);
+    const auto kernels = basis_kernels(model, layout, x);
+    const Turn<double> turn = turn_of(model, x.data());
+    const int rows = int(watched.size());
+    std::array<std::pair<Eigen::MatrixXd, Eigen::VectorXd>, 3> limits;
+    for (auto& [G, h] : limits) G = Eigen::MatrixXd(rows, k), h = Eigen::VectorXd(rows);
+    for (int d = 0; d < rows; ++d) {
+      const WatchedDirection w = watch(current, watched[size_t(d)], kWatchSamples, 0xe4e7 + 97 * uint64_t(d) + uint64_t(round));
+      const Vec3d wo = turn(w.wo);
+      std::vector<glm::dvec3> albedo(kernels.size(), glm::dvec3(0.0));
+      for (size_t j = 0; j < w.wi.size(); ++j) {
+        const Vec3d wi = turn(w.wi[j]);
+        for (size_t p = 0; p < kernels.size(); ++p) {
+          const RGBT<double> f = kernels[p].f(wi, wo);
+          albedo[p] += glm::dvec3(f.x, f.y, f.z) * (w.wi[j].z * w.inv_q[j]);
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        for (int j = 0; j < k; ++j) limits[size_t(c)].first(d, j) = albedo[size_t(j) + 1][c] - albedo[0][c];
+        limits[size_t(c)].second(d) = kAlbedoTarget - albedo[0][c];
+      }
+    }
+    if (!std::isfinite(solve_linear(model, layout, x, samples, &limits))) return std::nullopt;
+    grid = albedo_grid(build_fitted(x), model.rotation_index() >= 0);
+    if (grid.front().value <= kAlbedoLimit) return x;
+  }
+  return std::nullopt;
+}
+
+// Each channel scaled as a whole, f_c -> s_c f_c, s_c = kAlbedoTarget / its largest albedo on the
+// grid, for a model that can scale itself exactly: Lafortune, whose rho_d scales and whose lobe
+// max(C . )^n scales by s when C does by s^(1/n) (a lobe with n = 0 is a constant and stays).
+// Nothing for the other models (their linear entries cover every term, energy_by_linear).
+template <class Model, class Build>
+std::optional<std::vector<double>> energy_by_scaling(const Model& model, std::vector<double> x, std::vector<AlbedoAt> grid,
+                                                     const Build& build_fitted) {
+  if constexpr (!std::is_same_v<Model, LafortuneFit>) {
+    return std::nullopt;
+  } else {
+    for (int round = 0; round < kEnergyRounds; ++round) {
+      const MaterialD m = build_fitted(x);
+      glm::dvec3 largest(0.0);
+      uint64_t seed = 0x5ca1e;
+      for (const AlbedoAt& a : grid) {
+        if (a.value <= kAlbedoTarget) break;  // the grid is sorted, largest first
+        const AlbedoEstimate e = albedo_importance(m, a.wo, kAlbedoSamples, seed++);
+        largest = glm::max(largest, glm::dvec3(e.mean.x, e.mean.y, e.mean.z));
+      }
+      for (int c = 0; c < 3; ++c) {
+        if (!(largest[c] > kAlbedoTarget)) continue;
+        const double scale = kAlbedoTarget / largest[c];
+        x[size_t(model.rho(c))] *= scale;
+        for (int lobe = 0; lobe + 1 < model.part_count(); ++lobe) {
+          const double n = x[size_t(model.n(lobe, c))];
+          if (!(n > 0.0)) continue;
+          const double f = std::pow(scale, 1.0 / n);
+          std::vector<int> entries = {model.cx(lobe, c), model.cy(lobe, c), model.cz(lobe, c)};
+          std::sort(entries.begin(), entries.end());
+          entries.erase(std::unique(entries.begin(), entries.end()), entries.end());  // isotropic: cy is cx
+          for (int i : entries) x[size_t(i)] *= f;
+        }
+      }
+      grid = albedo_grid(build_fitted(x), model.rotation_index() >= 0);
+      if (grid.front().value <= kAlbedoLimit) return x;
+    }
+    return std::nullopt;
+  }
+}
+
 template <class Model, int N> FitResult fit_with(const Model& model, const SampleSet& data, const FitOptions& o) {
   quiet_ceres_logging();
   const auto t0 = Clock::now();
@@ -611,16 +844,42 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     for (Prepared& p : used) p.sqrt_w /= std::sqrt(sub);
   }
   const DataMoments dm = data_moments(data);
+  // Above kCoarseSamples solver samples, two subsets spread evenly over them (reweighted to a
+  // total weight of 1): the starts are ranked on kRankingSamples of them, and the best converges
+  // on kCoarseSamples before a polish on every solver sample. Ten iterations from each start on
+  // 32768 samples, or the whole refinement on them, would cost most of the fit (a real RGL file:
+  // 0.2 s per iteration; docs/fitting.md, "Real measurements"); next to the optimum the polish
+  // takes a few.
+  constexpr size_t kRankingSamples = 2048, kCoarseSamples = 8192;
+  const auto spread = [&](size_t n) {
+    std::vector<Prepared> out;
+    double sub = 0.0;
+    for (size_t i = 0; i < n; ++i) out.push_back(used[i * used.size() / n]), sub += sqr(out.back().sqrt_w);
+    for (Prepared& p : out) p.sqrt_w /= std::sqrt(sub);
+    return out;
+  };
+  const std::vector<Prepared> ranking = used.size() > kCoarseSamples ? spread(kRankingSamples) : std::vector<Prepared>{};
+  const std::vector<Prepared> coarse = used.size() > kCoarseSamples ? spread(kCoarseSamples) : std::vector<Prepared>{};
+  const std::vector<Prepared>& start_samples = coarse.empty() ? used : coarse;  // the starts' linear solves
+  // Separable least squares (fit/linear.h) where the problem is one: the l2cos metric without a
+  // robust loss, and a model with linear entries. Every start gets its linear entries solved
+  // exactly before the solver sees it, and a grid over the roughness with them solved is one more
+  // start: so no fit can lose to a least-squares fit of the same lobe shape for want of a start
+  // near its diffuse and specular weights, and a weight is 0 only where the data put it there.
+  const LinearLayout layout = o.metric == FitMetric::L2Cos && o.loss == "none" ? linear_layout(model) : LinearLayout{};
 
-  // The starts: moments, the nearest Ngan fit, random draws; the caller's first, beside them.
+  // The starts: moments, the separable grid, the nearest Ngan fit, random draws; the caller's
+  // first, beside them.
   const std::optional<StartPoint> given = given_start(model, dm, o);
   std::vector<StartPoint> starts;
   starts.push_back({"moments", model.moment_start(dm)});
+  const std::optional<StartPoint> grid_start = separable_grid_start(model, layout, dm, start_samples);
   if (o.starts > 1)
     if (auto s = nearest_ngan_start(model, used, dm)) starts.push_back(*s);
   Rng rng(o.seed);
   for (int i = 1; int(starts.size()) < o.starts; ++i)
     starts.push_back({fmt::format("random {}", i), model.random_start(rng, dm)});
+  if (grid_start) starts.insert(starts.begin() + 1, *grid_start);  // beside the `starts` asked for
   // The orientation (models.h, Orientation): each deterministic start at kRotationStarts turns
   // spread over the lobe's period (the isotropic starts have no preferred direction, and the
   // solver turns a start by at most about half the spacing), each random start at a random turn
@@ -646,6 +905,11 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     }
     starts = std::move(turned);
   }
+  if (!layout.empty())  // at each start's own orientation
+    for (StartPoint& st : starts) {
+      std::vector<double> x = st.x;
+      if (std::isfinite(solve_linear(model, layout, x, start_samples))) st.x = std::move(x);
+    }
   if (given) starts.insert(starts.begin(), *given);  // at its own orientation
 
   // Residual blocks: chunks of 64 samples (fewer blocks, less overhead); one sample per block when a
@@ -660,18 +924,8 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     return out;
   };
   const auto costs = make_costs(used);
-  // The starts are ranked on at most kRankingSamples of the samples, spread evenly over them
-  // (reweighted to a total weight of 1): ten iterations from each start on 1.46 M samples would
-  // cost more than the whole refinement.
-  constexpr size_t kRankingSamples = 8192;
-  std::vector<Prepared> ranking;
-  if (used.size() > kRankingSamples) {
-    double sub = 0.0;
-    for (size_t i = 0; i < kRankingSamples; ++i)
-      ranking.push_back(used[i * used.size() / kRankingSamples]), sub += sqr(ranking.back().sqrt_w);
-    for (Prepared& p : ranking) p.sqrt_w /= std::sqrt(sub);
-  }
   const auto ranking_costs = make_costs(ranking);
+  const auto coarse_costs = make_costs(coarse);
   // The loss scale: the given one, or by default a tenth of the median weighted sample value
   // |target| sqrt(w) (a residual beyond 10% of a typical sample's value counts as an outlier; 2%
   // measurement noise stays well inside).
@@ -696,10 +950,12 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
 
   const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   const int P = int(model.defs.size());
-  const auto solve = [&](std::vector<double> x, int max_iterations, const std::string& stage, int iterations_after,
-                         bool rank_only, const ceres::CostFunction* energy = nullptr) {
-    const auto& blocks = rank_only && !ranking_costs.empty() ? ranking_costs : costs;
-    const size_t rows = rank_only && !ranking.empty() ? ranking.size() : used.size();
+  enum class On { Ranking, Coarse, All };  // the samples a solve runs on (All when the subsets are empty)
+  const auto solve = [&](std::vector<double> x, int max_iterations, const std::string& stage, int iterations_after, On on,
+                         const ceres::CostFunction* energy = nullptr) {
+    const bool subset = on != On::All && !ranking.empty();
+    const auto& blocks = !subset ? costs : on == On::Ranking ? ranking_costs : coarse_costs;
+    const size_t rows = !subset ? used.size() : on == On::Ranking ? ranking.size() : coarse.size();
     std::vector<const ceres::CostFunction*> block_ptrs;
     for (const auto& c : blocks) block_ptrs.push_back(c.get());
     BlockCache cache(std::move(block_ptrs), x.data(), P, threads);
@@ -745,25 +1001,40 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
   };
 
   // Phase 1: every start, briefly; phase 2: the best one to convergence.
-  constexpr int kPhase1Iterations = 10;
+  constexpr int kPhase1Iterations = 10, kPolishIterations = 30;
   std::vector<Solved> phase1;
   size_t best = 0;
   for (size_t i = 0; i < starts.size(); ++i) {
     const int after = kPhase1Iterations * int(starts.size() - i - 1) + o.max_iterations;
     phase1.push_back(solve(starts[i].x, std::min(kPhase1Iterations, o.max_iterations),
-                           fmt::format("start {}/{} ({})", i + 1, starts.size(), starts[i].name), after, true));
+                           fmt::format("start {}/{} ({})", i + 1, starts.size(), starts[i].name), after, On::Ranking));
     if (phase1[i].cost < phase1[best].cost) best = i;
   }
   Solved final_fit = phase1[best];
   int iterations = final_fit.iterations;
-  // Refine on every solver sample when the ranking used a subset, or when the start had not
-  // converged within the ranking's iterations.
-  if (!ranking.empty() || (o.max_iterations > kPhase1Iterations && final_fit.iterations >= kPhase1Iterations)) {
-    Solved refined = solve(final_fit.x, std::max(1, o.max_iterations - kPhase1Iterations), "refining the best start", 0, false);
+  // With the subsets, the best start converges on the coarse one, then polishes on every solver
+  // sample (at most kPolishIterations); without them, it is refined on every solver sample when it
+  // had not converged within the ranking's iterations.
+  if (!ranking.empty()) {
+    const Solved converged = solve(final_fit.x, std::max(1, o.max_iterations - kPhase1Iterations), "refining the best start",
+                                   kPolishIterations, On::Coarse);
+    iterations += converged.iterations;
+    if (std::isfinite(converged.cost)) final_fit = converged;  // costs on different sets do not compare
+    Solved refined = solve(final_fit.x, kPolishIterations, "refining on every solver sample", 0, On::All);
     iterations += refined.iterations;
-    if (refined.cost <= final_fit.cost || !ranking.empty()) final_fit = refined;  // costs on different sets do not compare
+    final_fit = refined;
+  } else if (o.max_iterations > kPhase1Iterations && final_fit.iterations >= kPhase1Iterations) {
+    Solved refined = solve(final_fit.x, std::max(1, o.max_iterations - kPhase1Iterations), "refining the best start", 0, On::All);
+    iterations += refined.iterations;
+    if (refined.cost <= final_fit.cost) final_fit = refined;
   }
   if (!std::isfinite(final_fit.cost)) throw std::runtime_error(fmt::format("{}: the fit diverged from every start", data.source));
+  // The linear entries exactly at the solution (the solver's stop leaves them within its
+  // tolerance); kept when they lower the cost.
+  if (!layout.empty()) {
+    std::vector<double> x = final_fit.x;
+    if (solve_linear(model, layout, x, used) < data_cost(model, final_fit.x, used, o.metric)) final_fit.x = std::move(x);
+  }
 
   // The material as every tool reads it (validated and built by the material reader), in its
   // canonical orientation (models.h, Orientation::canonicalize).
@@ -786,17 +1057,50 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     const auto& an = model.anisotropy_indices();
     if (std::find(an.begin(), an.end(), p) != an.end()) r.unconstrained_anisotropy.push_back(name);
   }
-  // Energy: the largest directional albedo on the grid; above kAlbedoLimit (and unless allowed),
-  // refit with the penalty on the offending directions, up to kEnergyRounds times, each round
-  // watching the directions found so far and any new offender.
+  // Energy (docs/fitting.md, "Energy"): the largest directional albedo on the grid; above
+  // kAlbedoLimit (and unless allowed) the fit is brought under it at the least cost to the data,
+  // in this order of preference: (1) the linear entries re-solved exactly under the constraint
+  // (linear inequalities in them: energy_by_linear), (2) each channel scaled down as a whole where
+  // the model can scale itself exactly (Lafortune: rho_d and every lobe, C -> C s^(1/n)), the better
+  // of the two kept; (3) only when neither applies or meets it, a refit with the albedo penalty.
+  // (1) and (2) keep the shape the data chose: a fit that exceeds 1 slightly stays close to its
+  // unconstrained error, where a penalty refit could wander to another minimum.
   // A fit whose anisotropy the data do not constrain is replaced by the isotropic one (fit_samples):
   // its albedo is never reported, so it is not measured.
   const bool replaced = !r.unconstrained_anisotropy.empty();
   const MaterialD unconstrained = build_fitted(final_fit.x);
   std::vector<AlbedoAt> grid = replaced ? std::vector<AlbedoAt>{AlbedoAt{}} : albedo_grid(unconstrained, ri >= 0);
   r.unconstrained_l2cos = fit_errors(unconstrained, data).relative_l2cos;
+  r.unconstrained_albedo = grid.front().value;
   if (!o.allow_energy_gain && grid.front().value > kAlbedoLimit && !replaced) {
-    constexpr int kEnergyRounds = 4, kWatchSamples = 512;
+    struct Candidate {
+      std::vector<double> x;
+      std::vector<AlbedoAt> grid;
+      double cost;
+      const char* method;
+    };
+    std::optional<Candidate> pick;
+    const auto consider = [&](std::optional<std::vector<double>> x, const char* method) {
+      if (!x) return;
+      std::vector<AlbedoAt> g = albedo_grid(build_fitted(*x), ri >= 0);
+      if (g.front().value > kAlbedoLimit) return;
+      const double cost = data_cost(model, *x, used, o.metric);
+      if (!pick || cost < pick->cost) pick = Candidate{std::move(*x), std::move(g), cost, method};
+    };
+    if (!layout.empty())
+      consider(energy_by_linear(model, layout, final_fit.x, grid, used, build_fitted),
+               "the linear entries re-solved under the constraint");
+    consider(energy_by_scaling(model, final_fit.x, grid, build_fitted), "each channel scaled down as a whole");
+    if (pick) {
+      final_fit.x = std::move(pick->x);
+      grid = std::move(pick->grid);
+      r.energy_constrained = true;
+      r.energy_method = pick->method;
+    }
+  }
+  if (!o.allow_energy_gain && grid.front().value > kAlbedoLimit && !replaced) {
+    r.energy_method = "refitted with the albedo penalty";
+    constexpr int kWatchSamples = 512;
     std::vector<Vec3d> watched;
     for (int round = 0; round < kEnergyRounds && grid.front().value > kAlbedoLimit; ++round) {
       for (const AlbedoAt& a : grid)
@@ -811,7 +1115,7 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
       const double weight = std::sqrt(20.0 * std::max(final_fit.cost, 1e-12)) / 0.005;
       EnergyCost<Model, N> energy(model, std::move(dirs), weight);
       Solved constrained =
-          solve(final_fit.x, o.max_iterations, fmt::format("energy constraint, round {}", round + 1), 0, false, &energy);
+          solve(final_fit.x, o.max_iterations, fmt::format("energy constraint, round {}", round + 1), 0, On::All, &energy);
       iterations += constrained.iterations;
       if (!std::isfinite(constrained.cost)) break;
       final_fit = constrained;
@@ -840,6 +1144,10 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
 
 template <class Model> FitResult dispatch(const Model& model, const SampleSet& data, const FitOptions& o) {
   const size_t p = model.defs.size();
+  // The Jet's width is the cost of every derivative: the isotropic GGX, Ward, AS, Phong and Lambert
+  // fits (3 to 8 entries) on Jet<8> take half the time of Jet<16> (an AS fit of a real RGL file:
+  // measured in docs/fitting.md, "Real measurements").
+  if (p <= 8 && !requires { Model::kHasParts; }) return fit_with<Model, 8>(model, data, o);
   if (p <= 16) return fit_with<Model, 16>(model, data, o);
   if (p <= 32) return fit_with<Model, 32>(model, data, o);
   if (p <= 64) return fit_with<Model, 64>(model, data, o);
@@ -977,6 +1285,10 @@ FitOptions parse_fit_options(const FitOptionText& a) {
   o.seed = parse_unsigned(a.seed, UINT64_MAX, "--seed");
   o.threads = int(parse_integer(a.threads, 0, 256, "--threads"));
   o.max_iterations = int(parse_integer(a.max_iterations, 1, 100000, "--max-iterations"));
+  const std::optional<double> theta = parse_decimal(a.max_theta);
+  if (!theta || !(*theta > 0.0 && *theta <= 90.0))
+    throw InputError(fmt::format("--max-theta: expected degrees in (0, 90], got \"{}\"", text_escape(a.max_theta)));
+  o.max_theta_deg = *theta;
   return o;
 }
 
@@ -1051,7 +1363,42 @@ std::vector<std::string_view> fittable_models() {
   return out;
 }
 
+namespace {
+FitResult fit_in_range(const SampleSet& data, const FitOptions& o);
+}  // namespace
+
+// Ngan 2005's range first (FitOptions::max_theta_deg): the fit, its starts and its errors see the
+// samples within it only.
 FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
+  if (!(o.max_theta_deg > 0.0 && o.max_theta_deg <= 90.0))
+    throw InputError(fmt::format("--max-theta: expected degrees in (0, 90], got {}", o.max_theta_deg));
+  // A sample exactly at the range's edge (a grid at 80 degrees) is in: the cosine's last ulps.
+  const double lowest_cos = o.max_theta_deg >= 90.0 ? -1.0 : std::cos(o.max_theta_deg * M_PI / 180.0) - 1e-12;
+  const auto in_range = [&](const MeasuredSample& s) { return s.wi.z >= lowest_cos && s.wo.z >= lowest_cos; };
+  const size_t beyond =
+      size_t(std::count_if(data.samples.begin(), data.samples.end(), [&](const MeasuredSample& s) { return !in_range(s); }));
+  FitResult r;
+  if (beyond == 0) {
+    r = fit_in_range(data, o);
+  } else {
+    SampleSet kept = data;
+    kept.samples.clear();
+    std::copy_if(data.samples.begin(), data.samples.end(), std::back_inserter(kept.samples), in_range);
+    if (kept.samples.empty())
+      throw InputError(
+          fmt::format("{}: none of the {} samples has both directions within {:g} degrees of the normal "
+                      "(--max-theta; 90 keeps every sample)",
+                      data.source, data.samples.size(), o.max_theta_deg));
+    r = fit_in_range(kept, o);
+  }
+  r.max_theta_deg = o.max_theta_deg;
+  r.samples_beyond_range = beyond;
+  return r;
+}
+
+namespace {
+
+FitResult fit_in_range(const SampleSet& data, const FitOptions& o) {
   if (o.starts < 1 || o.starts > 1000) throw InputError(fmt::format("--starts: expected 1 to 1000, got {}", o.starts));
   if (o.max_iterations < 1) throw InputError("--max-iterations: expected at least 1");
   // Every sample 0: any black material fits exactly, and the relative error (error / data norm)
@@ -1132,6 +1479,8 @@ FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
   return iso;
 }
 
+}  // namespace
+
 nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const FitOptions& o) {
   nlohmann::json f;
   // A file name need not be UTF-8 and a file's description may hold any byte: JSON needs UTF-8.
@@ -1140,6 +1489,11 @@ nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const F
   if (!data.description.empty()) f["sampled"] = text_escape(data.description);
   f["samples"] = r.samples_total;
   f["samples_in_solver"] = r.samples_used;
+  f["range"] = {{"max_theta_deg", r.max_theta_deg},
+                {"samples_beyond", r.samples_beyond_range},
+                {"rule",
+                 "samples with either direction farther from the normal left out (Ngan, Matusik & Durand 2005, Sec. 4: 80 "
+                 "degrees); every error is over the samples in range"}};
   f["model"] = o.model;
   if (o.model == "lafortune") f["lobes"] = o.lobes, f["shared_exponents"] = o.shared_exponents;
   if (o.model == "ward") f["normalization"] = o.normalization;
@@ -1155,11 +1509,14 @@ nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const F
       {"phi_deg", r.largest_albedo_phi_deg},
       {"grid", fmt::format("theta_o 0 to 89 deg ({} values) x phi_o {}, {} importance samples each", std::size(kAlbedoThetaDeg),
                            r.anisotropic ? "0 to 165 deg in steps of 15" : "0 (isotropic)", kAlbedoSamples)}};
-  f["energy"] = o.allow_energy_gain ? "unconstrained (--allow-energy-gain)"
-                : r.energy_constrained
-                    ? fmt::format("constrained: directional albedo <= 1 (relative l2cos {:.4g} before, {:.4g} after)",
-                                  r.unconstrained_l2cos, r.errors.relative_l2cos)
-                    : "directional albedo <= 1 without the constraint acting";
+  f["energy"] =
+      o.allow_energy_gain ? "unconstrained (--allow-energy-gain)"
+      : r.energy_constrained
+          ? fmt::format(
+                "constrained: directional albedo <= 1, {} (relative l2cos {:.4g} and largest albedo {:.4f} "
+                "before, {:.4g} and {:.4f} after)",
+                r.energy_method, r.unconstrained_l2cos, r.unconstrained_albedo, r.errors.relative_l2cos, r.largest_albedo)
+          : "directional albedo <= 1 without the constraint acting";
   f["metric"] = o.metric == FitMetric::Log ? "log" : "l2cos";
   f["loss"] = o.loss;
   f["starts"] = o.starts;

@@ -45,6 +45,9 @@ struct FitProgress {
   double remaining_s = 0.0;  // an estimate from the iterations done so far
 };
 
+// The default of FitOptions::max_theta_deg (degrees).
+inline constexpr double kNganMaxThetaDeg = 80.0;
+
 struct FitOptions {
   std::string model = "lafortune";           // a row of fittable_models()
   int lobes = 1;                             // Lafortune: 1 to 8
@@ -57,6 +60,11 @@ struct FitOptions {
   std::string metal;                   // metal: a named metal (fixed eta, k); empty fits eta and k
   std::string metal_lobe = "ggx";      // metal: ggx | ward | ashikhmin-shirley
   FitMetric metric = FitMetric::L2Cos;
+  // Ngan, Matusik & Durand 2005's range (Sec. 4: "we discard [...] samples with incident or
+  // outgoing angles larger than 80 degrees"): the samples with either direction farther than this
+  // from the normal are left out of the fit and its errors, so that grazing outliers, where
+  // measurements are least reliable, cannot decide the fit. 90 keeps every sample.
+  double max_theta_deg = kNganMaxThetaDeg;
   std::string loss = "none";  // robust loss per sample: none | huber | cauchy | soft_l1
   double loss_scale = 0.0;    // its scale in residual units; 0 = from the data (docs/fitting.md)
   int starts = 6;
@@ -98,6 +106,7 @@ struct FitOptionText {
   std::string model = "lafortune", lobes = "1", normalization = "ward", metal, metal_lobe = "ggx", metric = "l2cos";
   std::string loss = "none", loss_scale = "0", starts = "6", seed = "1", threads = "0", max_iterations = "200";
   std::string anisotropic = "auto";  // auto | yes | no
+  std::string max_theta = "80";      // --max-theta: degrees, (0, 90]
   bool shared_exponents = false, allow_energy_gain = false;
 };
 // Throws InputError naming the option for a value out of range (the model's own options, such as an
@@ -119,7 +128,10 @@ struct FitResult {
   std::string best_start;  // "moments", "ngan2005 <material>", "random 3"
   int iterations = 0;      // of the best start, both phases
   double seconds = 0.0;
-  size_t samples_total = 0, samples_used = 0;
+  size_t samples_total = 0, samples_used = 0;  // in the range: every error is over these
+  // The range (FitOptions::max_theta_deg) and how many of the data's samples lay beyond it.
+  double max_theta_deg = 90.0;
+  size_t samples_beyond_range = 0;
   std::string termination;  // Ceres' message for the final refinement
   // Anisotropy: what was fitted and why (Anisotropy::Auto's decision, or the option).
   bool anisotropic = false;
@@ -133,7 +145,11 @@ struct FitResult {
   // ("Energy"), where it is, and whether the energy constraint acted.
   double largest_albedo = 0.0, largest_albedo_theta_deg = 0.0, largest_albedo_phi_deg = 0.0;
   bool energy_constrained = false;
-  double unconstrained_l2cos = 0.0;  // the relative l2cos error before the constraint acted
+  double unconstrained_l2cos = 0.0;   // the relative l2cos error before the constraint acted
+  double unconstrained_albedo = 0.0;  // and the largest directional albedo before it
+  // How the constraint was met: "the linear entries re-solved under it", "each channel scaled", or
+  // "refitted with the albedo penalty" (docs/fitting.md, "Energy"); empty when it did not act.
+  std::string energy_method;
 };
 
 // Throws InputError for options that do not make a model (unknown model, --lobes out of range).
