@@ -364,9 +364,15 @@ TEST_F(MeasuredCli, SceneWithMeasuredMaterialsRelativeToItsFolder) {
   fs::remove(scene_path);
 }
 
-TEST_F(MeasuredCli, ExportGlslOfAMeasuredMaterialSuggestsFit) {
-  const Result r = run({"export-glsl", "--material", ward_file()});
-  expect_input_error(r, {ward_file(), "no GLSL form", "aniso fit"});
+// export-glsl writes the shader and its tables file (docs/glsl.md "Measured materials"; the GLSL
+// twin's parity: tests/test_glsl_measured.cpp); to stdout it needs a path for the tables.
+TEST_F(MeasuredCli, ExportGlslOfAMeasuredMaterialWritesItsTables) {
+  expect_input_error(run({"export-glsl", "--material", ward_file()}), {ward_file(), "needs its tables file", "--tables"});
+  const std::string out = (dir_ / "m.glsl").string();
+  const Result r = run({"export-glsl", "--material", ward_file(), "-o", out});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out));
+  EXPECT_EQ(fs::file_size(out + ".tables") % (4 * 4096), 0u);
 }
 
 // Every kind of bad file exits 2 through each command, naming the file and the byte offset.

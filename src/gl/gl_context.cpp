@@ -1,7 +1,10 @@
 // gl/gl_context.cpp: EGL without a window, through libepoxy (which resolves GL entry points with
 // eglGetProcAddress, so it works with EGL contexts and no GLX).
 #include "aniso/gl/gl_context.h"
+#include "aniso/gl/glsl_material.h"
 #include "gl/gl_shader.h"
+
+#include <algorithm>
 
 #include <cstdlib>
 #include <cstring>
@@ -251,5 +254,37 @@ StorageBuffer::~StorageBuffer() {
   if (id_) glDeleteBuffers(1, &id_);
 }
 void StorageBuffer::read(void* out, size_t bytes) const { glGetNamedBufferSubData(id_, 0, GLsizeiptr(bytes), out); }
+
+TablesTexture::TablesTexture(const std::vector<float>& tables) {
+  // GL 3.3 calls only (no direct state access): the GL backend and the native explorer make this
+  // in a window's 3.3 core context.
+  const int width = kGlslTablesWidth;
+  const int rows = std::max(1, int((tables.size() + size_t(width) - 1) / size_t(width)));
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  if (rows > max_size || width > max_size)
+    throw GlError(fmt::format("the measured tables ({} floats) need a {} x {} float texture; this GL allows {} x {}",
+                              tables.size(), width, rows, max_size, max_size));
+  std::vector<float> padded(size_t(width) * size_t(rows), 0.f);
+  std::copy(tables.begin(), tables.end(), padded.begin());
+  GLint previous = 0;
+  glGetIntegerv(GL_TEXTURE_BINDING_2D, &previous);
+  glGenTextures(1, &id_);
+  glBindTexture(GL_TEXTURE_2D, id_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, width, rows, 0, GL_RED, GL_FLOAT, padded.data());
+  // texelFetch ignores the filter, but a texture whose filter needs mipmaps it lacks is incomplete.
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glBindTexture(GL_TEXTURE_2D, GLuint(previous));
+}
+TablesTexture::~TablesTexture() {
+  if (id_) glDeleteTextures(1, &id_);
+}
+void TablesTexture::bind(unsigned unit) const {
+  glActiveTexture(GL_TEXTURE0 + unit);
+  glBindTexture(GL_TEXTURE_2D, id_);
+  glActiveTexture(GL_TEXTURE0);
+}
 
 }  // namespace aniso::gl

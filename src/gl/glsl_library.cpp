@@ -40,8 +40,9 @@ std::string glsl_material_dispatch() {
       "// aniso/brdf/material.glsl: GLSL twin of material.h, generated from the registry\n"
       "// (aniso/brdf/registry.h) by src/gl/glsl_library.cpp: every model behind one value type,\n"
       "// dispatched by a tag. GLSL has no unions: Material holds one member per model and `kind` says\n"
-      "// which one is live (the others are never read). Models without a GLSL twin (the measured\n"
-      "// table) have a ModelKind constant and no member.\n"
+      "// which one is live (the others are never read). A model without a GLSL twin would have a\n"
+      "// ModelKind constant and no member. The measured models (Measured, Rgl) read their tables from\n"
+      "// the tables texture (measured.glsl); their members hold the tables' indices.\n"
       "//\n"
       "// Interface of every model (docs/conventions.md): directions in the local shading frame\n"
       "// (z = normal, x = tangent), wi towards the light, wo towards the viewer, both unit.\n"
@@ -214,8 +215,9 @@ std::string glsl_preamble(GlslDialect dialect) {
 
 std::set<std::string> glsl_declared_names(std::string_view source) {
   // File-scope declarations start in column 0 in the library and in the generated code:
-  //   struct Name {         const T Name = ...;        uniform T Name;        T Name(args) {
-  static const std::regex decl(R"(^(?:struct\s+(\w+)|const\s+\w+\s+(\w+)\s*=|uniform\s+\w+\s+(\w+)\s*;|\w+\s+(\w+)\s*\())");
+  //   struct Name {         const T Name = ...;        uniform [highp] T Name;        T Name(args) {
+  static const std::regex decl(
+      R"(^(?:struct\s+(\w+)|const\s+\w+\s+(\w+)\s*=|uniform\s+(?:(?:highp|mediump|lowp)\s+)?\w+\s+(\w+)\s*;|\w+\s+(\w+)\s*\())");
   std::set<std::string> names;
   std::istringstream in{std::string(source)};
   std::string line;

@@ -15,6 +15,8 @@
 #include "aniso/brdf/material.h"
 #include "aniso/data/metals.h"
 #include "aniso/gl/gl_context.h"
+#include "aniso/measured/measured.h"
+#include "aniso/rgl/rgl_material.h"
 #include "io/enum_names.h"
 
 namespace aniso::gl {
@@ -28,6 +30,8 @@ struct HostResolved {
 };
 constexpr HostResolved kHostResolved[] = {
     {"metal", "metal", "the host looks the metal up and fills eta and k"},
+    {"measured", "file", "the host reads the file into the tables texture (glsl_tables)"},
+    {"rgl", "file", "the host reads the file into the tables texture (glsl_tables)"},
 };
 
 bool host_resolved(const ModelSpec& spec, const ParamSpec& p) {
@@ -284,25 +288,88 @@ std::string body(ModelType<PrincipledT<float>>, Build& c) {
   return b;
 }
 
-// A tensor file (interpolants over several MB) is data, not a shader: fit a model first.
-std::string body(ModelType<RglT<float>>, Build& c) {
-  const std::string file = c.m.params.has("file") ? c.m.params.text("file") : std::string("FILE.bsdf");
-  throw InputError(
-      fmt::format("{}: an RGL tensor file has no GLSL form; sample it and fit an analytic model first (`aniso eval` on pairs "
-                  "of directions, then `aniso fit` on the CSV), or render it with the CPU path tracer",
-                  file));
+// A tensor file: the interpolants come from the tables texture (rgl.glsl, Rgl_load; glsl_tables()
+// writes them at base 0).
+std::string body(ModelType<RglT<float>>, Build&) { return "  m = Rgl_load(0);\n"; }
+
+// A MERL table: the bins and sampling tables come from the tables texture (measured.glsl,
+// Measured_load; glsl_tables() writes them at base 0).
+std::string body(ModelType<MeasuredT<float>>, Build&) { return "  m = Measured_load(0);\n"; }
+
+// --- the tables texture (measured.glsl, rgl.glsl) ---------------------------------------------
+
+size_t append(std::vector<float>& out, const float* v, size_t n) {
+  const size_t at = out.size();
+  out.insert(out.end(), v, v + n);
+  return at;
 }
 
-// A measured table (35 MB of bins plus sampling tables) is data, not a shader: fit a model first.
-std::string body(ModelType<MeasuredT<float>>, Build& c) {
-  const std::string file = c.m.params.has("file") ? c.m.params.text("file") : std::string();
-  throw InputError(
-      fmt::format("{}: a measured material (a MERL table) has no GLSL form; fit an analytic model to it first "
-                  "(`aniso fit {} --model lafortune -o fitted.json`) and export that",
-                  file.empty() ? std::string("measured material") : file, file.empty() ? std::string("FILE") : file));
+// One PL2D header (rgl.glsl): sizes, strides, then the offsets of its tables, appended to `out`.
+void append_pl2d(std::vector<float>& out, size_t header, const rgl::PL2DTables& t) {
+  const PL2D& v = t.view;
+  const float head[9] = {float(v.size_x),          float(v.size_y),          float(v.dim),
+                         float(v.param_size[0]),   float(v.param_size[1]),   float(v.param_size[2]),
+                         float(v.param_stride[0]), float(v.param_stride[1]), float(v.param_stride[2])};
+  std::copy(head, head + 9, out.begin() + ptrdiff_t(header));
+  for (int d = 0; d < 3; ++d) {
+    const size_t at = append(out, t.param_values[d].data(), t.param_values[d].size());
+    out[header + 9 + size_t(d)] = t.param_values[d].empty() ? 0.f : float(at);
+  }
+  const std::vector<float>* tables[3] = {&t.data, &t.marginal_cdf, &t.conditional_cdf};
+  for (int k = 0; k < 3; ++k) {
+    const size_t at = append(out, tables[k]->data(), tables[k]->size());
+    out[header + 12 + size_t(k)] = tables[k]->empty() ? 0.f : float(at);
+  }
 }
 
 }  // namespace
+
+std::vector<float> glsl_tables(const MaterialDesc& m) {
+  std::vector<float> out;
+  if (m.model == "rgl") {
+    if (!m.rgl) throw InputError(fmt::format("{}: rgl material without its tensor file", m.params.where));
+    const rgl::RglData& d = *m.rgl;
+    out.assign(96, 0.f);
+    out[0] = 1.f;
+    out[1] = d.tables.isotropic ? 1.f : 0.f;
+    const rgl::PL2DTables* parts[5] = {&d.ndf, &d.sigma, &d.vndf, &d.luminance, &d.rgb};
+    for (int k = 0; k < 5; ++k) append_pl2d(out, size_t(16 + 16 * k), *parts[k]);
+  } else if (m.model == "measured") {
+    if (!m.measured) throw InputError(fmt::format("{}: measured material without its table", m.params.where));
+    const MeasuredData& d = *m.measured;
+    const MeasuredT<float> k = measured_kernel<float>(d);
+    constexpr int kH = MerlLayout::kThetaH;
+    out.assign(16, 0.f);
+    out[0] = 2.f;
+    out[1] = float(d.theta_o_bins);
+    out[2] = float(d.phi_h_bins);
+    out[3] = k.uniform_fraction;
+    auto put = [&](int slot, const std::vector<double>& v) {
+      out[size_t(slot)] = float(out.size());
+      for (double x : v) out.push_back(float(x));
+    };
+    put(4, d.brdf.table);
+    put(5, d.marginal_cdf);
+    put(6, d.conditional_cdf);
+    put(7, d.v_edges);
+    // P(cell) / solid angle(cell) in double, as MeasuredT::table_pdf computes it before its cast.
+    out[8] = float(out.size());
+    const int nj = d.phi_h_bins;
+    for (int o = 0; o < d.theta_o_bins; ++o)
+      for (int i = 0; i < kH; ++i) {
+        const double* mcdf = d.marginal_cdf.data() + size_t(o) * (kH + 1);
+        const double* ccdf = d.conditional_cdf.data() + (size_t(o) * kH + size_t(i)) * size_t(nj + 1);
+        for (int j = 0; j < nj; ++j)
+          out.push_back(float((mcdf[i + 1] - mcdf[i]) * (ccdf[j + 1] - ccdf[j]) / d.cell_solid_angle[size_t(i)]));
+      }
+  } else {
+    return out;
+  }
+  if (out.size() > kGlslTablesMaxFloats)
+    throw InputError(fmt::format("{}: the tables need {} floats, more than the {} a tables texture addresses (docs/glsl.md)",
+                                 m.params.where, out.size(), kGlslTablesMaxFloats));
+  return out;
+}
 
 GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslStorage storage, std::string_view prefix) {
   const std::optional<ModelKind> kind = find_model_kind(m.model);
@@ -341,14 +408,15 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
   P.check_all_used();
 
   out.model_struct = info.tag;
+  out.needs_tables = *kind == ModelKind::Rgl || *kind == ModelKind::Measured;
   out.model_kind = std::string("ModelKind_") + info.tag;
   const std::string member = info.member;
 
-  if (storage == GlslStorage::UniformBlock) {
+  // A block needs at least one member (GLSL): a measured material (no slots) has no block.
+  if (storage == GlslStorage::UniformBlock && !out.slots.empty()) {
     out.declarations += fmt::format("layout(std140) uniform {} {{\n", kGlslMaterialBlock);
     for (const GlslSlot& s : out.slots)
       out.declarations += fmt::format("  {} {}{};  // {}\n", glsl_type(s.type), prefix, s.name, s.table_key);
-    // A block needs at least one member (GLSL); lambert has one, every model has some.
     out.declarations += "};\n";
   }
   for (const GlslSlot& s : out.slots) {

@@ -66,6 +66,7 @@ struct SceneRasterizer::Impl {
     glm::ivec2 map_size{0};
     GlslMaterial material;
     Program* program = nullptr;
+    std::shared_ptr<TablesTexture> tables;  // a measured material's tables (texture unit 3); else none
     TangentFieldT<float> field;
     Vec3 bound_center{0.0f};
     float bound_radius = 0.0f;
@@ -91,6 +92,8 @@ struct SceneRasterizer::Impl {
   RasterSettings settings;
   int width = 0, height = 0;
   std::map<std::string, std::unique_ptr<Program>> programs;  // by the material's GLSL (structure)
+  // The measured materials' tables textures, one per file (by its data, which the entry keeps).
+  std::map<const void*, std::pair<std::shared_ptr<const void>, std::shared_ptr<TablesTexture>>> tables;
   std::unique_ptr<Program> accumulate;
   std::unique_ptr<TonemapPass> tonemap;
   std::vector<ObjectGpu> objects;
@@ -202,6 +205,16 @@ struct SceneRasterizer::Impl {
 
   GlslMaterial material_glsl(size_t i, const MaterialDesc& desc) const { return object_glsl(scene, i, desc); }
 
+  // The tables texture of a measured material (made once per file), none for an analytic one.
+  std::shared_ptr<TablesTexture> tables_for(const MaterialDesc& desc, const GlslMaterial& g) {
+    if (!g.needs_tables) return nullptr;
+    const std::shared_ptr<const void> data =
+        desc.rgl ? std::shared_ptr<const void>(desc.rgl) : std::shared_ptr<const void>(desc.measured);
+    auto& entry = tables[data.get()];
+    if (!entry.second) entry = {data, std::make_shared<TablesTexture>(glsl_tables(desc))};
+    return entry.second;
+  }
+
   void draw_pass(const glm::mat4& clip_from_world, const glm::vec2& sub, size_t light_begin, size_t light_end, float alpha) {
     const render::Camera& c = scene.camera;
     const Vec3 fwd = glm::normalize(c.look_at - c.position);
@@ -266,6 +279,10 @@ struct SceneRasterizer::Impl {
       p.set("u_shadow_atlas", 2);
       shadow->set_uniforms(p);
       set_material_slots(p, og.material);
+      if (og.tables) {
+        og.tables->bind(3);
+        p.set(kGlslTablesSampler, 3);
+      }
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, og.map ? og.map : dummy);
       glActiveTexture(GL_TEXTURE1);
@@ -350,6 +367,7 @@ SceneRasterizer::SceneRasterizer(const render::Scene& scene, RasterSettings sett
     const render::Object& o = scene.objects[i];
     Impl::ObjectGpu& g = m.objects[i];
     g.material = materials[i];
+    g.tables = m.tables_for(*o.material_desc, g.material);
     g.program = &m.program_for(g.material, fmt::format("{}: objects[{}] (material \"{}\")", scene.source, i, o.material_name));
     g.field = o.tangent.field;
     const std::vector<Vertex> vs = object_vertices(o);
@@ -429,6 +447,7 @@ void SceneRasterizer::set_material(size_t object, const MaterialDesc& material) 
   Impl::ObjectGpu& og = m.objects[object];
   if (g.declarations + g.code != og.material.declarations + og.material.code)
     og.program = &m.program_for(g, fmt::format("{}: objects[{}]", m.scene.source, object));
+  og.tables = m.tables_for(material, g);
   og.material = std::move(g);
 }
 

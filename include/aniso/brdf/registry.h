@@ -44,8 +44,8 @@
   X(GGX, GGXT, ggx, "ggx", Simd, Glsl)                                                       \
   X(Metal, MetalT, metal, "metal", Simd, Glsl)                                               \
   X(Principled, PrincipledT, principled, "principled", Scalar, Glsl)                         \
-  X(Measured, MeasuredT, measured, "measured", Scalar, NoGlsl)                               \
-  X(Rgl, RglT, rgl, "rgl", Scalar, NoGlsl)
+  X(Measured, MeasuredT, measured, "measured", Scalar, Glsl)                                 \
+  X(Rgl, RglT, rgl, "rgl", Scalar, Glsl)
 
 namespace aniso {
 

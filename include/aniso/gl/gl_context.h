@@ -97,4 +97,22 @@ class UniformBuffer {
   unsigned id_ = 0;
 };
 
+// The measured materials' tables (gl::glsl_tables(), docs/glsl.md "Measured materials") as the
+// R32F texture the library's MeasuredTables_texture reads: kGlslTablesWidth texels wide, as many
+// rows as the floats need. Made in the current context (any GL 3.3 core: GlContext::get()'s, a
+// window's); bind() puts it on texture unit `unit`, whose number the program's sampler uniform
+// MeasuredTables_texture must hold. GlError when it exceeds GL_MAX_TEXTURE_SIZE.
+class TablesTexture {
+ public:
+  explicit TablesTexture(const std::vector<float>& tables);
+  ~TablesTexture();
+  TablesTexture(const TablesTexture&) = delete;
+  TablesTexture& operator=(const TablesTexture&) = delete;
+  void bind(unsigned unit) const;
+  unsigned id() const { return id_; }
+
+ private:
+  unsigned id_ = 0;
+};
+
 }  // namespace aniso::gl

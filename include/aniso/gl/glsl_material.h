@@ -53,12 +53,28 @@ struct GlslMaterial {
   // written with the library's unprefixed names (glsl_prefix_names() renames them).
   std::string declarations;
   std::string code;
+  // A measured material (models measured and rgl): its kernel reads the tables texture (sampler
+  // uniform kGlslTablesSampler), whose contents glsl_tables() makes from the material's file.
+  bool needs_tables = false;
 };
 
 // The material's GLSL. `prefix` is put in front of every slot name (uniforms and constants).
 GlslMaterial glsl_material(const MaterialDesc& m, GlslStorage storage, std::string_view prefix);
 // The same with an explicit table (tests use a table with an extra entry to see the error).
 GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslStorage storage, std::string_view prefix);
+
+// The measured tables texture (docs/glsl.md, "Measured materials"; include/aniso/brdf/measured.glsl):
+// an R32F texture kGlslTablesWidth texels wide, float i at texel (i % width, i / width), read by
+// texelFetch through the sampler uniform kGlslTablesSampler.
+inline constexpr int kGlslTablesWidth = 4096;
+inline constexpr const char* kGlslTablesSampler = "MeasuredTables_texture";
+// The largest part a header can address: its offsets are floats, exact up to 2^24.
+inline constexpr size_t kGlslTablesMaxFloats = size_t(1) << 24;
+
+// The tables of a measured material as the texture holds them, from base 0: the header and tables
+// of measured.glsl (a MERL table: 5.0 M floats) or rgl.glsl (a tensor file); empty for an analytic
+// material. InputError when the material lacks its data or the part exceeds kGlslTablesMaxFloats.
+std::vector<float> glsl_tables(const MaterialDesc& m);
 
 // A float as a GLSL literal that reads back as the same float ("0.150000006", "1.0", "1e+06").
 std::string glsl_float_literal(double x);
