@@ -27,8 +27,10 @@ render:
 	@cmake --build --preset $(PRESET) -j $(JOBS) --target aniso
 	@$(BIN)/aniso render
 
+# The suite, then its wall and CPU time and its ten slowest entries (scripts/ctest_timed.sh; the
+# exit status is ctest's).
 test: build
-	@ctest --preset $(PRESET) -j $(JOBS)
+	@bash scripts/ctest_timed.sh $(PRESET) -j $(JOBS)
 
 # The headers, libraries, CMake package, pkg-config files, CLI, Python package and docs under
 # PREFIX (docs/cpp.md, "Install"; cmake/install.cmake). Without PREFIX: the configured prefix
@@ -51,9 +53,10 @@ sanitize-build: deps
 	@cmake --preset sanitize -DCMAKE_CXX_COMPILER=$(SANITIZE_CXX) >/dev/null
 	@cmake --build --preset sanitize -j $(JOBS)
 
-# The whole suite under the sanitizers (statistical tests at ANISO_TEST_SCALE, see the preset).
+# The whole suite under the sanitizers (statistical tests and the slowest fits at ANISO_TEST_SCALE,
+# see the preset), then its times and ten slowest entries as for `make test`.
 test-sanitize: sanitize-build
-	@ctest --preset sanitize -j $(JOBS)
+	@bash scripts/ctest_timed.sh sanitize -j $(JOBS)
 
 # The fuzz targets alone in the sanitizer build (the readers and their libraries, not the suite).
 fuzz-build: deps

@@ -1,0 +1,41 @@
+#!/usr/bin/env python3
+"""scripts/ctest_check_timeouts.py BUILD_DIR COSTS_FILE: the guard of the suite's time
+(docs/testing.md, "CI time"), run as the ctest entry ctest_every_entry_has_a_timeout.
+
+Fails, naming them, when an entry of BUILD_DIR's suite has no TIMEOUT (a hung test would then hold
+CI until its own limit), or when a name that COSTS_FILE (tests/ctest_costs.cmake) gives a COST no
+longer names an entry (ctest ignores set_tests_properties on an unknown name, so a renamed slow
+test would silently lose its place at the front of the queue)."""
+import json
+import re
+import subprocess
+import sys
+
+
+def main():
+    build, costs_file = sys.argv[1], sys.argv[2]
+    shown = subprocess.run(["ctest", "--test-dir", build, "--show-only=json-v1"], capture_output=True, text=True)
+    if shown.returncode != 0:
+        print(shown.stdout, shown.stderr, sep="\n")
+        return 1
+    tests = json.loads(shown.stdout)["tests"]
+    names = {t["name"] for t in tests}
+    problems = []
+    for t in tests:
+        if not any(p["name"] == "TIMEOUT" for p in t.get("properties", [])):
+            problems.append(f"{t['name']}: no TIMEOUT (set one where the entry is added; docs/testing.md, \"CI time\")")
+    with open(costs_file) as f:
+        text = re.sub(r"#[^\n]*", "", f.read())
+    costed = re.findall(r"\baniso_cost\(\s*([^\s)]+)", text)
+    for name in costed:
+        if name not in names:
+            problems.append(f"{name}: given a COST in {costs_file} but no such entry (renamed or removed?)")
+    for p in problems:
+        print(p)
+    print(f"{len(tests)} entries, every one with a TIMEOUT; {len(costed)} costed entries, each found"
+          if not problems else f"{len(problems)} problem(s) among {len(tests)} entries")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
