@@ -13,6 +13,8 @@
 #include "aniso/image/image_io.h"
 #include "aniso/image/tonemap.h"
 #include "aniso/io/materials.h"
+#include "aniso/rgl/rgl_export.h"
+#include "aniso/rgl/tensor.h"
 #include "cli_fixture.h"
 #include "io/json_read.h"
 
@@ -329,6 +331,33 @@ TEST_F(Cli, ViewCommandLineErrors) {
   expect_input_error(run({"view", "--screenshot", "x.png"}), {"--frames"});
   expect_input_error(run({"view", "--light", "nan", "--frames", "1"}), {"--light", "finite"});
   expect_input_error(run({"view", "--tangent-field", "spiral", "--frames", "1"}), {"--tangent-field"});
+}
+
+// A tensor file opens in the explorer (--material) and shows a lit sphere; its GLSL export writes
+// the tables beside the shader (docs/glsl.md "Measured materials").
+TEST_F(ViewCli, ATensorFileOpensAndExportsItsGlslWithTables) {
+  rgl::ExportOptions o;
+  o.spectral = false;
+  o.colour = 16;
+  o.theta_i = 8;
+  o.ndf = 32;
+  const std::vector<uint8_t> bytes =
+      rgl::serialize_tensor(rgl::export_rgl(rgl::brdf_source(build_material<double>(parse_material(
+                                                {{"model", "ggx"}, {"kd", 0.3}, {"f0", 0.04}, {"alpha", 0.2}}, "ggx"))),
+                                            o));
+  write("m.bsdf", std::string(bytes.begin(), bytes.end()));
+  const Result r = view({"--material", "m.bsdf", "--views", "sphere", "--size", "640x480", "--frames", "2", "--light", "0",
+                         "--screenshot", "s.png", "--export-glsl", "m.glsl"});
+  VIEW_OR_SKIP(r);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "wrote m.glsl.tables (material A's tables for its GLSL)\n")) << r.out;
+  EXPECT_TRUE(contains(r.out, "wrote m.glsl (material A as GLSL)\n")) << r.out;
+  EXPECT_EQ(std::filesystem::file_size(dir_ / "m.glsl.tables") % (4 * 4096), 0u);
+  const render::Image img = shot("s.png");
+  float peak = 0.0f;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = kPanel; x < img.width; ++x) peak = std::max(peak, lum(img.at(x, y)));
+  EXPECT_GT(peak, 0.2f) << "the lit sphere of the tensor file";
 }
 
 }  // namespace

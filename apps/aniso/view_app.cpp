@@ -133,6 +133,18 @@ void write_reported(const std::string& path, const std::string& text, const std:
   fmt::print(to_stdout ? stderr : stdout, "wrote {} ({})\n", to_stdout ? "stdout" : path, what);
 }
 
+// Material A as GLSL; a measured material's tables beside it, in FILE.tables (docs/glsl.md
+// "Measured materials"), as `aniso export-glsl -o FILE` writes them.
+void write_glsl_reported(const std::string& path, const MaterialDesc& desc, const std::string& source) {
+  const std::string tables = gl::export_glsl_tables(desc);
+  if (!tables.empty()) {
+    if (path.empty() || path == "-") throw InputError("a measured material's GLSL needs a file name (its tables go beside it)");
+    write_reported(path + ".tables", tables, "material A's tables for its GLSL");
+  }
+  write_reported(path, gl::export_glsl(desc, source, false, tables.empty() ? std::string() : path + ".tables"),
+                 "material A as GLSL");
+}
+
 bool input_path(const char* label, std::string& s) {
   char buf[1024];
   const size_t n = std::min(s.size(), sizeof buf - 1);
@@ -301,7 +313,7 @@ void App::material_controls(view::MaterialSlot& slot, const char* id, bool is_a)
     ImGui::SameLine();
     if (ImGui::Button("GLSL")) {
       try {
-        write_reported(path_glsl_, gl::export_glsl(slot.desc, slot.source), "material A as GLSL");
+        write_glsl_reported(path_glsl_, slot.desc, slot.source);
       } catch (const std::exception& e) {
         report("export " + path_glsl_, e);
       }
@@ -924,9 +936,7 @@ int run_view(const ViewOptions& o) {
     const view::MaterialSlot& a = app.ex.a;
     if (!o.save_material.empty())
       act("save " + o.save_material, [&] { write_reported(o.save_material, a.edit.dump(2) + "\n", "material A as JSON"); });
-    if (!o.export_glsl.empty())
-      act("export " + o.export_glsl,
-          [&] { write_reported(o.export_glsl, gl::export_glsl(a.desc, a.source), "material A as GLSL"); });
+    if (!o.export_glsl.empty()) act("export " + o.export_glsl, [&] { write_glsl_reported(o.export_glsl, a.desc, a.source); });
     if (!o.export_brdf.empty())
       act("export " + o.export_brdf,
           [&] { write_reported(o.export_brdf, gl::export_brdf(a.desc, a.source), "material A as a BRDF Explorer .brdf file"); });
