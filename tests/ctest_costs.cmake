@@ -4,16 +4,16 @@
 # these. CI runs on a clean clone, where without them ctest starts entries in the order they were
 # added, and a long entry added late (a fit in test_fit.cpp, near the end of the alphabet) starts
 # last and ends the run alone while the other core idles. The longest entries are listed here with
-# their seconds under ASan + UBSan on the 2-core machine (2026-12-06, ANISO_TEST_SCALE 0.25, the
-# sanitizer build's order; the release build's longest are the same entries), and labelled "slow"
+# their CPU seconds under ASan + UBSan (2026-12-06, ANISO_TEST_SCALE 0.25; the release build takes
+# the same order, behind its package tests, tests/package/CMakeLists.txt), and labelled "slow"
 # (`ctest -LE slow` leaves them out of a quick local run). An entry of more than about 20 s under
 # the sanitizers belongs here; ctest_every_entry_has_a_timeout fails when a name here is no entry.
 function(aniso_cost name seconds)
   set_tests_properties(${name} PROPERTIES COST ${seconds} LABELS slow)
 endfunction()
 
-aniso_cost(python_test_fit_db 140)
-aniso_cost(FitIdentifiability.CornellPaintsTieWhatTheDataCannotSeeAndKeepAlbedoBelowOne 120)
-aniso_cost(ExportFit.StandardMaterialsPerTarget 120)
-aniso_cost(CliHabits.FitIsBitIdenticalWhateverTheThreadCount 80)
-aniso_cost(Fit.LogMetricAndRobustLossRecoverTooAndAnOutlierDoesNotPullTheRobustFit 70)
+# CPU seconds under ASan + UBSan, measured alone (docs/testing.md, "CI time").
+aniso_cost(FitIdentifiability.CornellPaintsTieWhatTheDataCannotSeeAndKeepAlbedoBelowOne 130)
+aniso_cost(ExportFit.StandardMaterialsPerTarget 95)
+aniso_cost(CliHabits.FitIsBitIdenticalWhateverTheThreadCount 55)
+aniso_cost(python_test_fit_db 50)
