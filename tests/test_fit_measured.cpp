@@ -162,28 +162,45 @@ TEST(FitLinear, TheDiffuseIsZeroOnlyWhereTheDataSaySo) {
 
 // ---- energy ----------------------------------------------------------------------------------------
 
-// The case: three Lafortune lobes on a held-out Cornell paint exceed albedo 1 slightly
-// (1.0078 at 80 degrees, measured before this protocol); the written fit stays within 1.5 times
-// the unconstrained error and reports both errors and albedos.
+// A fit that exceeds albedo 1 slightly: one Lafortune lobe on the cayman paint (largest albedo 1.046
+// unconstrained, relative l2cos 0.0455). The written fit keeps the shape (each channel scaled) and
+// stays within 1.5 times the unconstrained error, where the penalty refit that went before wandered
+// off (3 lobes on a held-out paint: 0.0028 -> 0.168); the output reports both errors and albedos.
 TEST(FitEnergy, ASlightExcessCostsLittle) {
   const SampleSet data = read_cornell(std::string(ANISO_SOURCE_DIR) + "/data/measured/cornell/cayman.brdf");
   FitOptions o;
   o.model = "lafortune";
-  o.lobes = 3;
+  o.lobes = 1;
   o.anisotropy = Anisotropy::No;
   o.threads = 2;
   const FitResult r = fit_samples(data, o);
+  ASSERT_TRUE(r.energy_constrained);
   EXPECT_LE(r.largest_albedo, 1.005);
-  if (r.energy_constrained) {
-    EXPECT_LE(r.errors.relative_l2cos, 1.5 * r.unconstrained_l2cos) << r.energy_method;
-    EXPECT_GT(r.unconstrained_albedo, 1.005);
-    EXPECT_FALSE(r.energy_method.empty());
-    const std::string energy = fit_provenance(r, data, o)["energy"];
-    EXPECT_NE(energy.find("before"), std::string::npos) << energy;
-  }
-  std::printf("cayman, 3 lobes: relative l2cos %.4g (unconstrained %.4g, largest albedo %.4f before, %.4f after; %s)\n",
-              r.errors.relative_l2cos, r.unconstrained_l2cos, r.unconstrained_albedo, r.largest_albedo,
-              r.energy_constrained ? r.energy_method.c_str() : "the constraint did not act");
+  EXPECT_GT(r.unconstrained_albedo, 1.005);
+  EXPECT_LE(r.errors.relative_l2cos, 1.5 * r.unconstrained_l2cos) << r.energy_method;
+  EXPECT_NE(r.energy_method, "refitted with the albedo penalty");
+  const std::string energy = fit_provenance(r, data, o)["energy"];
+  EXPECT_NE(energy.find("before"), std::string::npos) << energy;
+  std::printf("cayman, 1 lobe: relative l2cos %.4g (unconstrained %.4g), largest albedo %.4f (unconstrained %.4f); %s\n",
+              r.errors.relative_l2cos, r.unconstrained_l2cos, r.largest_albedo, r.unconstrained_albedo, r.energy_method.c_str());
+}
+
+// GGX on data that gain energy through their diffuse: the linear entries re-solved under the
+// constraint (kd and F0 lowered where the albedo exceeds 1), the lobe's shape kept.
+TEST(FitEnergy, TheLinearEntriesAreReSolvedUnderTheConstraint) {
+  const json gains = {{"model", "ggx"}, {"kd", {0.97, 0.5, 0.3}}, {"f0", 0.2}, {"alpha", 0.3}};
+  const SampleSet data = hemisphere_data(gains, 3000, 80.0, 1.0, 5);
+  FitOptions o;
+  o.model = "ggx";
+  o.anisotropy = Anisotropy::No;
+  o.starts = 1;
+  o.threads = 2;
+  const FitResult r = fit_samples(data, o);
+  ASSERT_TRUE(r.energy_constrained);
+  EXPECT_EQ(r.energy_method, "the linear entries re-solved under the constraint");
+  EXPECT_LE(r.largest_albedo, 1.005);
+  EXPECT_NEAR(r.material["alpha_x"].get<double>(), 0.3, 0.03);  // the shape stays
+  EXPECT_LT(at(r.material["kd"], 0), 0.97);
 }
 
 // ---- real measurements ---------------------------------------------------------------------------------
@@ -198,22 +215,22 @@ struct PlainFit {
   double ggx, ward, as;
 };
 constexpr PlainFit kPlain[] = {
-    {"aurora_white_rgb.bsdf", 0.3382, 0.7689, 0.3429},      {"cc_ibiza_sunset_rgb.bsdf", 0.4005, 0.7429, 0.3897},
+    {"aurora_white_rgb.bsdf", 0.3382, 0.7689, 0.3429},       {"cc_ibiza_sunset_rgb.bsdf", 0.4005, 0.7429, 0.3897},
     {"cc_iris_purple_gem_rgb.bsdf", 0.3929, 0.8084, 0.4159}, {"cc_nothern_aurora_rgb.bsdf", 0.4199, 0.8494, 0.4103},
-    {"chm_light_blue_rgb.bsdf", 0.4939, 0.2709, 0.3807},    {"chm_mint_rgb.bsdf", 0.5420, 0.4798, 0.4854},
-    {"cm_military_green_rgb.bsdf", 0.2026, 0.8516, 0.1228}, {"vch_silk_blue_rgb.bsdf", 0.3899, 0.5339, 0.4519},
+    {"chm_light_blue_rgb.bsdf", 0.4939, 0.2709, 0.3807},     {"chm_mint_rgb.bsdf", 0.5420, 0.4798, 0.4854},
+    {"cm_military_green_rgb.bsdf", 0.2026, 0.8516, 0.1228},  {"vch_silk_blue_rgb.bsdf", 0.3899, 0.5339, 0.4519},
 };
 
 // Every real file (ANISO_TEST_SCALE of them under the sanitizers), each model at most 1.1 times the
 // plain fit's error.
 TEST(FitReal, AtMostTheErrorOfAPlainLeastSquaresFit) {
-  if (!fs::is_directory(real_dir()))
-    GTEST_SKIP() << "../shared/data/rgl-real/ is absent (CI has it): no real RGL file to fit";
+  if (!fs::is_directory(real_dir())) GTEST_SKIP() << "../shared/data/rgl-real/ is absent (CI has it): no real RGL file to fit";
   const int64_t files = test::scaled(int64_t(std::size(kPlain)));
   for (int64_t i = 0; i < files; ++i) {
     const PlainFit& p = kPlain[i];
     const SampleSet data = read_measured((real_dir() / p.file).string());
-    for (const auto& [model, plain] : {std::pair{"ggx", p.ggx}, std::pair{"ward", p.ward}, std::pair{"ashikhmin-shirley", p.as}}) {
+    for (const auto& [model, plain] :
+         {std::pair{"ggx", p.ggx}, std::pair{"ward", p.ward}, std::pair{"ashikhmin-shirley", p.as}}) {
       FitOptions o;
       o.model = model;
       o.threads = 2;

@@ -236,6 +236,26 @@ TEST(RglExport, EveryWrittenFilePassesPbrtAndMitsubaRules) {
     }
 }
 
+// Extreme materials (issue 40, item 11): lobes far sharper than any grid, or scaled to the table's
+// limit, are written as finite files that the reader takes back (their luminance slices, whose
+// values were a few 1e-36, no longer underflow the readers' normalisation).
+TEST(RglExport, ExtremeMaterialsGiveFilesTheReaderTakes) {
+  for (const nlohmann::json& j :
+       {nlohmann::json{{"model", "phong"}, {"exponent", 1e6}, {"ks", 1e6}},
+        nlohmann::json{{"model", "lafortune"}, {"lobes", {{{"cx", 1}, {"cy", 1}, {"cz", 1}, {"n", 1e6}}}}},
+        nlohmann::json{{"model", "lafortune"}, {"lobes", {{{"cx", -1}, {"cy", -1}, {"cz", 1}, {"n", 1e6}}}}}}) {
+    const std::shared_ptr<rgl::RglData> d = read_back(export_json(j, small_options()));
+    ASSERT_TRUE(d) << j.dump();
+    const auto k = rgl::rgl_kernel<double>(*d);
+    const Vec3d wi = glm::normalize(Vec3d(-0.3, 0.1, 0.9));
+    for (const Vec3d& wo : {Vec3d(0, 0, 1), glm::normalize(Vec3d(0.5, 0.2, 0.8))}) {
+      const RGBT<double> f = k.f(wi, wo);
+      EXPECT_TRUE(std::isfinite(f.x) && f.x >= 0.0) << j.dump();
+      EXPECT_TRUE(std::isfinite(k.pdf(wi, wo))) << j.dump();
+    }
+  }
+}
+
 // phi_i of an anisotropic file (docs/rgl.md, step 3): count values, increasing, from -pi to pi
 // (both readers' rules), symmetric about the material's mirror axes with a slice on each (the
 // tangent and bitangent, turned with rotation_deg; -pi added when it is not on one), denser where

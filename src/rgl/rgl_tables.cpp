@@ -321,9 +321,14 @@ std::vector<TensorField> export_tables(const BrdfSource& src, const ExportOption
         }
       // 1 % of the slice's mean luminance everywhere: a defensive mixture (Hesterberg 1995) with
       // plain VNDF sampling, so no direction with f > 0 gets a zero pdf; all zero (black): uniform.
+      // The readers normalise each slice by its sum (pbrt-v4 sampling.h:1404-1405), so its scale
+      // is free: the slice is written with mean 1 (1.01 with the mixture), which keeps a lobe
+      // too sharp for the grid, whose values here are a few 1e-36 (a Lafortune lobe with n = 1e6),
+      // from a float sum that underflows the readers' normalisation (src/rgl/rgl_material.cpp,
+      // positive_slices).
       for (size_t k = 0; k < plane; ++k) {
         float& v = lum_t[slice * plane + k];
-        v = mean > 0.0 ? v + float(0.01 * mean) : 1.f;
+        v = mean > 0.0 && std::isfinite(1.0 / mean) ? float(double(v) / mean + 0.01) : 1.f;
       }
     }
 
