@@ -20,15 +20,20 @@ def main():
         return 1
     tests = json.loads(shown.stdout)["tests"]
     names = {t["name"] for t in tests}
+    # gtest_discover_tests' stand-in for a test binary that is not built (that entry fails by itself):
+    # its entries are unknown, so only the other entries are checked.
+    not_built = any(n.endswith("_NOT_BUILT") for n in names)
     problems = []
     for t in tests:
+        if t["name"].endswith("_NOT_BUILT"):
+            continue
         if not any(p["name"] == "TIMEOUT" for p in t.get("properties", [])):
             problems.append(f"{t['name']}: no TIMEOUT (set one where the entry is added; docs/testing.md, \"CI time\")")
     with open(costs_file) as f:
         text = re.sub(r"#[^\n]*", "", f.read())
     costed = re.findall(r"\baniso_cost\(\s*([^\s)]+)", text)
     for name in costed:
-        if name not in names:
+        if name not in names and not (not_built and "." in name):
             problems.append(f"{name}: given a COST in {costs_file} but no such entry (renamed or removed?)")
     for p in problems:
         print(p)
