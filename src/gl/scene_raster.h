@@ -92,9 +92,10 @@ class SceneRasterizer {
  public:
   // Uploads the scene's geometry, tangent maps and occluders and compiles one program per material
   // structure. Each object's material is scene.objects[i].material_desc (set by the scene reader).
-  // Throws InputError for an object whose material has no GLSL twin ("objects[2] (material
-  // gold.binary): ..."), GlError for a GL failure (a shader that does not compile carries the log).
-  // The scene is copied: the caller's Scene may go away.
+  // A measured material's tables go to a texture (one per file, glsl_tables()). Throws InputError
+  // for an object whose material has no GLSL twin ("objects[2] (material x): ..."), GlError for a
+  // GL failure (a shader that does not compile carries the log). The scene is copied: the
+  // caller's Scene may go away.
   explicit SceneRasterizer(const render::Scene& scene, RasterSettings settings = {});
   ~SceneRasterizer();
   SceneRasterizer(const SceneRasterizer&) = delete;
