@@ -281,6 +281,9 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     std::vector<double> x = final_fit.x;
     if (solve_linear(model, layout, x, used) < data_cost(model, final_fit.x, used, o.metric)) final_fit.x = std::move(x);
   }
+  // The canonical form (models.h: orientation, Lafortune's lobe order) from here on, so that the
+  // names of weak or tied entries refer to the entries as written.
+  model.canonicalize(final_fit.x.data());
 
   // The material as every tool reads it (validated and built by the material reader), in its
   // canonical orientation (models.h, Orientation::canonicalize).

@@ -107,6 +107,14 @@ LafortuneFit::LafortuneFit(int lobes, bool anisotropic, bool shared_exponents)
 }
 
 void LafortuneFit::canonicalize(double* x) const {
+  // The lobes are interchangeable (f is their sum): the sharpest first, by the mean exponent over
+  // the channels, so that the same material is written the same way whichever start found it.
+  std::vector<int> order(static_cast<size_t>(lobes_));
+  for (int k = 0; k < lobes_; ++k) order[size_t(k)] = k;
+  const auto mean_n = [&](int k) { return (x[n(k, 0)] + x[n(k, 1)] + x[n(k, 2)]) / 3.0; };
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return mean_n(a) > mean_n(b); });
+  std::vector<double> lobes(x + base(0), x + base(0) + size_t(lobes_ * stride_));
+  for (int k = 0; k < lobes_; ++k) std::copy_n(lobes.begin() + long(order[size_t(k)] * stride_), stride_, x + base(k));
   if (!anisotropic_) return;
   double sx = 0.0, sy = 0.0;
   for (int k = 0; k < lobes_; ++k)
