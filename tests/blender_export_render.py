@@ -6,13 +6,14 @@
 # For each material (two anisotropic GGX metals, sharp and rough, and a GGX dielectric with a
 # diffuse part, all exact exports): `aniso export --to blender --blender-version 3.4 --preview
 # M.pfm` writes the script and aniso's rendering of the written target model (Blender 3.4's
-# Principled BSDF v1, targets.h) on the preview scene (export.h, write_preview): an orthographic
-# view along -z of a unit sphere whose tangent runs around the vertical axis, two directional
-# lights, nothing else. Blender builds the
-# same scene (the sphere a UV sphere, whose UV tangent the exported script connects; the lights two
-# sun lamps of angle 0 with strength = the irradiance; a black world), runs the exported script on
-# the sphere and renders it with Cycles, one render per lamp (no light-selection noise) and no
-# shadow rays (a convex sphere shadows nothing that n.l does not). The two images are compared on
+# Principled BSDF v1, targets.h) on the preview scene (export.h, write_preview and ImageCheck): an
+# orthographic view along -z of a unit sphere whose tangent runs around the vertical axis, a
+# uniform white environment and one sun, nothing else. Blender builds the same scene (the sphere a
+# UV sphere, whose UV tangent the exported script connects; the sun a sun lamp of angle 0 with
+# strength = the irradiance; the environment the world's background colour), runs the exported
+# script on the sphere and renders it with Cycles, the sun and the environment apart (no
+# light-selection noise) and without shadow rays (a convex sphere shadows nothing that n.l does
+# not). The two images are compared on
 # the pixels well inside the silhouette: the ratio of the lit integrals, the highlight's centroid
 # and axis (the pixels above half the peak), the relative RMSE.
 #
@@ -32,9 +33,11 @@ except ImportError:
     print("SKIPPED: numpy is not installed (Debian's /usr/bin/python3 has it)")
     sys.exit(77)
 
-# The preview's lights (include/aniso/export/export.h, write_preview): direction to the light in the
-# view frame (x right, y up, z towards the viewer) and irradiance at normal incidence.
-LIGHTS = [((-0.5, 0.6, 1.0), 2.5), ((0.7, -0.3, 0.8), 1.0)]
+# The preview's scene (include/aniso/export/export.h, ImageCheck): the sun's direction in the view
+# frame (x right, y up, z towards the viewer) and irradiance at normal incidence (kCheckSunIrradiance);
+# the environment's radiance (kCheckEnvironment) as ("env", L).
+LIGHTS = [((-0.5, 0.6, 1.0), 2.5), ("env", 0.25)]
+SUN = LIGHTS[0][0]
 
 MATERIALS = {
     "metal": {"model": "ggx", "alpha_x": 0.25, "alpha_y": 0.06, "f0": [0.95, 0.64, 0.54], "kd": 0.0},
@@ -81,7 +84,9 @@ for name, m in cfg["materials"].items():
         world = bpy.data.worlds.new("world")
         sc.world = world
         world.use_nodes = True
-        world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+        d, e = cfg["lights"][li]
+        env = e if d == "env" else 0.0
+        world.node_tree.nodes["Background"].inputs["Color"].default_value = (env, env, env, 1)
         cd = bpy.data.cameras.new("camera")
         cd.type = "ORTHO"
         cd.ortho_scale = 2.0
@@ -90,14 +95,16 @@ for name, m in cfg["materials"].items():
         co.location = to_blender((0, 0, 5))
         co.rotation_euler = (-to_blender((0, 0, 1))).to_track_quat("-Z", "Y").to_euler()
         sc.camera = co
-        d, e = cfg["lights"][li]
-        ld = bpy.data.lights.new("sun", type="SUN")
-        ld.energy = e  # W/m^2: the irradiance at normal incidence
-        ld.angle = 0.0
-        ld.cycles.cast_shadow = False
-        lo = bpy.data.objects.new("sun", ld)
-        lo.rotation_euler = to_blender(Vector(d).normalized()).to_track_quat("Z", "Y").to_euler()
-        sc.collection.objects.link(lo)
+        if d != "env":
+            ld = bpy.data.lights.new("sun", type="SUN")
+            ld.energy = e  # W/m^2: the irradiance at normal incidence
+            ld.angle = 0.0
+            ld.cycles.cast_shadow = False
+            lo = bpy.data.objects.new("sun", ld)
+            lo.rotation_euler = to_blender(Vector(d).normalized()).to_track_quat("Z", "Y").to_euler()
+            sc.collection.objects.link(lo)
+        else:
+            cy.samples = cfg["spp"] * cfg.get("env_spp_factor", 4)  # the environment is sampled, the sun is not
         bpy.ops.mesh.primitive_uv_sphere_add(segments=256, ring_count=128, radius=1.0)
         bpy.ops.object.shade_smooth()
         exec(open(m["script"]).read(), {"__name__": "exported"})
@@ -154,7 +161,7 @@ def main():
         print("SKIPPED: blender is not installed (Debian 12: apt-get install blender, 3.4.1)")
         return 77
     os.makedirs(a.out, exist_ok=True)
-    cfg = {"materials": {}, "lights": [[list(d), e] for d, e in LIGHTS], "spp": a.spp, "size": a.size}
+    cfg = {"materials": {}, "lights": [[d if d == "env" else list(d), e] for d, e in LIGHTS], "spp": a.spp, "size": a.size}
     for name, m in MATERIALS.items():
         script = os.path.join(a.out, name + ".py")
         pfm = os.path.join(a.out, name + "-aniso.pfm")

@@ -317,10 +317,14 @@ TEST(ExportExact, GltfSpecularCarriesTheSourcesF0) {
   const double specular = p["specularFactor"].get<double>();
   const glm::dvec3 color(p["specularColorFactor"][0].get<double>(), p["specularColorFactor"][1].get<double>(),
                          p["specularColorFactor"][2].get<double>());
+  // F0 0.9 needs KHR_materials_ior (gltf_specular_for): every factor within [0, 1].
+  ASSERT_TRUE(p.contains("ior")) << p.dump();
+  const double ior = p["ior"].get<double>(), f0_ior = std::pow((ior - 1.0) / (ior + 1.0), 2.0);
+  for (int c = 0; c < 3; ++c) EXPECT_TRUE(color[c] >= 0.0 && color[c] <= 1.0) << p.dump();
   for (const auto& [wi, wo] : {std::pair{dir(30, 10), dir(40, 200)}, std::pair{dir(70, 80), dir(10, 250)}}) {
     const Vec3d h = glm::normalize(wi + wo);
     const double w = std::pow(1.0 - std::abs(glm::dot(wo, h)), 5.0);
-    const glm::dvec3 f0 = glm::min(0.04 * color, glm::dvec3(1.0)) * specular;
+    const glm::dvec3 f0 = glm::min(f0_ior * color, glm::dvec3(1.0)) * specular;
     const glm::dvec3 F = f0 * (1.0 - w) + glm::dvec3(specular) * w;
     // The source's Schlick with F0 = g.f0 and f90 = 1: the same curve.
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(F[c], g.f0[c] + (1.0 - g.f0[c]) * w, 1e-12);
@@ -637,9 +641,14 @@ TEST_F(ExportCli, GltfWritesKhrMaterialsSpecularForAnF0Other0p04) {
   const json doc = json::parse(read_file(out));
   const json& ext = doc["materials"][0]["extensions"]["KHR_materials_specular"];
   EXPECT_EQ(ext["specularFactor"].get<double>(), 1.0);
-  EXPECT_NEAR(ext["specularColorFactor"][0].get<double>(), 0.9 / 0.04, 1e-9);
-  EXPECT_NEAR(ext["specularColorFactor"][2].get<double>(), 0.02 / 0.04, 1e-9);
+  // F0 0.9 is above 0.04: KHR_materials_ior carries the largest F0, specularColorFactor the rest,
+  // every factor in [0, 1] (no 22.5).
+  EXPECT_NEAR(ext["specularColorFactor"][0].get<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(ext["specularColorFactor"][2].get<double>(), 0.02 / 0.9, 1e-9);
+  const double ior = doc["materials"][0]["extensions"]["KHR_materials_ior"]["ior"].get<double>();
+  EXPECT_NEAR(std::pow((ior - 1.0) / (ior + 1.0), 2.0), 0.9, 1e-9);
   EXPECT_NE(doc["extensionsUsed"].dump().find("KHR_materials_specular"), std::string::npos) << doc["extensionsUsed"].dump();
+  EXPECT_NE(doc["extensionsUsed"].dump().find("KHR_materials_ior"), std::string::npos) << doc["extensionsUsed"].dump();
 }
 
 // Mitsuba 3's principled: written for an aniso principled source (the file's parameters are the
@@ -799,17 +808,21 @@ TEST_F(ExportCli, BlenderScriptRunsOnABpyStub) {
   }
 }
 
-// Measured data (a MERL table, here aniso's tabulation of a Ward material) takes the fitted path.
+// Measured data (a MERL table, here aniso's tabulation of a Ward material): pbrt-v4's own measured
+// material with the spectral tensor file beside the scene by default; --analytic takes the fitted
+// path (an isotropic GGX: a MERL table is isotropic by construction).
 TEST_F(ExportCli, MeasuredMerlTableIsFitted) {
   const std::string merl = (dir_ / "ward.binary").string();
   write_merl(merl,
              tabulate_merl(build_material<double>(load_material(
                  R"({"model": "ward", "kd": 0.1, "ks": 0.2, "alpha_x": 0.1, "alpha_y": 0.25, "normalization": "balanced"})"))));
   const std::string out = (dir_ / "m.pbrt").string();
-  const Result r = run({"export", "--to", "pbrt-v4", "--material", merl, "-o", out, "--grid", "2", "--starts", "1"});
+  const Result r =
+      run({"export", "--to", "pbrt-v4", "--material", merl, "-o", out, "--grid", "2", "--starts", "1", "--analytic"});
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(contains(r.out, "fitted: aniso's anisotropic GGX")) << r.out;
+  EXPECT_TRUE(contains(r.out, "fitted: aniso's isotropic GGX")) << r.out;
   EXPECT_TRUE(contains(read_file(out), "MakeNamedMaterial")) << read_file(out);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "m_spec.bsdf"));
 }
 
 // ---- bad input: exit 2, nothing written ---------------------------------------------------------

@@ -24,12 +24,14 @@ namespace aniso {
 
 namespace {
 
+bool to_stdout_path(const std::string& output) { return output.empty() || output == "-"; }
+
 struct ExportArgs {
   std::string to, material, output, name, metric = "l2cos", help_target, preview, scene, object;
   int starts = 4, grid = 6, preview_size = 256;
   double blender_version = 4.3;
   uint64_t seed = 1;
-  bool list = false;
+  bool list = false, analytic = false;
 };
 
 // --scene FILE --object NAME|INDEX: that object's material and its tangent's angle_deg (docs/scenes.md,
@@ -144,6 +146,7 @@ void run_export(const ExportArgs& a) {
       throw InputError(fmt::format("--preview {}: the same file as -o", text_escape(a.preview)));
   }
   ExportOptions o;
+  o.analytic = a.analytic;
   o.target = a.to;
   o.name = a.name;
   o.starts = a.starts;
@@ -157,6 +160,24 @@ void run_export(const ExportArgs& a) {
   if (!a.scene.empty()) object = scene_object(a.scene, a.object);
   const MaterialDesc desc = object ? object->desc : load_material(a.material);
   (void)build_material<double>(desc);
+  if (writes_measured(info->target, desc, o)) {
+    // The renderer's own measured BSDF, its tensor file beside -o (measured_file_name: -o's stem,
+    // made safe): checked like every output before anything is written.
+    if (to_stdout_path(a.output))
+      throw InputError(
+          fmt::format("--to {} of a measured source writes two files (the scene and the tensor file beside it): "
+                      "give -o FILE{} (or --analytic for the fitted analytic material alone)",
+                      info->name, info->extension));
+    bin_name = measured_file_name(info->target, fs::path(a.output).stem().string());
+    const std::string side = (fs::path(a.output).parent_path() / bin_name).string();
+    check_writable(side, "the tensor file beside -o");
+    for (const std::string& other : {a.output, a.preview})
+      if (!other.empty() && fs::weakly_canonical(side) == fs::weakly_canonical(other))
+        throw InputError(
+            fmt::format("-o {}: the tensor file written beside it, {}, would be the same file as {}: choose "
+                        "another name",
+                        text_escape(a.output), text_escape(bin_name), text_escape(other)));
+  }
   if (object) {
     o.tangent_angle_deg = object->angle_deg;
     o.extra_notes = object->notes;
@@ -193,8 +214,15 @@ void run_export(const ExportArgs& a) {
     throw;
   }
   fmt::print(to_stdout ? stderr : stdout, "{}", r.report.text());
+  if (r.report.image.warn())
+    fmt::print(stderr,
+               "aniso: warning: the export renders {:.0f} % from the source on the sphere's mean and {:.0f} % on its lit "
+               "region (bounds {:g} % and {:g} %; --preview FILE.png shows both)\n",
+               100.0 * r.report.image.mean_difference, 100.0 * r.report.image.lit_difference, 100.0 * kCheckWarnMean,
+               100.0 * kCheckWarnLit);
   if (!to_stdout)
-    fmt::print("wrote {}{}\n", text_escape(a.output), r.files.size() == 2 ? " and " + text_escape(r.files[1].path) : std::string());
+    fmt::print("wrote {}{}\n", text_escape(a.output),
+               r.files.size() == 2 ? " and " + text_escape(r.files[1].path) : std::string());
 }
 
 }  // namespace
@@ -228,6 +256,9 @@ void add_export_target_command(CLI::App& app) {
                   "linear radiance, no labels)");
   cmd->add_option("--preview-size", a->preview_size, "pixels of each sphere of --preview (default 256)")
       ->check(CLI::Range(16, 2048));
+  cmd->add_flag("--analytic", a->analytic,
+                "--to mitsuba3 / pbrt-v4 with a measured source (.bsdf, .binary): write the fitted analytic material "
+                "instead of the renderer's own measured BSDF and its tensor file");
   cmd->add_flag("--list-targets", a->list, "list the targets and exit");
   cmd->add_option("--help-target", a->help_target, "what a target's export writes and how to use it");
   cmd->callback([a] { run_command([&] { run_export(*a); }); });

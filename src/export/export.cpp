@@ -16,6 +16,8 @@
 #include <fmt/format.h>
 
 #include "aniso/io/input_error.h"
+#include "aniso/rgl/rgl_export.h"
+#include "aniso/rgl/rgl_material.h"
 #include "export/common.h"
 #include "export/writers.h"
 #include "io/text_escape.h"
@@ -90,6 +92,9 @@ void check_export_options(const ExportOptions& o) {
     throw InputError(fmt::format("--to: unknown target \"{}\"; the targets are {}", o.target, target_names()));
   if (o.grid < kExportGridMin || o.grid > kExportGridMax)
     throw InputError(fmt::format("grid: expected {} to {}, got {}", kExportGridMin, kExportGridMax, o.grid));
+  if (o.measured_grid != 0 && (o.measured_grid < 4 || o.measured_grid > 256 || o.measured_grid % 2 != 0))
+    throw InputError(
+        fmt::format("measured_grid: expected 0 (the defaults) or an even number from 4 to 256, got {}", o.measured_grid));
   if (o.starts < 1 || o.starts > kExportStartsMax)
     throw InputError(fmt::format("starts: expected 1 to {}, got {}", kExportStartsMax, o.starts));
   if (!(o.blender_version >= kBlenderVersionMin && o.blender_version <= kBlenderVersionMax))
@@ -102,6 +107,103 @@ void check_export_options(const ExportOptions& o) {
                                  static_cast<unsigned char>(o.name[*bad]), *bad, text_escape(o.name)));
 }
 
+bool writes_measured(Target t, const MaterialDesc& desc, const ExportOptions& o) {
+  return (t == Target::Mitsuba3 || t == Target::PbrtV4) && !o.analytic && (desc.rgl || desc.measured);
+}
+
+std::string measured_file_name(Target t, const std::string& main_stem) {
+  if (t != Target::Mitsuba3 && t != Target::PbrtV4) return "";
+  std::string out;
+  for (const char c : main_stem) {
+    const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
+    out += keep ? c : '_';
+  }
+  if (out.empty()) out = "material";
+  return out + (t == Target::Mitsuba3 ? "_rgb.bsdf" : "_spec.bsdf");
+}
+
+namespace {
+
+// The material's name in the file: --name, else the source's file name or the scene object's.
+std::string material_name(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o) {
+  std::string name = o.name;
+  if (name.empty()) {
+    name = source_label;
+    const size_t slash = name.find_last_of('/');
+    if (name.size() > 0 && name.front() != '{' && slash != std::string::npos && name.find(".json") != std::string::npos)
+      name = name.substr(slash + 1);
+    if (name.size() > 5 && name.ends_with(".json")) name.resize(name.size() - 5);
+    if (name.empty() || name.front() == '{') name = "aniso-" + desc.model;
+    name = text_escape(name);  // a file name need not be UTF-8; the written name is
+  }
+  return name;
+}
+
+// A measured source to Mitsuba 3 or pbrt-v4: the renderer's own measured BSDF with the tensor file
+// beside the scene (writes_measured). The tensor is export-rgl's (src/rgl): a tensor-file source
+// from its own tables (transcode_tensor; its isotropy kept by decide_isotropy), RGB for Mitsuba 3's
+// RGB variants, spectral (box spectra that reduce back to the file's RGB) for pbrt-v4; a MERL table
+// resampled. The target model is the written file read back as pbrt-v4 reads it.
+void export_measured(const TargetInfo& info, const MaterialDesc& desc, const MaterialD& source, const SampleSet& samples,
+                     const std::string& source_label, const ExportOptions& o, const std::string& side_name, ExportResult& res) {
+  rgl::ExportOptions ro;
+  ro.spectral = info.target == Target::PbrtV4;
+  rgl::BrdfSource src = rgl::brdf_source(source);
+  src.tensor = desc.rgl;
+  src.description =
+      fmt::format("{} (written by aniso {} export --to {})",
+                  resolved_json(desc).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), ANISO_VERSION, info.name);
+  rgl::ExportReport rep;
+  const std::vector<rgl::TensorField> fields = rgl::export_rgl(src, ro, &rep);
+  const std::vector<uint8_t> bytes = rgl::serialize_tensor(fields);
+  const std::shared_ptr<const rgl::RglData> back = rgl::rgl_from_tensor(rgl::parse_tensor(bytes, side_name));
+  const RglT<double> kernel = rgl::rgl_kernel<double>(*back);
+  res.model = TargetBrdf{};
+  res.model.name = info.target == Target::Mitsuba3 ? "Mitsuba 3 measured (the RGL tensor file beside the scene, rgb)"
+                                                   : "pbrt-v4 measured (the RGL tensor file beside the scene, spectral)";
+  res.model.measured = [back, kernel](const Vec3d& wi, const Vec3d& wo) {
+    const RGBT<double> f = kernel.f(wi, wo);
+    return glm::dvec3(f.x, f.y, f.z);
+  };
+  json params = {
+      {"filename", side_name}, {"form", ro.spectral ? "spectral" : "rgb"}, {"isotropic", rep.isotropic}, {"bytes", bytes.size()}};
+  ExportReport& r = res.report;
+  r.target = std::string(info.name);
+  r.target_model = res.model.name;
+  r.exact = rep.transcoded;
+  r.origin = rep.transcoded
+                 ? fmt::format("exact: the source's own tables, {} ({})", ro.spectral ? "as spectra" : "as rgb", rep.isotropy)
+                 : fmt::format("resampled: the source written as an RGL tensor file ({}; D: {})", rep.isotropy, rep.d_method);
+  r.parameters = params;
+  r.measured_file = side_name;
+  r.notes.push_back(
+      fmt::format("the renderer's own measured BSDF: write {} beside the scene file (it is named relative to it); `aniso export "
+                  "--analytic` writes the fitted analytic material instead",
+                  side_name));
+  if (info.target == Target::Mitsuba3)
+    r.notes.push_back(
+        "an rgb tensor file: Mitsuba 3's RGB variants read it (scalar_rgb, llvm_ad_rgb, ...); a spectral variant needs "
+        "the spectral form (`aniso export-rgl --spectral`, measured.cpp:102-116)");
+  else
+    r.notes.push_back(fmt::format("spectra: {}", rep.spectra));
+  r.notes.insert(r.notes.end(), o.extra_notes.begin(), o.extra_notes.end());
+  if (rotation_of(desc) + o.tangent_angle_deg != 0.0)
+    r.notes.push_back(fmt::format("the tensor file has no rotation input: turn the uv parameterisation by {:.9g} degrees",
+                                  rotation_of(desc) + o.tangent_angle_deg));
+  r.errors = target_errors(res.model, samples);
+  r.samples = samples.samples.size();
+  r.max_albedo_difference = max_albedo_difference(source, res.model, &r.albedo_theta_deg, &r.albedo_phi_deg);
+  if (o.check_size > 0) r.image = image_check(source, res.model, o.check_size);
+  const std::string name = material_name(desc, source_label, o);
+  if (info.target == Target::Mitsuba3)
+    res.files.push_back({"", write_mitsuba(name, params, comment_block(r, source_label, "  "))});
+  else
+    res.files.push_back({"", write_pbrt(name, params, comment_block(r, source_label, "# "))});
+  res.files.push_back({side_name, std::string(bytes.begin(), bytes.end())});
+}
+
+}  // namespace
+
 ExportResult export_material(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o,
                              const std::string& bin_name_in) {
   check_export_options(o);
@@ -109,11 +211,32 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   const MaterialDesc plain = unrotated(desc);
   const MaterialD source = build_material<double>(plain);
   ExportResult res;
-  const SampleSet samples = sample_source(source, o.grid);
+  SampleSet samples = sample_source(source, o.grid);
+  if (desc.rgl || desc.measured) {
+    // A measurement: its errors over Ngan 2005's range, as `aniso fit` measures them (fit.h,
+    // kNganMaxThetaDeg): beyond 80 degrees measurements are least reliable.
+    const double c = std::cos(kNganMaxThetaDeg * kPi<double> / 180.0);
+    std::erase_if(samples.samples, [c](const MeasuredSample& m) { return m.wi.z < c || m.wo.z < c; });
+  }
+  if (writes_measured(info->target, desc, o)) {
+    const std::string side =
+        bin_name_in.empty() ? measured_file_name(info->target, identifier(material_name(desc, source_label, o))) : bin_name_in;
+    export_measured(*info, desc, source, samples, source_label, o, side, res);
+    return res;
+  }
   res.ggx = ggx_source(desc, samples, o);
   res.ggx.rotation_deg += o.tangent_angle_deg;  // the surface's turn composed with the material's
   json params;
   std::vector<std::string> notes, notes_before;
+  if (!res.ggx.conductor && !no_diffuse(res.ggx) && negligible_diffuse(res.ggx)) {
+    // The metal / dielectric branch, decided once with a margin (negligible_diffuse): a diffuse this
+    // small is written as none, so that a negligible change of the source never flips the branch.
+    notes_before.push_back(fmt::format(
+        "the diffuse {} is negligible (at most {:g} + {:g} x max F0 = {:.3g}): written as a metal without it", fmt3(res.ggx.kd),
+        kNegligibleDiffuseAbs, kNegligibleDiffuseShare, kNegligibleDiffuseAbs + kNegligibleDiffuseShare * max3(res.ggx.f0)));
+    res.ggx.kd = glm::dvec3(0.0);
+  }
+  if (!res.ggx.isotropy.empty()) notes_before.push_back(res.ggx.isotropy);
   if (!res.ggx.exact) {
     const GgxSource refined = refine_for_target(info->target, res.ggx, samples, o);
     if (refined.alpha_x != res.ggx.alpha_x || refined.alpha_y != res.ggx.alpha_y)
@@ -203,16 +326,8 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   }
   r.samples = samples.samples.size();
   r.max_albedo_difference = max_albedo_difference(source, res.model, &r.albedo_theta_deg, &r.albedo_phi_deg);
-  std::string name = o.name;
-  if (name.empty()) {
-    name = source_label;
-    const size_t slash = name.find_last_of('/');
-    if (name.size() > 0 && name.front() != '{' && slash != std::string::npos && name.find(".json") != std::string::npos)
-      name = name.substr(slash + 1);
-    if (name.size() > 5 && name.ends_with(".json")) name.resize(name.size() - 5);
-    if (name.empty() || name.front() == '{') name = "aniso-" + desc.model;
-    name = text_escape(name);  // a file name need not be UTF-8; the written name is
-  }
+  if (o.check_size > 0) r.image = image_check(source, res.model, o.check_size);
+  const std::string name = material_name(desc, source_label, o);
   switch (info->target) {
     case Target::Blender: res.files.push_back({"", write_blender(name, params, comment_block(r, source_label, "# "))}); break;
     case Target::Mitsuba3: res.files.push_back({"", write_mitsuba(name, params, comment_block(r, source_label, "  "))}); break;

@@ -10,6 +10,9 @@
 
 #include "aniso/data/metals.h"
 #include "aniso/io/input_error.h"
+#include "aniso/measured/measured.h"
+#include "aniso/rgl/rgl_export.h"
+#include "aniso/rgl/rgl_material.h"
 
 namespace aniso::exporter {
 
@@ -58,6 +61,24 @@ std::optional<GgxSource> exact_ggx(const MaterialDesc& d) {
 }
 
 }  // namespace
+
+std::pair<bool, std::string> decide_source_isotropy(const MaterialDesc& desc) {
+  if (desc.rgl && desc.rgl->isotropic)
+    return {true, "isotropic by construction: an RGL tensor file with one phi_i (pbrt-v4 and Mitsuba 3 read it isotropic)"};
+  if (desc.measured) return {true, "isotropic by construction: a MERL table (f of theta_h, theta_d, phi_d)"};
+  const MaterialD m = build_material<double>(unrotated(desc));
+  rgl::BrdfSource src = rgl::brdf_source(m);
+  const double rd = rgl::rotation_difference(src);
+  const bool iso = rd <= rgl::kMeasuredIsotropyTolerance;
+  return {iso, fmt::format("{}: turning both directions about the normal changes f by {:.3g} % ({} the {:g} % of the "
+                           "rotation test, rgl_export.h)",
+                           iso ? "isotropic" : "anisotropic", 100.0 * rd, iso ? "within" : "beyond",
+                           100.0 * rgl::kMeasuredIsotropyTolerance)};
+}
+
+bool negligible_diffuse(const GgxSource& g) {
+  return !g.conductor && max3(g.kd) <= kNegligibleDiffuseAbs + kNegligibleDiffuseShare * max3(g.f0);
+}
 
 namespace {
 
@@ -161,7 +182,10 @@ GgxSource grid_fit(const GgxSource& base, const SampleSet& all) {
 }  // namespace
 
 GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const ExportOptions& o) {
-  if (std::optional<GgxSource> g = exact_ggx(d)) return *g;
+  if (std::optional<GgxSource> g = exact_ggx(d)) {
+    g->isotropic = g->alpha_x == g->alpha_y;
+    return *g;
+  }
   if (samples.samples.empty())
     throw InputError(
         fmt::format("{}: the material reflects nothing above the horizon: there is nothing to export", d.params.where));
@@ -173,14 +197,19 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
                     "other than as black, and a fit has nothing to fit",
                     d.params.where.empty() ? d.model : d.params.where));
   FitOptions fo;
-  // The target is anisotropic whatever the data say (an isotropic source gives equal alphas), and
-  // it follows the source where that gains energy: the export reproduces the source, it does not
-  // correct it.
-  fo.anisotropy = Anisotropy::Yes;
+  // Anisotropic only when the source is (decide_source_isotropy): an isotropic source gets an
+  // isotropic fit, which no target writes with an anisotropy. The fit follows the source where
+  // that gains energy: the export reproduces the source, it does not correct it.
+  const auto [isotropic, isotropy_why] = decide_source_isotropy(d);
+  fo.anisotropy = isotropic ? Anisotropy::No : Anisotropy::Yes;
   fo.allow_energy_gain = true;
-  // Every sample of the source's grid, grazing ones included: the export's errors are measured
-  // over all of them (target_errors), so the fit sees the same set.
-  fo.max_theta_deg = 90.0;
+  // An analytic source: every sample of its grid, grazing ones included (the export's errors are
+  // measured over all of them, target_errors). A measured one: the fit protocol of `aniso fit`
+  // (docs/fitting.md): Ngan 2005's 80 degrees, so that grazing outliers do not decide the fit, on
+  // the file's own samples (rgl_samples, merl_samples); export_material measures its errors over
+  // the same range.
+  const bool measured = d.rgl || d.measured;
+  fo.max_theta_deg = measured ? kNganMaxThetaDeg : 90.0;
   fo.metric = o.metric;
   fo.starts = o.starts;
   fo.seed = o.seed;
@@ -209,18 +238,28 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
     start.eta = glm::dvec3(src.metal.eta.x, src.metal.eta.y, src.metal.eta.z);
     start.k = glm::dvec3(src.metal.k.x, src.metal.k.y, src.metal.k.z);
   }
-  const GgxSource grid = grid_fit(start, samples);
+  // A measured source: `aniso fit`'s own path (its separable grid start and the linear entries
+  // solved exactly, fit/linear.h) on the file's samples, max_iterations as `aniso fit`'s.
+  SampleSet own;
+  if (d.rgl) own = rgl_samples(*d.rgl, d.rgl->source, rgl_sample_grid(d.rgl->isotropic, o.measured_grid));
+  if (d.measured) own = merl_samples(d.measured->brdf, d.measured->source);
+  const GgxSource grid = measured ? start : grid_fit(start, samples);
   const char* ch[3] = {"r", "g", "b"};
-  fo.start = {{"alpha_x", grid.alpha_x}, {"alpha_y", grid.alpha_y}, {"rotation_deg", 0.0}};
-  for (int c = 0; c < 3; ++c) {
-    if (fo.model == "ggx")
-      fo.start.emplace_back(fmt::format("kd.{}", ch[c]), grid.kd[c]),
-          fo.start.emplace_back(fmt::format("f0.{}", ch[c]), grid.f0[c]);
-    else if (fo.metal.empty())
-      fo.start.emplace_back(fmt::format("eta.{}", ch[c]), grid.eta[c]),
-          fo.start.emplace_back(fmt::format("k.{}", ch[c]), grid.k[c]);
+  if (!measured) {
+    fo.start = {{"alpha_x", grid.alpha_x}, {"alpha_y", grid.alpha_y}};
+    if (!isotropic) fo.start.emplace_back("rotation_deg", 0.0);
+    for (int c = 0; c < 3; ++c) {
+      if (fo.model == "ggx")
+        fo.start.emplace_back(fmt::format("kd.{}", ch[c]), grid.kd[c]),
+            fo.start.emplace_back(fmt::format("f0.{}", ch[c]), grid.f0[c]);
+      else if (fo.metal.empty())
+        fo.start.emplace_back(fmt::format("eta.{}", ch[c]), grid.eta[c]),
+            fo.start.emplace_back(fmt::format("k.{}", ch[c]), grid.k[c]);
+    }
+  } else {
+    fo.max_iterations = 200;
   }
-  const FitResult r = fit_samples(samples, fo);
+  const FitResult r = fit_samples(measured ? own : samples, fo);
   const MaterialDesc fitted = parse_material(r.material, "fitted GGX");
   std::optional<GgxSource> e = exact_ggx(fitted);
   if (!e) throw std::logic_error("export: the fitted material is not a GGX");
@@ -233,16 +272,24 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
   g.conductor = e->conductor;
   g.kd = e->kd, g.f0 = e->f0, g.eta = e->eta, g.k = e->k;
   g.exact = false;
+  g.isotropic = isotropic;
+  g.isotropy = isotropy_why;
+  if (isotropic) g.alpha_y = g.alpha_x = std::sqrt(g.alpha_x * g.alpha_y);
   g.source_fit = r.errors;
-  const FitErrors grid_err = ggx_errors(grid, samples);
+  const FitErrors grid_err = measured ? FitErrors{} : ggx_errors(grid, samples);
   const std::string how =
-      fmt::format("Ceres from {} starts and the alpha grid search's result (l2cos {:.4g}, log {:.4g}), best {}", fo.starts,
-                  grid_err.l2cos_all, grid_err.log_all, r.best_start);
+      measured ? fmt::format(
+                     "aniso fit's protocol on the file's {} samples: theta up to {:g} deg, {} starts, best {}; "
+                     "relative l2cos {:.4g} there",
+                     own.samples.size(), fo.max_theta_deg, fo.starts, r.best_start, r.errors.relative_l2cos)
+               : fmt::format("Ceres from {} starts and the alpha grid search's result (l2cos {:.4g}, log {:.4g}), best {}",
+                             fo.starts, grid_err.l2cos_all, grid_err.log_all, r.best_start);
   g.origin = fmt::format(
-      "fitted: aniso's anisotropic {} to {} samples of the {} source ({} metric; {}): l2cos {:.4g}, "
+      "fitted: aniso's {} {} to {} samples of the {} source ({} metric; {}): l2cos {:.4g}, "
       "log {:.4g}",
-      fo.model == "metal" ? "GGX conductor" : "GGX", samples.samples.size(), d.model,
-      o.metric == FitMetric::L2Cos ? "l2cos" : "log", how, g.source_fit.l2cos_all, g.source_fit.log_all);
+      isotropic ? "isotropic" : "anisotropic", fo.model == "metal" ? "GGX conductor" : "GGX",
+      (measured ? own : samples).samples.size(), d.model, o.metric == FitMetric::L2Cos ? "l2cos" : "log", how,
+      g.source_fit.l2cos_all, g.source_fit.log_all);
   return g;
 }
 

@@ -51,6 +51,11 @@ void write_gltf(const std::string& name, const json& p, const ExportReport& r, c
                                                         {"specularColorFactor", p.at("specularColorFactor")}};
     used.push_back("KHR_materials_specular");
   }
+  if (p.contains("ior")) {
+    // KHR_materials_ior: its ior replaces the 0.04 of KHR_materials_specular (targets.h, gltf_specular_for).
+    material["extensions"]["KHR_materials_ior"] = {{"ior", num(p, "ior")}};
+    used.push_back("KHR_materials_ior");
+  }
   json doc = {{"asset",
                {{"version", "2.0"},
                 {"generator", "aniso " ANISO_VERSION " export --to gltf"},

@@ -7,6 +7,18 @@ namespace aniso::exporter {
 
 std::string write_mitsuba(const std::string& name, const json& p, const std::string& comment) {
   const std::string id = xml_escape(identifier(name));
+  if (p.contains("filename")) {
+    // Mitsuba 3's own measured BSDF (src/bsdfs/measured.cpp @ b45b0a93: the "filename" property,
+    // line 86; an rgb file for the RGB variants, a spectral one for the spectral variants, lines
+    // 102-116; isotropic when phi_i has at most 2 entries, line 165). The file is relative to the
+    // scene's folder (Mitsuba resolves it with the file resolver, line 86).
+    std::string s = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!--\n" + xml_comment_safe(comment) + "-->\n";
+    s += "<scene version=\"3.0.0\">\n";
+    s += fmt::format("    <bsdf type=\"measured\" id=\"{}\">\n", id);
+    s += fmt::format("        <string name=\"filename\" value=\"{}\"/>\n", xml_escape(p["filename"].get<std::string>()));
+    s += "    </bsdf>\n</scene>\n";
+    return s;
+  }
   if (p.contains("principled")) {
     // principled.cpp:20-105: base_color a spectrum, the rest floats; "specular" (not "eta").
     std::string s = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!--\n" + xml_comment_safe(comment) + "-->\n";

@@ -26,6 +26,16 @@ std::string pbrt_conductor(const json& p) {
 std::string write_pbrt(const std::string& name, const json& p, const std::string& comment) {
   const std::string id = identifier(name);
   std::string s = comment + "\n";
+  if (p.contains("filename")) {
+    // pbrt-v4's MeasuredMaterial (src/pbrt/materials.cpp @ 5f7a6068: "measured", line 661; its
+    // "string filename", lines 610-620, resolved against the scene file's folder) reads the
+    // tensor file with MeasuredBxDFData::Create (src/pbrt/bxdfs.cpp:889-932), which needs the
+    // "spectra" and "wavelengths" fields: the spectral form. The name is measured_file_name's:
+    // letters, digits, '-', '_' and '.', nothing to escape in a quoted string.
+    s += fmt::format("MakeNamedMaterial \"{}\"\n    \"string type\" \"measured\"\n    \"string filename\" \"{}\"\n", id,
+                     p["filename"].get<std::string>());
+    return s;
+  }
   if (p.contains("amount")) {
     s += fmt::format("MakeNamedMaterial \"{}-diffuse\"\n    \"string type\" \"diffuse\"\n    \"rgb reflectance\" [ {} ]\n", id,
                      fmt3(col(p, "diffuse_reflectance"), " "));

@@ -119,13 +119,16 @@ GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& all, 
     const double lo = std::log(0.6), hi = std::log(1.5);
     constexpr int n = 9;
     const double step = (hi - lo) / (n - 1);
+    // An isotropic source (GgxSource::isotropic) keeps alpha_x == alpha_y: the diagonal alone.
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
+        if (g.isotropic && i != j) continue;
         const double x = lo + i * step, y = lo + j * step, e = err(std::exp(x), std::exp(y), trial);
         if (e < best_err) best_err = e, best = trial, bx = x, by = y;
       }
     for (int i = -3; i <= 3; ++i)
       for (int j = -3; j <= 3; ++j) {
+        if (g.isotropic && i != j) continue;
         const double e = err(std::exp(bx + i * step / 3), std::exp(by + j * step / 3), trial);
         if (e < best_err) best_err = e, best = trial;
       }

@@ -116,6 +116,16 @@ double max_albedo_difference(const MaterialD& source, const TargetBrdf& t, doubl
 
 // --- reports -----------------------------------------------------------------------------------------
 
+json ImageCheck::to_json() const {
+  return {{"size", size},
+          {"scene", fmt::format("orthographic unit sphere, uniform environment {:g}, sun {:g} from normalize(-0.5, 0.6, 1)",
+                                kCheckEnvironment, kCheckSunIrradiance)},
+          {"mean", {{"source", mean_source}, {"target", mean_target}, {"relative_difference", mean_difference}}},
+          {"lit", {{"source", lit_source}, {"target", lit_target}, {"relative_difference", lit_difference}}},
+          {"warn", warn()},
+          {"bounds", {{"mean", kCheckWarnMean}, {"lit", kCheckWarnLit}}}};
+}
+
 json ExportReport::to_json() const {
   json j = {{"target", target},
             {"target_model", target_model},
@@ -128,6 +138,8 @@ json ExportReport::to_json() const {
             {"samples", samples},
             {"notes", notes}};
   if (!blender_version.empty()) j["blender_version"] = blender_version;  // --to blender only
+  if (image.size > 0) j["image_check"] = image.to_json();
+  if (!measured_file.empty()) j["measured_file"] = measured_file;
   return j;
 }
 
@@ -142,6 +154,12 @@ std::string ExportReport::text(std::string_view pre) const {
                    errors.l2cos_all, errors.relative_l2cos, errors.log_all));
   line(fmt::format("  largest directional-albedo difference: {:.4g} (theta_o {:g}, phi_o {:g} deg)", max_albedo_difference,
                    albedo_theta_deg, albedo_phi_deg));
+  if (image.size > 0)
+    line(fmt::format(
+        "  image check (a sphere under a uniform environment and a sun, {} px): the target's mean {:.1f} % "
+        "from the source's, its lit region's {:.1f} %{}",
+        image.size, 100.0 * image.mean_difference, 100.0 * image.lit_difference,
+        image.warn() ? fmt::format(" (above {:g} % / {:g} %)", 100.0 * kCheckWarnMean, 100.0 * kCheckWarnLit) : std::string()));
   for (const std::string& n : notes) line("  note: " + n);
   return s;
 }

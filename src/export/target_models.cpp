@@ -524,15 +524,24 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         // glTF's default dielectric F0 is 0.04 (ior 1.5); any other goes into KHR_materials_specular,
         // whose Fresnel is then Schlick's with the source's F0 exactly (targets.h, gltf_specular_for).
         if (glm::any(glm::greaterThan(glm::abs(g.f0 - 0.04), glm::dvec3(1e-4)))) {
-          const auto [specular, color] = gltf_specular_for(g.f0);
-          m.name = "glTF 2.0 dielectric_brdf (metallic 0) with KHR_materials_specular: Schlick F0 = 0.04 specularColor";
-          m.lobe.f0 = gltf_dielectric_f0(specular, color);
+          const GltfSpecular sp = gltf_specular_for(g.f0);
+          m.name = sp.ior == 1.5
+                       ? "glTF 2.0 dielectric_brdf (metallic 0) with KHR_materials_specular: Schlick F0 = 0.04 specularColor"
+                       : "glTF 2.0 dielectric_brdf (metallic 0) with KHR_materials_specular and KHR_materials_ior: Schlick F0 "
+                         "= F0(ior) specularColor";
+          m.lobe.f0 = gltf_dielectric_f0(sp.specular, sp.color, sp.ior);
           m.diffuse_times_one_minus_f = false, m.diffuse_times_one_minus_max_f = true;
-          p["specularFactor"] = specular, p["specularColorFactor"] = j3(color);
+          p["specularFactor"] = sp.specular, p["specularColorFactor"] = j3(sp.color);
+          if (sp.ior != 1.5) p["ior"] = sp.ior;
           notes.push_back(fmt::format(
-              "the source's dielectric F0 {} is not glTF's 0.04: written with KHR_materials_specular (specularColorFactor "
-              "= F0 / 0.04); viewers without the extension show F0 = 0.04",
-              fmt3(g.f0)));
+              "the source's dielectric F0 {} is not glTF's 0.04: written with KHR_materials_specular{}; viewers without "
+              "the extension{} show F0 = 0.04",
+              fmt3(g.f0),
+              sp.ior == 1.5 ? " (specularColorFactor = F0 / 0.04)"
+                            : fmt::format(" and KHR_materials_ior (ior {:.6g} for the largest F0, specularColorFactor = F0 / "
+                                          "max F0: every factor in [0, 1])",
+                                          sp.ior),
+              sp.ior == 1.5 ? "" : "s"));
         }
       }
       if (ax > 1.0) notes.push_back("alpha along the tangent above 1 clamped to 1 (glTF's mix(alpha, 1, s^2) <= 1)");

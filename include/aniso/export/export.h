@@ -26,6 +26,7 @@
 
 #include "aniso/export/targets.h"
 #include "aniso/fit/fit.h"
+#include "aniso/image/image.h"
 #include "aniso/io/materials.h"
 #include "aniso/measured/samples.h"
 
@@ -58,7 +59,30 @@ struct GgxSource {
   bool exact = true;
   std::string origin;    // how it was obtained, one line
   FitErrors source_fit;  // of the aniso GGX fit against the source samples (fitted only)
+  // The source is isotropic (decide_source_isotropy): the fit is isotropic, alpha_x == alpha_y,
+  // and the refinement keeps them equal, so no target writes an anisotropy. `isotropy`: why.
+  bool isotropic = false;
+  std::string isotropy;
 };
+
+// A measured source (an RGL tensor file, a MERL table) is isotropic by construction (one phi_i:
+// pbrt-v4 and Mitsuba 3 read it so, bxdfs.cpp:938, measured.cpp:165; MERL's three angles); any
+// other source by the rotation test of rgl::rotation_difference: isotropic when turning both
+// directions about the normal changes f by at most rgl::kMeasuredIsotropyTolerance (4 %: the
+// readers' blend between azimuth slices of an isotropic material reaches 1.8 %, a GGX of alpha
+// ratio 1.2 changes by 2.9 % to 7.2 %; rgl_export.h). Returns {isotropic, why}.
+std::pair<bool, std::string> decide_source_isotropy(const MaterialDesc& desc);
+
+// The metal / dielectric branch: a Schlick GGX's diffuse is negligible, and the export writes a
+// metal (no diffuse, F0 as the base colour), when its largest channel is at most
+//   kNegligibleDiffuseAbs + kNegligibleDiffuseShare x max(F0)
+// (1e-3: a tenth of a percent of a white diffuse, a step no display shows on a glossy body; 2 %
+// of the specular's normal reflectance: the sphere's mean moves by at most about that share).
+// A margin, not a threshold at 0: a diffuse of 1e-4 or 2.5e-4 in one channel keeps a metal a metal;
+// a near-black diffuse on a metal is written as none, never as a colour.
+inline constexpr double kNegligibleDiffuseAbs = 1e-3;
+inline constexpr double kNegligibleDiffuseShare = 0.02;
+bool negligible_diffuse(const GgxSource& g);
 
 // The ranges export_material accepts (the CLI's option checks use the same).
 inline constexpr int kExportGridMin = 1, kExportGridMax = 12;
@@ -86,6 +110,37 @@ struct ExportOptions {
   // renderer composes them (io/params.cpp, kOrientation), and written into the target's rotation.
   double tangent_angle_deg = 0.0;
   std::vector<std::string> extra_notes;  // added to the report's notes (what the caller could not carry)
+  // --to mitsuba3 / pbrt-v4 with a measured source (an RGL tensor file, a MERL table): false writes
+  // the renderer's own measured BSDF with the tensor file beside it (the source itself); true the
+  // fitted analytic material (`--analytic`).
+  bool analytic = false;
+  // A tensor-file source's fit samples: rgl_sample_grid's n_theta_h (`aniso fit --grid`; even, 4 to
+  // 256; 0: its defaults, 64 isotropic and 32 anisotropic). Tests use 16.
+  int measured_grid = 0;
+  // The image check (ImageCheck): each sphere's pixels (0: no check).
+  int check_size = 48;
+};
+
+// The export's check in image space (image_check): the source and the written target model on one
+// standard scene, a unit sphere seen orthographically along -z (the preview's, write_preview),
+// under a uniform white environment of radiance kCheckEnvironment and one sun of irradiance
+// kCheckSunIrradiance from normalize(-0.5, 0.6, 1) (the view frame: x right, y up, z towards the
+// viewer), direct light only (no shadows: a convex sphere shadows nothing that n.l does not).
+// mean: the luminance (mean of R, G, B) averaged over the sphere's pixels; lit: over its lit region,
+// the pixels where the sun is within 60 degrees of the normal (n.l >= 0.5). The differences are
+// relative to the source's: |target / source - 1|.
+inline constexpr double kCheckEnvironment = 0.25;
+inline constexpr double kCheckSunIrradiance = 2.5;
+// Above either bound the export warns (stderr; the exit status stays 0): 25 % on the mean, 40 % on
+// the lit region, the targets of docs/export.md ("Real measurements") for a Cycles render of the
+// export against aniso's of the source.
+inline constexpr double kCheckWarnMean = 0.25, kCheckWarnLit = 0.40;
+struct ImageCheck {
+  int size = 0;  // pixels per sphere side; 0: not run
+  double mean_source = 0.0, mean_target = 0.0, lit_source = 0.0, lit_target = 0.0;
+  double mean_difference = 0.0, lit_difference = 0.0;
+  bool warn() const { return size > 0 && (mean_difference > kCheckWarnMean || lit_difference > kCheckWarnLit); }
+  nlohmann::json to_json() const;
 };
 
 struct ExportReport {
@@ -102,6 +157,10 @@ struct ExportReport {
   // "Blender 4.0 to 4.2 (Principled BSDF)", "Blender 4.3 and later"); the other versions' errors
   // for the same script are in the notes. Empty for the other targets.
   std::string blender_version;
+  ImageCheck image;  // the check in image space (ImageCheck)
+  // A measured source written as the renderer's own measured BSDF: the tensor file written beside
+  // (ExportFile 1) and what it is (rgb or spectral, transcoded or resampled, isotropic or not).
+  std::string measured_file;
 
   nlohmann::json to_json() const;
   // A few lines for the terminal and, prefixed, for the file's comment.
@@ -114,7 +173,8 @@ struct ExportFile {
 };
 
 struct ExportResult {
-  std::vector<ExportFile> files;  // files[0] is the main file
+  // files[0] is the main file; files[1] glTF's .bin or a measured BSDF's tensor file (its name)
+  std::vector<ExportFile> files;
   ExportReport report;
   TargetBrdf model;  // the target model of the written parameters
   GgxSource ggx;
@@ -143,9 +203,24 @@ FitErrors target_errors(const TargetBrdf& t, const SampleSet& data);
 double max_albedo_difference(const MaterialD& source, const TargetBrdf& t, double* theta_deg = nullptr,
                              double* phi_deg = nullptr);
 
-// The whole export. `bin_name`: the glTF buffer's file name (the .gltf names it; "" = "<name>.bin").
+// The whole export. `bin_name`: the file written beside the main one, which it names: the glTF
+// buffer ("" = "<name>.bin"), a measured BSDF's tensor file ("" = measured_file_name(name, ...)).
 ExportResult export_material(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o,
                              const std::string& bin_name = "");
+
+// The tensor file a measured source's Mitsuba 3 / pbrt-v4 export writes beside the main file: the
+// main file's stem (each byte other than a letter, digit, '-' and '_' as '_', so that the name
+// needs no escaping in the XML or the pbrt-v4 string that refers to it) + "_rgb.bsdf" for Mitsuba 3
+// (the RGB form, which its RGB variants read; measured.cpp:102-116) or "_spec.bsdf" for pbrt-v4
+// (spectra and wavelengths, all it reads: bxdfs.cpp:889-932). "" when the export writes no tensor
+// file (another target, not measured, or analytic).
+std::string measured_file_name(Target t, const std::string& main_stem);
+// Whether the export of this source to this target writes a measured BSDF (and its tensor file).
+bool writes_measured(Target t, const MaterialDesc& desc, const ExportOptions& o);
+
+// The check in image space (ImageCheck), `size` pixels per sphere; `image`, when given, receives the
+// side by side (source left, target right, linear radiance).
+ImageCheck image_check(const MaterialD& source, const TargetBrdf& target, int size, render::Image* image = nullptr);
 
 // For tests and the docs: the target model and parameters for a GGX, without the file.
 // blender_version: which of the script's node setups the model is (4.3 and later: the Metallic BSDF
@@ -154,13 +229,12 @@ TargetBrdf target_model(Target t, const GgxSource& g, nlohmann::json* parameters
                         std::vector<std::string>* notes = nullptr, double blender_version = 4.3);
 
 // A picture for the docs and `--preview`: two spheres, the source (left) and the written target
-// model (right), shaded by aniso with the same two directional lights, tangent dp/du of a sphere
-// whose u runs around the vertical axis (aniso's meshes), viewed orthographically along -z.
-// Each sphere `size` pixels; PNG through render::write_png, or (a .pfm or .exr path) the linear
-// radiance through render::write_image, without labels. The lights (directions to the light in the
-// view frame: x right, y up, z towards the viewer; irradiance at normal incidence): normalize(-0.5,
-// 0.6, 1) with 2.5, normalize(0.7, -0.3, 0.8) with 1; the tangent normalize(y x n). The Blender
-// check (tests/blender_export_render.py) builds the same scene in Cycles.
+// model (right), shaded by aniso in the image check's scene (ImageCheck: a uniform environment and
+// a sun), tangent dp/du of a sphere whose u runs around the vertical axis (aniso's meshes), viewed
+// orthographically along -z; the tangent normalize(y x n). Each sphere `size` pixels; PNG through
+// render::write_png, or (a .pfm or .exr path) the linear radiance through render::write_image,
+// without labels. The Blender check (tests/blender_export_render.py) builds the same scene in
+// Cycles.
 void write_preview(const std::string& path, const MaterialD& source, const TargetBrdf& target, const std::string& left,
                    const std::string& right, int size = 256);
 

@@ -36,6 +36,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <utility>
 
@@ -107,6 +108,10 @@ struct TargetBrdf {
   // Mitsuba 3's principled BSDF (mitsuba_principled_f) in place of the lobe and the diffuse term.
   bool is_mitsuba_principled = false;
   MitsubaPrincipled principled;
+  // The renderers' own measured BSDF (Mitsuba 3 `measured`, pbrt-v4 `measured`): f of the tensor
+  // file written beside the scene, read back (pbrt-v4's MeasuredBxDF::f, aniso/brdf/rgl.h), in
+  // place of everything above.
+  std::function<glm::dvec3(const Vec3d& wi, const Vec3d& wo)> measured;
 
   glm::dvec3 fresnel(double cos_theta) const;
   glm::dvec3 f(const Vec3d& wi, const Vec3d& wo) const;
@@ -395,11 +400,28 @@ inline glm::dvec2 gltf_alpha(double roughness, double strength) {
 //   dielectric_f0 = min(0.04 * specularColor, float3(1.0)) * specular; dielectric_f90 = specular;
 //   dielectric_fresnel = mix(dielectric_f0, dielectric_f90, fresnel_w)   (fresnel_w = (1 - |v.h|)^5)
 //   dielectric_brdf = dielectric_fresnel * specular_brdf + (1 - max_value(dielectric_fresnel)) * diffuse_brdf
-// So a Schlick F0 (f90 = 1) is specular = 1, specularColor = F0 / 0.04 (the factor may exceed 1,
-// README.md:125; the product is clamped to 1). Returns {specularFactor, specularColorFactor}.
-inline std::pair<double, glm::dvec3> gltf_specular_for(const glm::dvec3& f0) { return {1.0, glm::clamp(f0, 0.0, 1.0) / 0.04}; }
-inline glm::dvec3 gltf_dielectric_f0(double specular, const glm::dvec3& specular_color) {
-  return glm::min(0.04 * specular_color, glm::dvec3(1.0)) * specular;
+// So a Schlick F0 (f90 = 1) is specular = 1, specularColor = F0 / 0.04 when max(F0) <= 0.04. A
+// larger F0 would need a factor above 1 (the extension allows it, README.md:125, and clamps the
+// product; an F0 of 0.46 gave 11.6): instead the 0.04 is raised with KHR_materials_ior, whose ior
+// replaces it by ((ior - 1) / (ior + 1))^2 (MaterialX's glTF PBR graph, gltf_pbr.mtlx:
+// dielectric_f0_from_ior, dielectric_f0_from_ior_specular_color = that times specular_color,
+// clamped to 1): ior from max(F0) and specularColor = F0 / max(F0), every factor in [0, 1].
+// Returns {specularFactor, specularColorFactor, ior} (ior 1.5, glTF's default, when not needed).
+struct GltfSpecular {
+  double specular;
+  glm::dvec3 color;
+  double ior;
+};
+inline double gltf_f0_of_ior(double ior) { return sqr((ior - 1.0) / (ior + 1.0)); }
+inline GltfSpecular gltf_specular_for(const glm::dvec3& f0_in) {
+  const glm::dvec3 f0 = glm::clamp(f0_in, 0.0, 0.999);
+  const double m = std::max({f0.x, f0.y, f0.z});
+  if (m <= 0.04) return {1.0, f0 / 0.04, 1.5};
+  const double r = std::sqrt(m);
+  return {1.0, f0 / m, (1.0 + r) / (1.0 - r)};
+}
+inline glm::dvec3 gltf_dielectric_f0(double specular, const glm::dvec3& specular_color, double ior = 1.5) {
+  return glm::min(gltf_f0_of_ior(ior) * specular_color, glm::dvec3(1.0)) * specular;
 }
 
 // --- the shared evaluation ----------------------------------------------------------------------
@@ -417,6 +439,7 @@ inline glm::dvec3 TargetBrdf::fresnel(double c) const {
 
 inline glm::dvec3 TargetBrdf::f(const Vec3d& wi_in, const Vec3d& wo_in) const {
   if (!(wi_in.z > 0.0) || !(wo_in.z > 0.0)) return glm::dvec3(0.0);
+  if (measured) return measured(wi_in, wo_in);
   Vec3d wi = wi_in, wo = wo_in;
   if (tangent_turn_deg != 0.0) {
     // Components along the turned tangent t' = cos a x + sin a y and b' = -sin a x + cos a y.
