@@ -70,6 +70,12 @@ def conductor_fresnel(c, eta, k):
     return (np.abs(r_par) ** 2 + np.abs(r_perp) ** 2) / 2.0
 
 
+def weights_and_alpha(rng):
+    """A random start of a diffuse and a specular weight per channel and one alpha (GGX, Ward):
+    weights uniform in [0, 1], alpha log-uniform in [0.02, 0.6]."""
+    return np.r_[rng.uniform(0, 1, 3), rng.uniform(0, 1, 3), math.exp(rng.uniform(math.log(0.02), math.log(0.6)))]
+
+
 class Model:
     """A model: parameter names, bounds, a random start, f(wi, wo, x) -> (N, 3), and aniso's JSON."""
 
@@ -85,10 +91,7 @@ def make_ggx():
         spec, h = ggx_lobe(wi, wo, x[6], x[6])
         return x[None, 0:3] / PI + schlick(x[3:6], np.sum(wi * h, axis=1)) * spec[:, None]
 
-    def start(rng):
-        return np.r_[rng.uniform(0, 1, 3), rng.uniform(0, 1, 3), math.exp(rng.uniform(math.log(0.02), math.log(0.6)))]
-
-    return Model("ggx", ["kd.r", "kd.g", "kd.b", "f0.r", "f0.g", "f0.b", "alpha"], [0] * 6 + [1e-3], [1] * 7, start, f,
+    return Model("ggx", ["kd.r", "kd.g", "kd.b", "f0.r", "f0.g", "f0.b", "alpha"], [0] * 6 + [1e-3], [1] * 7, weights_and_alpha, f,
                  lambda x: {"model": "ggx", "kd": list(x[0:3]), "f0": list(x[3:6]), "alpha": x[6]})
 
 
@@ -102,10 +105,7 @@ def make_ward():
         n = 1.0 / (4.0 * PI * a * a * np.sqrt(wi[:, 2] * wo[:, 2]))
         return x[None, 0:3] / PI + x[None, 3:6] * (n * e)[:, None]
 
-    def start(rng):
-        return np.r_[rng.uniform(0, 1, 3), rng.uniform(0, 1, 3), math.exp(rng.uniform(math.log(0.02), math.log(0.6)))]
-
-    return Model("ward", ["kd.r", "kd.g", "kd.b", "ks.r", "ks.g", "ks.b", "alpha"], [0] * 6 + [1e-3], [1] * 7, start, f,
+    return Model("ward", ["kd.r", "kd.g", "kd.b", "ks.r", "ks.g", "ks.b", "alpha"], [0] * 6 + [1e-3], [1] * 7, weights_and_alpha, f,
                  lambda x: {"model": "ward", "kd": list(x[0:3]), "ks": list(x[3:6]), "alpha": x[6]})
 
 

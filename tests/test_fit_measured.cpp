@@ -51,6 +51,17 @@ SampleSet hemisphere_data(const json& material, int count, double outlier_theta_
 
 double at(const json& v, int c) { return v.is_array() ? v[size_t(c)].get<double>() : v.get<double>(); }
 
+// An isotropic fit of `model` from `starts` starts on two threads.
+FitOptions isotropic(const char* model, int starts, int lobes = 1) {
+  FitOptions o;
+  o.model = model;
+  o.lobes = lobes;
+  o.anisotropy = Anisotropy::No;
+  o.starts = starts;
+  o.threads = 2;
+  return o;
+}
+
 // ---- the range ---------------------------------------------------------------------------------------
 
 // Grazing samples five times too bright (a measurement's worst region): within Ngan's 80 degrees
@@ -58,11 +69,7 @@ double at(const json& v, int c) { return v.is_array() ? v[size_t(c)].get<double>
 TEST(FitRange, GrazingOutliersBeyondTheRangeDoNotDecideTheFit) {
   const json truth = {{"model", "ggx"}, {"kd", {0.3, 0.2, 0.1}}, {"f0", 0.05}, {"alpha", 0.2}};
   const SampleSet data = hemisphere_data(truth, 3000, 80.0, 5.0, 7);
-  FitOptions o;
-  o.model = "ggx";
-  o.anisotropy = Anisotropy::No;
-  o.starts = 2;
-  o.threads = 2;
+  FitOptions o = isotropic("ggx", 2);
   const FitResult r = fit_samples(data, o);
   EXPECT_EQ(r.max_theta_deg, 80.0);
   EXPECT_GT(r.samples_beyond_range, 300u);
@@ -149,11 +156,7 @@ TEST(FitLinear, TheDiffuseIsZeroOnlyWhereTheDataSaySo) {
   for (const double kd : {0.0, 0.08}) {
     const json truth = {{"model", "ggx"}, {"kd", {kd, kd * 0.6, kd * 0.3}}, {"f0", {0.04, 0.04, 0.04}}, {"alpha", 0.015}};
     const SampleSet data = hemisphere_data(truth, 4000, 90.0, 1.0, 11);
-    FitOptions o;
-    o.model = "ggx";
-    o.anisotropy = Anisotropy::No;
-    o.starts = 1;
-    o.threads = 2;
+    const FitOptions o = isotropic("ggx", 1);
     const FitResult r = fit_samples(data, o);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(at(r.material["kd"], c), at(truth["kd"], c), 2e-3) << kd << " " << c;
     EXPECT_LT(r.errors.relative_l2cos, 1e-3) << kd;
@@ -168,11 +171,7 @@ TEST(FitLinear, TheDiffuseIsZeroOnlyWhereTheDataSaySo) {
 // off (3 lobes on a held-out paint: 0.0028 -> 0.168); the output reports both errors and albedos.
 TEST(FitEnergy, ASlightExcessCostsLittle) {
   const SampleSet data = read_cornell(std::string(ANISO_SOURCE_DIR) + "/data/measured/cornell/cayman.brdf");
-  FitOptions o;
-  o.model = "lafortune";
-  o.lobes = 1;
-  o.anisotropy = Anisotropy::No;
-  o.threads = 2;
+  const FitOptions o = isotropic("lafortune", 6, 1);
   const FitResult r = fit_samples(data, o);
   ASSERT_TRUE(r.energy_constrained);
   EXPECT_LE(r.largest_albedo, 1.005);
@@ -190,11 +189,7 @@ TEST(FitEnergy, ASlightExcessCostsLittle) {
 TEST(FitEnergy, TheLinearEntriesAreReSolvedUnderTheConstraint) {
   const json gains = {{"model", "ggx"}, {"kd", {0.97, 0.5, 0.3}}, {"f0", 0.2}, {"alpha", 0.3}};
   const SampleSet data = hemisphere_data(gains, 3000, 80.0, 1.0, 5);
-  FitOptions o;
-  o.model = "ggx";
-  o.anisotropy = Anisotropy::No;
-  o.starts = 1;
-  o.threads = 2;
+  const FitOptions o = isotropic("ggx", 1);
   const FitResult r = fit_samples(data, o);
   ASSERT_TRUE(r.energy_constrained);
   EXPECT_EQ(r.energy_method, "the linear entries re-solved under the constraint");
