@@ -285,7 +285,9 @@ void add_fit_command(CLI::App& app) {
   fit->add_option("--loss-scale", a->options.loss_scale, "the robust loss's scale (residual units); 0: from the data")
       ->type_name("FLOAT")
       ->capture_default_str();
-  fit->add_option("--starts", a->options.starts, "number of starts (moments, Ngan 2005's nearest fit, random), 1 to 1000")
+  fit->add_option("--starts", a->options.starts,
+                  "number of starts (moments, Ngan 2005's nearest fit, random), 1 to 1000; the separable grid's start "
+                  "(docs/fitting.md) comes beside them")
       ->type_name("INT")
       ->capture_default_str();
   fit->add_option("--seed", a->options.seed, "seed of the random starts, 0 to 2^64-1")
