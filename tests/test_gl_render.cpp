@@ -615,12 +615,7 @@ std::string write_ward_merl(const fs::path& dir) {
 }
 std::string write_small_tensor(const fs::path& dir) {
   const std::string path = (dir / "ggx.bsdf").string();
-  rgl::ExportOptions o;
-  o.spectral = false;
-  o.colour = 16;
-  o.theta_i = 8;
-  o.phi_i = 9;
-  o.ndf = 32;
+  const rgl::ExportOptions o = small_rgl_options();
   const std::vector<uint8_t> bytes = rgl::serialize_tensor(rgl::export_rgl(
       rgl::brdf_source(
           build<double>({{"model", "ggx"}, {"kd", 0.1}, {"f0", {0.9, 0.6, 0.3}}, {"alpha_x", 0.1}, {"alpha_y", 0.3}})),

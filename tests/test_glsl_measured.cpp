@@ -39,17 +39,6 @@ fs::path scratch() {
   return dir;
 }
 
-// Small grids (the tests' cost; docs/rgl.md has the defaults' accuracy), as test_rgl.cpp.
-rgl::ExportOptions small_rgl_options() {
-  rgl::ExportOptions o;
-  o.spectral = false;
-  o.colour = 16;
-  o.theta_i = 8;
-  o.phi_i = 9;
-  o.ndf = 32;
-  return o;
-}
-
 // The material of a case, loaded from a file as a user's would be (load_material), once per process.
 const MaterialDesc& case_material(const MeasuredCase& c) {
   static std::map<std::string, MaterialDesc> cache;

@@ -18,6 +18,7 @@
 #include "aniso/rgl/tensor.h"
 #include "cli_fixture.h"
 #include "io/text_escape.h"
+#include "test_util.h"
 
 namespace aniso {
 namespace {
@@ -30,7 +31,8 @@ TEST(TextEscape, ControlBytesLineBreaksAndC1AreEscaped) {
   EXPECT_EQ(text_escape("\x1b[31m\x07\x7f"), "\\u001b[31m\\u0007\\u007f");
   EXPECT_EQ(text_escape("\xc2\x9b"
                         "2J"),
-            "\\u009b2J");  // C1 CSI
+            "\\u009b2J");                                                    // C1 CSI
+  EXPECT_EQ(text_escape("x\xef\xbf\xbey\xef\xbf\xbf"), "x\\ufffey\\uffff");  // XML 1.0 refuses them
   EXPECT_EQ(text_escape("a\xe2\x80\xa8"
                         "b\xe2\x80\xa9"),
             "a\\u2028b\\u2029");  // line, paragraph separators
@@ -66,10 +68,11 @@ using HostileText = Cli;
 
 const std::string kInjection = "m\nimport os; os.system(\"touch PWNED\")\n#";
 // Quotes, backslash, XML's comment and tag ends, CR / LF with a pbrt-v4 directive, control bytes
-// (ESC, BEL), a C1 control (CSI) and a line separator, in one text: one export per target tries all.
+// (ESC, BEL), a C1 control (CSI), a line separator and the noncharacter U+FFFE, in one text: one
+// export per target tries all.
 const std::string kHostile =
     "q\"uo'te \\ back </scene><!-- -- --> ]]> cr\rlf\r\nAttributeBegin\n ctl\x01\x02\x1b[31m\x07 c1\xc2\x9b"
-    "2J \xe2\x80\xa8 end";
+    "2J \xe2\x80\xa8 \xef\xbf\xbe end";
 const std::string kNotUtf8 = "not utf8 \xff\xfe\xc0";
 
 bool have_python() { return std::system("command -v python3 > /dev/null 2>&1") == 0; }
@@ -238,8 +241,7 @@ TEST_F(HostileText, ATensorFilesDescriptionAndFieldNamesReachTheTerminalEscaped)
   const std::string description("film \x1b]0;owned\x07 \0 \xff end", sizeof "film \x1b]0;owned\x07 \0 \xff end" - 1);
   rgl::BrdfSource src = rgl::brdf_source(build_material<double>(load_material(kGgx)));
   src.description = description;
-  rgl::ExportOptions small;  // small grids: the test's cost
-  small.colour = 16, small.theta_i = 8, small.phi_i = 9, small.ndf = 32;
+  const rgl::ExportOptions small = test::small_rgl_options(true);
   const auto bytes = [](const std::vector<uint8_t>& b) { return std::string(b.begin(), b.end()); };
   const std::string desc_file = write("d.bsdf", bytes(rgl::serialize_tensor(rgl::export_rgl(src, small))));
   const Result d = run({"presets", "--show", desc_file});

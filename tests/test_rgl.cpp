@@ -30,17 +30,6 @@ namespace {
 using rgl::TensorField;
 using rgl::TensorFile;
 
-// Small grids: the tests' cost, not the defaults' accuracy (docs/rgl.md has those).
-rgl::ExportOptions small_options(bool spectral = false) {
-  rgl::ExportOptions o;
-  o.spectral = spectral;
-  o.colour = 16;
-  o.theta_i = 8;
-  o.phi_i = 9;
-  o.ndf = 32;
-  return o;
-}
-
 std::vector<TensorField> export_json(const nlohmann::json& j, const rgl::ExportOptions& o) {
   rgl::BrdfSource src = rgl::brdf_source(build<double>(j));
   src.description = j.dump();
@@ -79,7 +68,7 @@ struct BadCase {
 };
 
 TEST(RglTensor, BadFilesAreInputErrorsNamingFileFieldAndProblem) {
-  const std::vector<TensorField> good = export_json(kGGXAniso, small_options());
+  const std::vector<TensorField> good = export_json(kGGXAniso, small_rgl_options());
   auto field = [](std::vector<TensorField>& fs, const std::string& n) -> TensorField& {
     for (TensorField& f : fs)
       if (f.name == n) return f;
@@ -223,7 +212,7 @@ std::string readers_rules(const TensorFile& t, bool for_pbrt) {
 TEST(RglExport, EveryWrittenFilePassesPbrtAndMitsubaRules) {
   for (const bool spectral : {true, false})
     for (const nlohmann::json& j : {kGGXIso, kGGXAniso}) {
-      const TensorFile t = rgl::parse_tensor(rgl::serialize_tensor(export_json(j, small_options(spectral))), "x.bsdf");
+      const TensorFile t = rgl::parse_tensor(rgl::serialize_tensor(export_json(j, small_rgl_options(spectral))), "x.bsdf");
       EXPECT_EQ(readers_rules(t, false), "") << j.dump();
       if (spectral)
         EXPECT_EQ(readers_rules(t, true), "") << j.dump();
@@ -244,7 +233,7 @@ TEST(RglExport, ExtremeMaterialsGiveFilesTheReaderTakes) {
        {nlohmann::json{{"model", "phong"}, {"exponent", 1e6}, {"ks", 1e6}},
         nlohmann::json{{"model", "lafortune"}, {"lobes", {{{"cx", 1}, {"cy", 1}, {"cz", 1}, {"n", 1e6}}}}},
         nlohmann::json{{"model", "lafortune"}, {"lobes", {{{"cx", -1}, {"cy", -1}, {"cz", 1}, {"n", 1e6}}}}}}) {
-    const std::shared_ptr<rgl::RglData> d = read_back(export_json(j, small_options()));
+    const std::shared_ptr<rgl::RglData> d = read_back(export_json(j, small_rgl_options()));
     ASSERT_TRUE(d) << j.dump();
     const auto k = rgl::rgl_kernel<double>(*d);
     const Vec3d wi = glm::normalize(Vec3d(-0.3, 0.1, 0.9));
@@ -262,7 +251,7 @@ TEST(RglExport, ExtremeMaterialsGiveFilesTheReaderTakes) {
 // the readers' blend errs; the vndf grid is 32 x 32 for anisotropic files and the ndf's for
 // isotropic ones.
 TEST(RglExport, AzimuthsFollowTheMirrorAxes) {
-  rgl::ExportOptions o = small_options();
+  rgl::ExportOptions o = small_rgl_options();
   o.ndf = 16;
   o.phi_i = 13;
   for (const double turn : {0.0, 30.0}) {
@@ -321,7 +310,7 @@ TEST(RglExport, AzimuthsFollowTheMirrorAxes) {
 TEST(RglExport, AutoKeepsTheBetterEstimateOfD) {
   rgl::BrdfSource src = rgl::brdf_source(build_material<double>(load_material("matte-steel")));
   src.description = "matte-steel";
-  rgl::ExportOptions o = small_options();
+  rgl::ExportOptions o = small_rgl_options();
   rgl::ExportReport rep;
   const std::vector<uint8_t> chosen = rgl::serialize_tensor(rgl::export_rgl(src, o, &rep));
   EXPECT_NE(rep.d_method.find("envelope"), std::string::npos) << rep.d_method;
@@ -503,7 +492,7 @@ TEST(RglSampling, ChiSquareOfTheReadFile) {
                                       {"form", "approx"},
                                       {"normalization", "balanced"}};
   for (const nlohmann::json& j : {kGGXIso, kGGXAniso, nlohmann::json("matte-steel"), ward_tilted}) {
-    rgl::ExportOptions o = small_options();
+    rgl::ExportOptions o = small_rgl_options();
     if (j == ward_tilted) o.d_estimate = rgl::ExportOptions::DEstimate::LobeAverage, o.warp_tilt = 0.15;
     if (j.is_string()) o.d_estimate = rgl::ExportOptions::DEstimate::LobeEnvelope;
     rgl::BrdfSource b =
@@ -532,7 +521,7 @@ TEST(RglSampling, ChiSquareOfTheReadFile) {
 TEST(RglExport, SpectralFileReducesBackToTheRgb) {
   const MaterialD m = build_material<double>(load_material("gold"));
   rgl::BrdfSource b = rgl::brdf_source(m);
-  rgl::ExportOptions o = small_options(true);
+  rgl::ExportOptions o = small_rgl_options(true);
   const auto spectral = read_back(rgl::export_rgl(b, o));
   o.spectral = false;
   const auto rgb = read_back(rgl::export_rgl(b, o));
@@ -594,7 +583,7 @@ TEST(RglExport, MetalSpectraAreTheMeasuredFresnel) {
 
   // The file: spectra that vary inside a box (gold falls from 500 to 580 nm), and a reduction
   // within the same bound of the RGB file's f.
-  rgl::ExportOptions o = small_options(true);
+  rgl::ExportOptions o = small_rgl_options(true);
   rgl::ExportReport rep;
   const std::vector<TensorField> fields = rgl::export_rgl(b, o, &rep);
   EXPECT_NE(rep.spectra.find("gold's measured n, k"), std::string::npos) << rep.spectra;
@@ -630,7 +619,7 @@ TEST(RglExport, MetalSpectraAreTheMeasuredFresnel) {
 // the field and the flat index. The readers' own rule is none (pbrt-v4 and Mitsuba 3 check no
 // value), so aniso may note, never refuse, what is rounding.
 TEST(RglNoise, RoundingNoiseIsReadAsZeroWithANoteAndClearNegativesAreRefused) {
-  std::vector<TensorField> fields = export_json(kGGXIso, small_options());
+  std::vector<TensorField> fields = export_json(kGGXIso, small_rgl_options());
   TensorField* lum = nullptr;
   for (TensorField& f : fields)
     if (f.name == "luminance") lum = &f;
@@ -776,7 +765,7 @@ TEST(RglExport, IsotropyDecision) {
   o.isotropy = rgl::ExportOptions::Isotropy::Anisotropic;
   EXPECT_FALSE(rgl::decide_isotropy(rgl::brdf_source(iso), o).isotropic);
   // Written: one phi_i slice when isotropic, the full circle when forced anisotropic.
-  rgl::ExportOptions s = small_options();
+  rgl::ExportOptions s = small_rgl_options();
   s.isotropy = rgl::ExportOptions::Isotropy::Anisotropic;
   rgl::ExportReport rep;
   const auto forced = read_back(rgl::export_rgl(rgl::brdf_source(iso), s, &rep));
@@ -794,7 +783,7 @@ TEST(RglExport, IsotropyDecision) {
 class RglFromTensor : public Cli {};
 
 TEST_F(RglFromTensor, IsotropicSourceStaysIsotropicAndSmall) {
-  const std::vector<uint8_t> bytes = rgl::serialize_tensor(export_json(kGGXIso, small_options()));
+  const std::vector<uint8_t> bytes = rgl::serialize_tensor(export_json(kGGXIso, small_rgl_options()));
   const std::string path = write("iso.bsdf", std::string(bytes.begin(), bytes.end()));
   const MaterialDesc desc = load_material(path);
   const MaterialD m = build_material<double>(desc);
@@ -904,7 +893,7 @@ TEST_F(RglCli, ExportShowAndBadFile) {
 class RglMaterial : public Cli {};
 
 TEST_F(RglMaterial, ABsdfFileIsAMaterial) {
-  const std::vector<uint8_t> bytes = rgl::serialize_tensor(export_json(kGGXAniso, small_options()));
+  const std::vector<uint8_t> bytes = rgl::serialize_tensor(export_json(kGGXAniso, small_rgl_options()));
   const std::string path = write("ggx.bsdf", std::string(bytes.begin(), bytes.end()));
   const MaterialDesc d = load_material(path);
   EXPECT_EQ(d.model, "rgl");

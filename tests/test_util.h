@@ -15,6 +15,7 @@
 
 #include "aniso/brdf/material.h"
 #include "aniso/io/materials.h"
+#include "aniso/rgl/rgl_export.h"
 #include "stats/rng.h"
 
 namespace aniso::test {
@@ -140,6 +141,18 @@ template <typename T> Vec3T<T> random_upper(Rng& rng) {
   const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
   const double phi = 2.0 * M_PI * rng.uniform();
   return Vec3T<T>(T(r * std::cos(phi)), T(r * std::sin(phi)), T(z));
+}
+
+// Small grids for RGL files the tests write (colour 16 x 16, 8 theta_i, 9 phi_i, ndf 32 x 32): the
+// tests' cost, not the defaults' accuracy (docs/rgl.md has those); an rgb file unless `spectral`.
+inline rgl::ExportOptions small_rgl_options(bool spectral = false) {
+  rgl::ExportOptions o;
+  o.spectral = spectral;
+  o.colour = 16;
+  o.theta_i = 8;
+  o.phi_i = 9;
+  o.ndf = 32;
+  return o;
 }
 
 inline Vec3d spherical(double theta_deg, double phi_deg) {

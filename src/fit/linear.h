@@ -33,7 +33,8 @@ struct LinearLayout {
 // constrained problem on S (the KKT conditions, Nocedal & Wright 2006, Thm. 16.4). Every subset
 // of at most k rows is tried (its KKT system by a complete orthogonal decomposition, which also
 // takes a singular N) and the feasible point of least cost kept: exact, and cheap for k <= 3 and
-// tens of rows. `tolerance` absorbs rounding in the feasibility test (relative to |h| + 1).
+// tens of rows. kFeasible absorbs rounding in the feasibility test (relative to |h| + 1: the
+// KKT solve of an active row reproduces h to about 1e-15 relative, far inside 1e-10).
 // Returns false when no subset gives a feasible point (an empty feasible set).
 inline bool constrained_lsq(const Eigen::MatrixXd& N, const Eigen::VectorXd& r, double t, const Eigen::MatrixXd& G,
                             const Eigen::VectorXd& h, Eigen::VectorXd& best, double* best_cost = nullptr) {

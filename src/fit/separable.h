@@ -128,7 +128,7 @@ double data_cost(const Model& model, const std::vector<double>& x, const std::ve
 constexpr std::string_view kRoughnessNames[] = {"alpha", "alpha_x", "alpha_y", "n", "n_u", "n_v", "exponent"};
 
 // The separable grid start: the moments start with its roughness entries at kGridSteps values,
-// log-spaced over [kGridLow, kGridHigh] clamped to their bounds, the linear entries solved
+// log-spaced over [lo, hi] below and clamped to their bounds, the linear entries solved
 // exactly at each; the best. Nothing when the model has no roughness entry by those names or no
 // linear entries (Lafortune: its lobes' C and n are many; its other starts cover them).
 template <class Model> std::optional<StartPoint> separable_grid_start(const Model& model, const LinearLayout& layout,

@@ -52,6 +52,8 @@ std::string escape(std::string_view s, bool keep_lines) {
         out += fmt::format("\\u{:04x}", c1);
       else if (c == 0xe2 && c1 == 0x80 && (s[i + 2] == '\xa8' || s[i + 2] == '\xa9'))  // U+2028, U+2029
         out += s[i + 2] == '\xa8' ? "\\u2028" : "\\u2029";
+      else if (c == 0xef && c1 == 0xbf && (s[i + 2] == '\xbe' || s[i + 2] == '\xbf'))  // U+FFFE, U+FFFF
+        out += s[i + 2] == '\xbe' ? "\\ufffe" : "\\uffff";
       else
         out.append(s.substr(i, n));
     }

@@ -9,6 +9,8 @@
 //  - control characters (C0, DEL, the C1 controls U+0080 to U+009F) as \n, \t, \r or \u00XX;
 //  - the Unicode line and paragraph separators U+2028, U+2029 (line breaks to some readers:
 //    ECMAScript, Unicode's own line-breaking rules) as \u2028, \u2029;
+//  - the noncharacters U+FFFE, U+FFFF (not characters at all to XML 1.0, Sec. 2.2, which refuses a
+//    document holding them) as \ufffe, \uffff;
 //  - bytes that are not part of a well-formed UTF-8 sequence (the Unicode Standard 15.0, Table 3-7:
 //    no overlong forms, no surrogates, nothing above U+10FFFF) as \xNN.
 // Every other character, ASCII or not, stays as it is: the result is well-formed UTF-8.
