@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # scripts/ci_timing.sh [COMMIT] [DIR]: CI's run (.ci/run) on a clean clone of COMMIT (default HEAD)
-# in DIR (default /tmp/aniso-ci-<commit>), timed, for docs/testing.md's "CI time" table.
+# in DIR (default aniso-ci-<commit> beside this checkout, so that the tests find ../shared/data as
+# CI's do), timed, for docs/testing.md's "CI time" table.
 #
 # .ci/run prints each step's wall and CPU time ("ci-step" lines) and each suite's ten slowest
 # entries (scripts/ctest_timed.sh); this runs it on a fresh clone (nothing built, no ctest cost
@@ -11,7 +12,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/.."
 commit=$(git rev-parse --short "${1:-HEAD}") || exit 2
-dir=${2:-/tmp/aniso-ci-$commit}
+dir=${2:-$(dirname "$(pwd)")/aniso-ci-$commit}
 log=$dir.log
 if [[ -e "$dir" ]]; then
   echo "ci_timing: $dir exists; remove it or name another directory" >&2

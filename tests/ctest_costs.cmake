@@ -8,9 +8,20 @@
 # the same order, behind its package tests, tests/package/CMakeLists.txt), and labelled "slow"
 # (`ctest -LE slow` leaves them out of a quick local run). An entry of more than about 20 s under
 # the sanitizers belongs here; ctest_every_entry_has_a_timeout fails when a name here is no entry.
-function(aniso_cost name seconds)
-  set_tests_properties(${name} PROPERTIES COST ${seconds} LABELS slow)
-endfunction()
+# With one entry per test suite (the sanitizer build, tests/gtest_suites.cmake), a gtest name's
+# seconds are added to its suite's entry, whose COST starts at its number of tests.
+macro(aniso_cost name seconds)
+  if(ANISO_GTEST_GROUPED AND "${name}" MATCHES "^([^.]+)\\.")
+    set(aniso_cost_suite "${CMAKE_MATCH_1}")
+    if(NOT DEFINED "aniso_suite_cost_${aniso_cost_suite}")
+      set("aniso_suite_cost_${aniso_cost_suite}" 0) # no such suite: ctest_every_entry_has_a_timeout says so
+    endif()
+    math(EXPR "aniso_suite_cost_${aniso_cost_suite}" "${aniso_suite_cost_${aniso_cost_suite}} + ${seconds}")
+    set_tests_properties(${aniso_cost_suite} PROPERTIES COST ${aniso_suite_cost_${aniso_cost_suite}} LABELS slow)
+  else()
+    set_tests_properties(${name} PROPERTIES COST ${seconds} LABELS slow)
+  endif()
+endmacro()
 
 # CPU seconds under ASan + UBSan, measured alone (docs/testing.md, "CI time").
 aniso_cost(FitIdentifiability.CornellPaintsTieWhatTheDataCannotSeeAndKeepAlbedoBelowOne 130)
