@@ -10,6 +10,8 @@
 // twin in the library and in the Material dispatch (or none, declared), a batch path (a SIMD twin
 // file, or the declared scalar fallback), an independent reference formula, and a place in the
 // test list every suite is instantiated over (test_util.h, all_model_materials).
+#include <array>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -143,6 +145,75 @@ TEST(Registry, EveryAnalyticRowIsInTheTestList) {
     if (m.kind == ModelKind::Measured || m.kind == ModelKind::Rgl) continue;
     EXPECT_EQ(listed.count(m.name), 1u) << m.name << " is not in all_model_materials()";
   }
+}
+
+// Every row says how it roughens (core/kernel.h, ModelKernel, checked at compile time in
+// registry.h): no model changes for alpha <= 0 or below its own roughness, the analytic glossy ones
+// change at 0.5, and Lambert, Lafortune and the tables are left as they are (their reasons beside
+// each regularize).
+TEST(Registry, EveryRowRegularizesByItsOwnRule) {
+  std::vector<std::pair<std::string, Material>> materials;
+  for (const test::NamedMaterial& nm : test::all_model_materials()) materials.emplace_back(nm.name, test::build<float>(nm.json));
+  materials.emplace_back("measured", Material(MeasuredT<float>{}));
+  materials.emplace_back("rgl", Material(RglT<float>{}));
+  std::set<ModelKind> seen;
+  for (const auto& [name, m] : materials) {
+    seen.insert(m.kind);
+    for (const float alpha : {0.0f, -1.0f, 1e-4f}) {
+      Material r = m;
+      r.regularize(alpha);
+      EXPECT_EQ(std::memcmp(&r, &m, sizeof m), 0) << name << " alpha " << alpha;
+    }
+    Material r = m;
+    r.regularize(0.5f);
+    const bool left = m.kind == ModelKind::Lambert || m.kind == ModelKind::Lafortune || m.kind == ModelKind::Measured ||
+                      m.kind == ModelKind::Rgl;
+    EXPECT_EQ(std::memcmp(&r, &m, sizeof m) == 0, left) << name;
+  }
+  EXPECT_EQ(seen.size(), kModelCount);
+}
+
+// The exporters' question (core/kernel.h, ggx_distribution): where a model says it is a GGX as a
+// whole, the GGX it describes (D, G, F and a Lambertian term) is its f.
+TEST(Registry, AWholeGgxIsTheModel) {
+  const auto ggx_f = [](const GgxDistributionT<double>& d, const Vec3d& wi, const Vec3d& wo) {
+    const Vec3d h = glm::normalize(wi + wo);
+    const double D = D_GGX_Aniso(h.x, h.y, h.z, d.alpha_x, d.alpha_y);
+    const double G =
+        d.masking == GgxMasking::HeightCorrelated
+            ? G2_SmithGGX_HeightCorrelated(Lambda_GGX_Aniso(wi, d.alpha_x, d.alpha_y),
+                                           Lambda_GGX_Aniso(wo, d.alpha_x, d.alpha_y)) /
+                  (4.0 * wi.z * wo.z)
+            : Principled_SmithG_GGX_Aniso(wi, d.alpha_x, d.alpha_y) * Principled_SmithG_GGX_Aniso(wo, d.alpha_x, d.alpha_y);
+    const double c = glm::dot(wi, h);
+    const Vec3d F = d.fresnel == GgxFresnel::Conductor ? F_Conductor(c, d.eta, d.k) : F_Schlick(d.f0, c);
+    return F * D * G + d.kd / M_PI;
+  };
+  int whole = 0;
+  for (const test::NamedMaterial& nm : test::all_model_materials()) {
+    const MaterialD m = test::build<double>(nm.json);
+    const GgxDistributionT<double> d = m.ggx_distribution();
+    if (d.part != GgxPart::Whole) continue;
+    ++whole;
+    for (const auto& [ti, pi, to, po] : {std::array{20.0, 0.0, 35.0, 180.0}, std::array{60.0, 40.0, 10.0, 250.0}}) {
+      const Vec3d wi = m.rotation.to_model(test::spherical(ti, pi)), wo = m.rotation.to_model(test::spherical(to, po));
+      const Vec3d want = m.visit([&](const auto&k) { return Vec3d(k.f(wi, wo)); }), got = ggx_f(d, wi, wo);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 1e-12 * std::max(1.0, want[c])) << nm.name;
+    }
+  }
+  EXPECT_GE(whole, 4);  // ggx_aniso, ggx_iso, metal_ggx, principled_metal_aniso, principled_rotated
+  // A lobe beside other terms, and none.
+  EXPECT_EQ(test::build<double>({{"model", "principled"}, {"clearcoat", 0.5}}).ggx_distribution().part, GgxPart::None);
+  EXPECT_EQ(test::build<double>({{"model", "principled"}, {"metallic", 0.5}}).ggx_distribution().part, GgxPart::Lobe);
+  EXPECT_EQ(test::build<double>({{"model", "metal"},
+                                 {"metal", "gold"},
+                                 {"lobe", {{"model", "ggx"}}},
+                                 {"directional_diffuse", {{"albedo", 0.2}, {"n", 4.0}}}})
+                .ggx_distribution()
+                .part,
+            GgxPart::Lobe);
+  for (const char* model : {"lambert", "phong", "ward", "ashikhmin-shirley"})
+    EXPECT_EQ(test::build<double>({{"model", model}}).ggx_distribution().part, GgxPart::None) << model;
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -379,21 +380,48 @@ TEST(RenderFireflies, DirectLightIsUntouchedAndIndirectLightIsCapped) {
   EXPECT_NE(render_json(k, 4).rgb, full.rgb);
 }
 
-TEST(RenderFireflies, RoughenRaisesAlphasAndLowersExponentsOnly) {
+TEST(RenderFireflies, RegularizeRaisesAlphasAndLowersExponentsOnly) {
   Material w = WardT<float>{};
   w.ward.lobe.alpha_x = 0.05f, w.ward.lobe.alpha_y = 0.5f;
-  roughen(w, 0.2f);
+  w.regularize(0.2f);
   EXPECT_EQ(w.ward.lobe.alpha_x, 0.2f);
   EXPECT_EQ(w.ward.lobe.alpha_y, 0.5f);
   Material as = AshikhminShirleyT<float>{};
   as.ashikhmin_shirley.lobe.n_u = 10.0f, as.ashikhmin_shirley.lobe.n_v = 400.0f;
-  roughen(as, 0.2f);  // n = 2 / 0.04 - 2 = 48
+  as.regularize(0.2f);  // n = 2 / 0.04 - 2 = 48
   EXPECT_EQ(as.ashikhmin_shirley.lobe.n_u, 10.0f);
   EXPECT_FLOAT_EQ(as.ashikhmin_shirley.lobe.n_v, 48.0f);
   Material g = GGXT<float>{};
   g.ggx.lobe.alpha_x = 0.01f, g.ggx.lobe.alpha_y = 0.01f;
-  roughen(g, 0.0f);  // no blur: unchanged
+  g.regularize(0.0f);  // no blur: unchanged
   EXPECT_EQ(g.ggx.lobe.alpha_x, 0.01f);
+  g.regularize(std::nanf(""));
+  EXPECT_EQ(g.ggx.lobe.alpha_x, 0.01f);
+}
+
+// The principled model widens its specular alphas through roughness and anisotropic (Burley
+// 2012's mapping inverted) and its clearcoat through the gloss.
+TEST(RenderFireflies, RegularizeWidensThePrincipledLobes) {
+  PrincipledT<float> p;
+  p.roughness = 0.3f, p.anisotropic = 0.8f, p.clearcoat = 1.0f, p.clearcoat_gloss = 1.0f;
+  const GGXLobeT<float> before = p.specular_lobe();  // ax = 0.09 / 0.529 = 0.170, ay = 0.0476
+  Material m = p;
+  m.regularize(0.1f);
+  const GGXLobeT<float> after = m.principled.specular_lobe();
+  EXPECT_NEAR(after.alpha_x, before.alpha_x, 1e-6f);  // wide enough already
+  EXPECT_NEAR(after.alpha_y, 0.1f, 1e-6f);
+  EXPECT_LT(m.principled.anisotropic, p.anisotropic);
+  EXPECT_NEAR(m.principled.clearcoat_alpha(), 0.1f, 1e-6f);
+  m.regularize(0.3f);  // wider than the clearcoat's range: gloss below 0
+  EXPECT_NEAR(m.principled.specular_lobe().alpha_x, 0.3f, 1e-6f);
+  EXPECT_NEAR(m.principled.specular_lobe().alpha_y, 0.3f, 1e-6f);
+  EXPECT_NEAR(m.principled.anisotropic, 0.0f, 1e-6f);
+  EXPECT_NEAR(m.principled.clearcoat_alpha(), 0.3f, 1e-6f);
+  EXPECT_LT(m.principled.clearcoat_gloss, 0.0f);
+  // Narrower than both lobes: the same material, bit for bit.
+  Material same = p;
+  same.regularize(0.0009f);  // the clearcoat is 0.001 wide
+  EXPECT_EQ(std::memcmp(&same.principled, &p, sizeof p), 0);
 }
 
 // The defaults keep the gallery unbiased: neither key is set.

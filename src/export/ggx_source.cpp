@@ -20,22 +20,18 @@ namespace aniso::exporter {
 
 namespace {
 
+// Exact where the model says it is a GGX as a whole (its kernel's ggx_distribution, the question
+// rgl_source.cpp asks too): the alphas, the Fresnel and the Lambertian term are the model's.
 std::optional<GgxSource> exact_ggx(const MaterialDesc& d) {
   const MaterialD m = build_material<double>(unrotated(d));
+  const GgxDistributionT<double> dist = m.ggx_distribution();
+  if (dist.part != GgxPart::Whole) return std::nullopt;
   GgxSource g;
   g.rotation_deg = rotation_of(d);
-  if (m.kind == ModelKind::GGX) {
-    g.alpha_x = m.ggx.lobe.alpha_x, g.alpha_y = m.ggx.lobe.alpha_y;
-    g.kd = glm::dvec3(m.ggx.kd.x, m.ggx.kd.y, m.ggx.kd.z);
-    g.f0 = glm::dvec3(m.ggx.f0.x, m.ggx.f0.y, m.ggx.f0.z);
-    g.origin = "exact: the source is an anisotropic GGX (Schlick F0, Lambertian kd)";
-    return g;
-  }
-  if (m.kind == ModelKind::Metal && m.metal.lobe_kind == SpecularLobeKind::GGX && !m.metal.has_directional_diffuse) {
+  g.alpha_x = dist.alpha_x, g.alpha_y = dist.alpha_y;
+  if (dist.fresnel == GgxFresnel::Conductor) {
     g.conductor = true;
-    g.alpha_x = m.metal.ggx.alpha_x, g.alpha_y = m.metal.ggx.alpha_y;
-    g.eta = glm::dvec3(m.metal.eta.x, m.metal.eta.y, m.metal.eta.z);
-    g.k = glm::dvec3(m.metal.k.x, m.metal.k.y, m.metal.k.z);
+    g.eta = dist.eta, g.k = dist.k;
     if (d.params.has("metal")) {
       const MetalData* md = find_metal(d.params.text("metal"));
       if (md) g.metal = std::string(md->name), g.symbol = std::string(md->symbol);
@@ -43,21 +39,16 @@ std::optional<GgxSource> exact_ggx(const MaterialDesc& d) {
     g.origin = "exact: the source is a conductor with a GGX lobe (eta, k)";
     return g;
   }
-  if (m.kind == ModelKind::Principled) {
-    const PrincipledT<double>& p = m.principled;
-    if (p.metallic == 1.0 && p.sheen == 0.0 && p.clearcoat == 0.0) {
-      const GGXLobeT<double> l = p.specular_lobe();
-      g.alpha_x = l.alpha_x, g.alpha_y = l.alpha_y;
-      g.kd = glm::dvec3(0.0);
-      const RGBT<double> f0 = p.specular_f0();
-      g.f0 = glm::dvec3(f0.x, f0.y, f0.z);
-      g.origin =
-          "exact: the source is a metallic Disney principled material (Schlick F0 = base_color; its separable "
-          "Smith G differs from the targets' height-correlated one)";
-      return g;
-    }
+  g.kd = dist.kd, g.f0 = dist.f0;
+  if (dist.masking == GgxMasking::HeightCorrelated) {
+    g.origin = "exact: the source is an anisotropic GGX (Schlick F0, Lambertian kd)";
+  } else {
+    g.origin = fmt::format(
+        "exact: the source ({}) is a GGX lobe with Schlick F0{} (its separable Smith G differs from the targets' "
+        "height-correlated one)",
+        model_name(m.kind), max3(g.kd) > 0.0 ? " and a Lambertian kd" : " and no diffuse term");
   }
-  return std::nullopt;
+  return g;
 }
 
 }  // namespace

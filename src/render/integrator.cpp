@@ -37,11 +37,6 @@ float blur_roughness(float min_ray_pdf, float filter_glossy) {
   return blur_pdf < 1.0f ? std::sqrt(1.0f - blur_pdf) * 0.5f : 0.0f;
 }
 
-// A Phong-like exponent no sharper than a Beckmann lobe of width alpha: n = 2 / alpha^2 - 2
-// (Walter et al. 2007, "Microfacet Models for Refraction", Sec. 5.2, the Phong-Beckmann
-// correspondence alpha_p = 2 alpha_b^-2 - 2), at least 1.
-float exponent_for_roughness(float alpha) { return std::max(1.0f, 2.0f / (alpha * alpha) - 2.0f); }
-
 // The models whose lobe choice and pdf share weights that depend on wo alone (MetalT and
 // LafortuneT: `sampling_weights(wo)`, a Fresnel term or a pow per channel), with pdf() and sample()
 // overloads that take them.
@@ -124,31 +119,6 @@ class MaterialAtWo {
 };
 
 }  // namespace
-
-void roughen(Material& m, float alpha) {
-  if (!(alpha > 0.0f)) return;
-  const auto widen = [&](auto& lobe) {
-    lobe.alpha_x = std::max(lobe.alpha_x, alpha);
-    lobe.alpha_y = std::max(lobe.alpha_y, alpha);
-  };
-  const float n = exponent_for_roughness(alpha);
-  const auto widen_as = [&](AshikhminShirleyLobeT<float>& lobe) {
-    lobe.n_u = std::min(lobe.n_u, n);
-    lobe.n_v = std::min(lobe.n_v, n);
-  };
-  switch (m.kind) {
-    case ModelKind::Ward: widen(m.ward.lobe); break;
-    case ModelKind::GGX: widen(m.ggx.lobe); break;
-    case ModelKind::AshikhminShirley: widen_as(m.ashikhmin_shirley.lobe); break;
-    case ModelKind::Phong: m.phong.lobe.exponent = std::min(m.phong.lobe.exponent, n); break;
-    case ModelKind::Metal:
-      widen(m.metal.ward);
-      widen(m.metal.ggx);
-      widen_as(m.metal.ashikhmin_shirley);
-      break;
-    default: break;  // Lambert is rough already; Lafortune's and measured lobes are left as they are
-  }
-}
 
 PathTracer::PathTracer(const Scene& scene, const SceneGeometry& geometry) : scene_(scene), geo_(geometry) {
   const Camera& c = scene.camera;
@@ -269,7 +239,7 @@ RGB PathTracer::li(Ray ray, Sampler& rng, uint64_t* rays, std::vector<RecordedRa
     const float blur = blur_roughness(min_pdf, scene_.integrator.filter_glossy);
     if (blur > 0.0f) {
       blurred = obj.material;
-      roughen(blurred, blur);
+      blurred.regularize(blur);  // each model's own rule (aniso/core/kernel.h)
     }
     const Material& m = blur > 0.0f ? blurred : obj.material;
     const Frame& frame = hit.frame;

@@ -82,19 +82,28 @@ BrdfSource brdf_source(const MaterialD& m, const MetalData* metal) {
         "the tensor file has one phi_i, which pbrt-v4 and Mitsuba 3 read isotropic (bxdfs.cpp:938, measured.cpp:165)";
   if (metal && m.kind == ModelKind::Metal) set_metal_spectra(s, m, *metal);
   // The closed-form GGX distribution is the lobe's in its own frame: a turned material
-  // (rotation_deg) takes the general path, like every other model.
+  // (rotation_deg) takes the general path, like every other model. Which models have one, and their
+  // alphas, is the kernel's answer (ggx_distribution, the question exact_ggx in
+  // src/export/ggx_source.cpp asks too). A GGX with the separable Smith G (the principled model)
+  // takes the general path too: its files came out worse with the exact D than with the round
+  // trip's choice (rgb, default grids, mean cosine-weighted L1: 0.0103 / 0.0094 for the default
+  // principled, 0.0828 / 0.0162 metallic 0.3 roughness 0.2 sheen 0.5, 0.0186 / 0.0095 metallic 1
+  // roughness 0.15; 0.0108 / 0.0113 metallic 1 roughness 0.4 anisotropic 0.9).
   if (!m.rotation.identity()) return s;
-  if (m.kind == ModelKind::GGX) {
-    s.ggx_alpha = glm::dvec2(m.ggx.lobe.alpha_x, m.ggx.lobe.alpha_y);
+  const GgxDistributionT<double> d = m.ggx_distribution();
+  if (d.part == GgxPart::None || d.masking != GgxMasking::HeightCorrelated) return s;
+  s.ggx_alpha = glm::dvec2(d.alpha_x, d.alpha_y);
+  if (d.part == GgxPart::Whole) {
     // The diffuse term kd / pi gets a uniform share of the distribution, in proportion to its
-    // albedo against the specular one (Schlick at normal incidence bounds it).
-    const double kd = luminance_of(glm::dvec3(m.ggx.kd)), ks = luminance_of(glm::dvec3(m.ggx.f0));
+    // albedo against the specular one (Schlick at normal incidence bounds it); a conductor has none.
+    const double kd = luminance_of(glm::dvec3(d.kd)), ks = luminance_of(glm::dvec3(d.f0));
     // At most 0.2: more spreads the colour grid over the diffuse part and leaves the specular peak
     // to few grid points (measured: GGX alpha 0.2 with kd 0.2, L1 at 80 degrees 8 % with 0.75, 2.6 % with 0.2).
     s.uniform_weight = kd > 0.0 ? std::clamp(kd / (kd + ks), 0.02, 0.2) : 0.0;
-  } else if (m.kind == ModelKind::Metal && m.metal.lobe_kind == SpecularLobeKind::GGX) {
-    s.ggx_alpha = glm::dvec2(m.metal.ggx.alpha_x, m.metal.ggx.alpha_y);
-    s.uniform_weight = m.metal.has_directional_diffuse ? 0.1 : 0.0;
+  } else {
+    // A GGX lobe beside broad terms that are not Lambertian (a metal's directional diffuse lobe,
+    // the principled model's diffuse and sheen): a tenth of the distribution for them.
+    s.uniform_weight = 0.1;
   }
   return s;
 }

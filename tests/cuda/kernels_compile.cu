@@ -18,6 +18,16 @@ __global__ void eval_kernel(const Material* materials, const Vec3* wi, const Vec
   samples[i] = m.sample(lo, 0.5f, Vec2(0.25f, 0.75f));
 }
 
+// The methods of aniso/core/kernel.h, every row's: the glossy filter's roughening and the GGX
+// question.
+__global__ void kernel_methods(Material* materials, const float* alpha, float* alpha_x, int n) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  materials[i].regularize(alpha[i]);
+  const GgxDistributionT<float> d = materials[i].ggx_distribution();
+  alpha_x[i] = d.part == GgxPart::None ? 0.0f : d.alpha_x;
+}
+
 // The tangent fields the renderer uses, on the GPU.
 __global__ void tangent_kernel(const TangentFieldT<float>* fields, const SurfacePointT<float>* points, Frame* frames, int n) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;

@@ -100,6 +100,12 @@ template <typename T> struct AshikhminShirleyLobeT {
     return AS_PdfHalf(h, n_u, n_v) / (T(4) * WoH);
   }
   ANISO_HD Vec3T<T> sample(const Vec3T<T>& wo, const Vec2T<T>& u) const { return reflect_about(wo, AS_SampleHalf(u, n_u, n_v)); }
+  // Roughened to at least alpha (core/kernel.h): both exponents narrow to n(alpha).
+  ANISO_HD void regularize(T alpha) {
+    const T n = exponent_for_roughness(alpha);
+    narrow_exponent(n_u, n);
+    narrow_exponent(n_v, n);
+  }
 };
 
 template <typename T> struct AshikhminShirleyT {
@@ -128,6 +134,8 @@ template <typename T> struct AshikhminShirleyT {
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);
   }
+  ANISO_HD void regularize(T alpha) { lobe.regularize(alpha); }
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const { return {}; }  // an anisotropic Phong lobe
 };
 
 }  // namespace aniso

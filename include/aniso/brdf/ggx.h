@@ -89,6 +89,11 @@ template <typename T> struct GGXLobeT {
   ANISO_HD Vec3T<T> sample(const Vec3T<T>& wo, const Vec2T<T>& u) const {
     return reflect_about(wo, GGX_SampleVisibleNormal(wo, u, alpha_x, alpha_y));
   }
+  // Roughened to at least alpha (core/kernel.h): both alphas widen.
+  ANISO_HD void regularize(T alpha) {
+    widen_alpha(alpha_x, alpha);
+    widen_alpha(alpha_y, alpha);
+  }
 };
 
 template <typename T> struct GGXT {
@@ -120,6 +125,17 @@ template <typename T> struct GGXT {
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);
+  }
+  ANISO_HD void regularize(T alpha) { lobe.regularize(alpha); }
+  // The whole model is a GGX: Schlick's F, height-correlated G2, a Lambertian kd.
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const {
+    GgxDistributionT<T> d;
+    d.part = GgxPart::Whole;
+    d.alpha_x = lobe.alpha_x, d.alpha_y = lobe.alpha_y;
+    d.fresnel = GgxFresnel::Schlick;
+    d.f0 = f0;
+    d.kd = kd;
+    return d;
   }
 };
 

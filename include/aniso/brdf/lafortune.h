@@ -14,6 +14,7 @@
 // weight (docs/models/lafortune.md).
 #pragma once
 
+#include "aniso/core/kernel.h"
 #include "aniso/core/sampling.h"
 
 namespace aniso {
@@ -208,6 +209,11 @@ template <typename T> struct LafortuneT {
     if (!above_horizon(wi)) return {};
     return make_sample(wi, f(wi, wo), pdf(w, wi, wo));
   }
+  // core/kernel.h: left as fitted. A lobe's exponent n is not its width alone: the lobe's value
+  // is |C|^n (a_hat . wi)^n (Lafortune et al. 1997, Eq. 6), so a smaller n without a new C would
+  // change the lobe's energy by the factor |C|^(n' - n), not only its width. No GGX.
+  ANISO_HD void regularize(T /*alpha*/) {}
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const { return {}; }
 };
 
 }  // namespace aniso

@@ -1,6 +1,7 @@
 // aniso/brdf/lambert.h: the ideal diffuse reflector, f = kd / pi (Lambert 1760).
 #pragma once
 
+#include "aniso/core/kernel.h"
 #include "aniso/core/sampling.h"
 
 namespace aniso {
@@ -23,6 +24,9 @@ template <typename T> struct LambertT {
     const Vec3T<T> wi = sample_cosine_hemisphere(u);
     return make_sample(wi, f(wi, wo), pdf(wi, wo));
   }
+  // core/kernel.h: rough already (pbrt-v4's DiffuseBxDF::Regularize is empty, bxdfs.h:73); no GGX.
+  ANISO_HD void regularize(T /*alpha*/) {}
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const { return {}; }
 };
 
 }  // namespace aniso

@@ -74,6 +74,16 @@ template <typename T> struct MaterialT {
     }
     return fn(lambert);
   }
+  // visit for a change of the active model (regularize).
+  template <typename Fn> ANISO_HD auto visit_mutable(Fn&& fn) {
+    switch (kind) {
+#define ANISO_X(Tag, Type, member, name, batch, glsl) \
+  case ModelKind::Tag: return fn(member);
+      ANISO_MODELS(ANISO_X)
+#undef ANISO_X
+    }
+    return fn(lambert);
+  }
 
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     const Vec3T<T> i = rotation.to_model(wi), o = rotation.to_model(wo);
@@ -88,6 +98,18 @@ template <typename T> struct MaterialT {
     BSDFSampleT<T> s = visit([&](const auto& m) { return m.sample(o, uc, u); });
     s.wi = rotation.from_model(s.wi);
     return s;
+  }
+
+  // The model's roughness raised to at least alpha (core/kernel.h, each kernel's regularize); no
+  // change for alpha <= 0 or NaN. The turn is about the normal, so it commutes with the widening.
+  ANISO_HD void regularize(T alpha) {
+    if (!(alpha > T(0))) return;
+    visit_mutable([&](auto& m) { m.regularize(alpha); });
+  }
+  // Whether the model is a GGX and with which alphas, in the model's own frame (rotation turns it
+  // in the shading frame; core/kernel.h).
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const {
+    return visit([](const auto& m) { return m.ggx_distribution(); });
   }
 };
 

@@ -28,6 +28,7 @@
 // tables and cells, so it is the exact density of sample().
 #pragma once
 
+#include "aniso/core/kernel.h"
 #include "aniso/core/sampling.h"
 
 namespace aniso {
@@ -198,6 +199,10 @@ template <typename T> struct MeasuredT {
     }
     return make_sample(wi, f(wi, wo), pdf(wi, wo));
   }
+  // core/kernel.h: a table has no roughness parameter to raise, so it stays as measured (as
+  // pbrt-v4's MeasuredBxDF::Regularize, which is empty: bxdfs.h:1045); no analytic distribution.
+  ANISO_HD void regularize(T /*alpha*/) {}
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const { return {}; }
 };
 
 }  // namespace aniso

@@ -177,6 +177,24 @@ template <typename T> struct MetalT {
     return make_sample(wi, f_wi, pdf_wi);
   }
 
+  // core/kernel.h: the specular lobes roughen (all three, whichever lobe_kind picks); the
+  // directional diffuse lobe, broad already, is a Lafortune lobe and stays as it is (lafortune.h).
+  ANISO_HD void regularize(T alpha) {
+    ward.regularize(alpha);
+    ashikhmin_shirley.regularize(alpha);
+    ggx.regularize(alpha);
+  }
+  // A GGX lobe is the whole model without the directional diffuse lobe, one lobe beside it.
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const {
+    GgxDistributionT<T> d;
+    if (lobe_kind != SpecularLobeKind::GGX) return d;
+    d.part = has_directional_diffuse ? GgxPart::Lobe : GgxPart::Whole;
+    d.alpha_x = ggx.alpha_x, d.alpha_y = ggx.alpha_y;
+    d.fresnel = GgxFresnel::Conductor;
+    d.eta = eta, d.k = k;
+    return d;
+  }
+
  private:
   // f from the specular lobe's value spec = specular(wi, wo), same upper hemisphere; one_shape is
   // the directional diffuse lobe's channels_share_shape().

@@ -34,6 +34,8 @@ template <typename T> struct PhongLobeT {
   ANISO_HD Vec3T<T> sample(const Vec3T<T>& wo, const Vec2T<T>& u) const {
     return sample_cosine_power(reflect_about_normal(wo), exponent, u);
   }
+  // Roughened to at least alpha (core/kernel.h): the exponent narrows to n(alpha).
+  ANISO_HD void regularize(T alpha) { narrow_exponent(exponent, exponent_for_roughness(alpha)); }
 };
 
 template <typename T> using PhongT = LambertPlusLobeT<T, PhongLobeT<T>>;

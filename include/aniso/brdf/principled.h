@@ -181,6 +181,42 @@ template <typename T> struct PrincipledT {
     if (!above_horizon(wi)) return {};
     return make_sample(wi, f(wi, wo), pdf(wi, wo));
   }
+
+  // core/kernel.h. The specular alphas widen to (max(ax, alpha), max(ay, alpha)) through the two
+  // keys that set them: lines 118-120 give ax ay = roughness^4 and ay / ax = aspect^2 (ay <= ax),
+  // so roughness = (ax ay)^(1/4) and anisotropic = (1 - ay / ax) / 0.9 (never above its old value:
+  // widening the narrower alpha only brings the two closer). Roughness also sets Burley's diffuse
+  // retro-reflection (Fd90, lines 104-108), which changes with it. The clearcoat's GTR1 alpha
+  // mix(0.1, 0.001, gloss) widens to alpha through a lower gloss, below 0 where alpha > 0.1 (GTR1
+  // is defined for any alpha; the table's range is the host's). Nothing changes, bit for bit,
+  // where both are as wide already.
+  ANISO_HD void regularize(T alpha) {
+    using std::sqrt;
+    const GGXLobeT<T> l = specular_lobe();
+    if (l.alpha_x < alpha || l.alpha_y < alpha) {
+      T ax = l.alpha_x, ay = l.alpha_y;
+      widen_alpha(ax, alpha);
+      widen_alpha(ay, alpha);
+      roughness = sqrt(sqrt(ax * ay));
+      anisotropic = (T(1) - ay / ax) / T(0.9);
+    }
+    if (clearcoat_alpha() < alpha) clearcoat_gloss = (T(0.1) - alpha) / T(0.099);
+  }
+  // Metallic 1 without a clearcoat is a GGX alone (the diffuse and sheen terms carry 1 - metallic,
+  // lines 136-138), with Schlick's F from specular_f0 and the separable G; without a clearcoat a
+  // GGX lobe beside Burley's diffuse and the sheen; with one, a second glossy lobe (GTR1) that no
+  // GGX describes.
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const {
+    GgxDistributionT<T> d;
+    if (clearcoat != T(0)) return d;
+    const GGXLobeT<T> l = specular_lobe();
+    d.part = metallic == T(1) ? GgxPart::Whole : GgxPart::Lobe;
+    d.alpha_x = l.alpha_x, d.alpha_y = l.alpha_y;
+    d.fresnel = GgxFresnel::Schlick;
+    d.f0 = specular_f0();
+    d.masking = GgxMasking::Separable;
+    return d;
+  }
 };
 
 }  // namespace aniso

@@ -4,7 +4,10 @@
 // order (src/io/params.cpp), the material builders (src/io/materials.cpp), the batch dispatch
 // (src/batch/dispatch-inl.h), the GLSL library table and the GLSL Material dispatch
 // (src/gl/glsl_library.cpp), the GLSL builders (src/gl/glsl_material.cpp) and the registry tests
-// (tests/test_registry.cpp). Adding a model: docs/architecture.md, "Adding a model".
+// (tests/test_registry.cpp). Every row's kernel has the methods of core/kernel.h (ModelKernel,
+// checked below for float and double): how it roughens and whether it is a GGX, asked by the
+// renderer and the exporters through MaterialT. Adding a model: docs/architecture.md, "Adding a
+// model".
 //
 // One row per model:
 //   X(Tag, Type, member, name, batch, glsl)
@@ -34,6 +37,7 @@
 #include "aniso/brdf/principled.h"
 #include "aniso/brdf/rgl.h"
 #include "aniso/brdf/ward.h"
+#include "aniso/core/kernel.h"
 
 #define ANISO_MODELS(X)                                                                      \
   X(Lambert, LambertT, lambert, "lambert", Simd, Glsl)                                       \
@@ -82,6 +86,15 @@ inline constexpr size_t kModelCount = sizeof(kModels) / sizeof(kModels[0]);
 
 constexpr const ModelInfo& model_info(ModelKind k) { return kModels[static_cast<int>(k)]; }
 constexpr const char* model_name(ModelKind k) { return model_info(k).name; }
+
+// Every row's kernel has the whole interface (core/kernel.h): f, pdf, sample, regularize and
+// ggx_distribution, so that no model is skipped where they are asked.
+#define ANISO_X(Tag, Type, member, name, batch, glsl)                                                      \
+  static_assert(ModelKernel<Type<float>, float> && ModelKernel<Type<double>, double>, #Tag                 \
+                ": the kernel lacks a method of core/kernel.h's ModelKernel (f, pdf, sample, regularize, " \
+                "ggx_distribution)");
+ANISO_MODELS(ANISO_X)
+#undef ANISO_X
 
 // The rows' positions are the enumerators' values (model_info indexes by them).
 static_assert([] {

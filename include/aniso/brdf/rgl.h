@@ -14,6 +14,7 @@
 // one that selects the slice (phi_o, theta_o); aniso's wi is pbrt-v4's wi.
 #pragma once
 
+#include "aniso/core/kernel.h"
 #include "aniso/core/sampling.h"
 
 namespace aniso {
@@ -293,6 +294,11 @@ template <typename T> struct RglT {
     const float pdf = sv.pdf / (4.f * float(glm::dot(wo, wm)) * std::fmax(2.f * kPi<float> * kPi<float> * sv.x * sin_m, 1e-6f));
     return make_sample(wi, fr, T(pdf * sl.pdf));
   }
+  // core/kernel.h: the tables have no roughness parameter to raise, so they stay as measured
+  // (pbrt-v4's MeasuredBxDF::Regularize, the BxDF this kernel transcribes, is empty: bxdfs.h:1045);
+  // their D is tabulated (ndf), not a GGX.
+  ANISO_HD void regularize(T /*alpha*/) {}
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const { return {}; }
 };
 
 }  // namespace aniso

@@ -184,6 +184,11 @@ template <typename T> struct WardLobeT {
   ANISO_HD Vec3T<T> sample(const Vec3T<T>& wo, const Vec2T<T>& u) const {
     return reflect_about(wo, Ward_SampleHalf(u, alpha_x, alpha_y));
   }
+  // Roughened to at least alpha (core/kernel.h): both alphas widen.
+  ANISO_HD void regularize(T alpha) {
+    widen_alpha(alpha_x, alpha);
+    widen_alpha(alpha_y, alpha);
+  }
 };
 
 template <typename T> using WardT = LambertPlusLobeT<T, WardLobeT<T>>;

@@ -4,6 +4,7 @@
 // The reported pdf is the mixture's, so weight = f cos / pdf stays exact (Veach 1997, Sec. 9.2).
 #pragma once
 
+#include "aniso/core/kernel.h"
 #include "aniso/core/sampling.h"
 
 namespace aniso {
@@ -94,6 +95,10 @@ template <typename T, typename Lobe> struct LambertPlusLobeT {
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);
   }
+  // kernel.h: the lobe roughens (the diffuse term has no roughness); the lobes of this shape,
+  // Ward's and Phong's, are no GGX.
+  ANISO_HD void regularize(T alpha) { lobe.regularize(alpha); }
+  ANISO_HD GgxDistributionT<T> ggx_distribution() const { return {}; }
 };
 
 }  // namespace aniso

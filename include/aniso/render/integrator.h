@@ -62,10 +62,12 @@
 //   light_passes.h:126-148, bounce > 0). Direct light is never clamped. Biased: energy is lost
 //   where indirect paths are bright, by design.
 // - integrator.filter_glossy F: Cycles' "Filter Glossy": after bounces whose BRDF-sample pdf was
-//   small (min over the path's pdfs p < F), every lobe is roughened to at least alpha =
-//   sqrt(1 - p / F) / 2 (Ward and GGX alphas; Ashikhmin-Shirley and Phong exponents through
-//   n = 2 / alpha^2 - 2); Lambert, Lafortune and measured lobes are left. Biased: glossy
-//   reflections seen through rough bounces are blurred.
+//   small (min over the path's pdfs p < F), the material is roughened to at least alpha =
+//   sqrt(1 - p / F) / 2 by its model's own rule (MaterialT::regularize, aniso/core/kernel.h:
+//   Ward and GGX alphas; Ashikhmin-Shirley and Phong exponents through n = 2 / alpha^2 - 2; the
+//   principled model's roughness, anisotropic and clearcoat gloss; Lambert, Lafortune, MERL and
+//   RGL tables left as they are). Biased: glossy reflections seen through rough bounces are
+//   blurred.
 //
 // Strategies: mis (both techniques, weighted), bsdf (emission found by BRDF sampling only: point
 // and directional lights are invisible to it, having zero area), light (next-event estimation
@@ -171,9 +173,6 @@ struct RecordedRay {
   float tmax = INFINITY;
   bool shadow = false;
 };
-
-// Raises the roughness of m's lobes to at least alpha (integrator.filter_glossy above).
-void roughen(Material& m, float alpha);
 
 // Next-event estimation's test for passing over a sphere light (integrator.cpp): every direction
 // from p towards l lies below the plane of the geometric normal ng, where any sample of it would be
