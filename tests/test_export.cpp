@@ -286,6 +286,53 @@ TEST(ExportTargets, CyclesPrincipledV1) {
   EXPECT_NEAR(mm.fresnel(1.0).x, F_Conductor(1.0, 0.2, 3.5), 1e-12);
 }
 
+// Blender 3.4's dielectric specular (cycles_v1_dielectric_specular): cspec0 = 0.08 Specular
+// ((1 - Specular Tint) + Specular Tint m_ctint), m_ctint = Base Color / (0.3 R + 0.6 G + 0.1 B)
+// (svm/closure.h:327-334, quoted above), with Specular above 1 where F0 is above 0.08.
+TEST(ExportTargets, CyclesV1DielectricSpecularIsTheClosestCspec0) {
+  const auto cspec0 = [](const glm::dvec3& base, double specular, double tint) {
+    const double lum = 0.3 * base.x + 0.6 * base.y + 0.1 * base.z;
+    return 0.08 * specular * ((1.0 - tint) * glm::dvec3(1.0) + tint * base / lum);
+  };
+  const glm::dvec3 yellow(0.13, 0.12, 0.07), blue(0.03, 0.03, 0.15);
+  // A grey F0 over a coloured diffuse: no tint, Specular = F0 / 0.08, above 1 where F0 > 0.08.
+  for (double f0 : {0.02, 0.08, 0.3}) {
+    const CyclesV1Specular s = cycles_v1_dielectric_specular(glm::dvec3(f0), yellow);
+    EXPECT_NEAR(s.specular, f0 / 0.08, 1e-12);
+    EXPECT_NEAR(s.tint, 0.0, 1e-12);
+  }
+  // Any F0 in the cone of white and the Base Color's hue comes back exactly.
+  for (const auto& [spec, tint] : {std::pair{0.5, 0.3}, std::pair{4.0, 0.7}, std::pair{1.2, 1.0}}) {
+    const CyclesV1Specular s = cycles_v1_dielectric_specular(cspec0(blue, spec, tint), blue);
+    EXPECT_NEAR(s.specular, spec, 1e-9);
+    EXPECT_NEAR(s.tint, tint, 1e-9);
+  }
+  // A hue outside the cone (the light blue film's blue F0 over its yellow diffuse): the least-squares
+  // projection, no worse than any (Specular, Specular Tint) on a fine grid.
+  const glm::dvec3 film_f0(0.113, 0.319, 0.541);
+  const CyclesV1Specular s = cycles_v1_dielectric_specular(film_f0, yellow);
+  const auto err = [&](double spec, double tint) {
+    const glm::dvec3 d = cspec0(yellow, spec, tint) - film_f0;
+    return glm::dot(d, d);
+  };
+  EXPECT_NEAR(s.tint, 0.0, 1e-12);
+  EXPECT_NEAR(s.specular, (0.113 + 0.319 + 0.541) / 3.0 / 0.08, 1e-9);
+  for (int i = 0; i <= 100; ++i)
+    for (int j = 0; j <= 20; ++j) EXPECT_GE(err(0.08 * i, j / 20.0), err(s.specular, s.tint) - 1e-15);
+  // Capped where the ior stays finite (0.08 Specular < 1).
+  EXPECT_EQ(cycles_v1_dielectric_specular(glm::dvec3(0.99), yellow).specular, kCyclesV1SpecularMax);
+  // The 3.4 export writes them, and its model's F0 is that cspec0 (no clamp at Specular 1).
+  GgxSource g;
+  g.alpha_x = g.alpha_y = 0.05, g.kd = yellow, g.f0 = film_f0;
+  json p;
+  const TargetBrdf m = target_model(Target::Blender, g, &p, nullptr, 3.4);
+  EXPECT_NEAR(p["Specular"].get<double>(), s.specular, 1e-12);
+  EXPECT_NEAR(p["Specular Tint"].get<double>(), s.tint, 1e-12);
+  const glm::dvec3 want = cspec0(yellow, s.specular, s.tint);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(m.fresnel(1.0)[c], want[c], 1e-12);
+  EXPECT_NEAR(m.lobe.eta.x, 2.0 / (1.0 - std::sqrt(0.08 * s.specular)) - 1.0, 1e-12);
+}
+
 TEST(ExportExact, AlphasCarryOverToEveryTarget) {
   for (Target t : {Target::Blender, Target::Mitsuba3, Target::PbrtV4, Target::MaterialX, Target::Gltf}) {
     for (const auto& [ax, ay] : {std::pair{0.3, 0.1}, std::pair{0.05, 0.2}}) {

@@ -48,7 +48,10 @@ std::string write_blender(const std::string& name, const json& p, const std::str
         "    put(\"Specular\", {:.9g})  # 3.4: the ior of the Fresnel curve's shape (no edge tint: Specular Tint is a float)\n",
         num(p, "Specular"));
   else
-    s += fmt::format("    put(\"Specular\", {:.9g})  # F0 = 0.08 Specular\n", num(p, "Specular"));
+    s += fmt::format(
+        "    put(\"Specular\", {:.9g})  # F0 = 0.08 Specular (above 1 where F0 is above 0.08: the socket takes it)\n"
+        "    put(\"Specular Tint\", {:.9g})  # F0 mixed towards the Base Color's hue\n",
+        num(p, "Specular"), num(p, "Specular Tint"));
   if (p.contains("Extinction")) {
     // Blender 4.3+: the Metallic BSDF (node_shader_bsdf_metallic.cc: IOR and Extinction are
     // vectors, Anisotropy and Rotation as the Principled BSDF's) replaces the Principled one.

@@ -295,30 +295,36 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
         // Dielectric: F0 = F0_from_ior(IOR) 2 level (closure.h, "Apply IOR adjustment"), exact Fresnel.
         const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
         const double f0 = F_Conductor(1.0, eta, 0.0);
-        // 3.4: F0 = 0.08 Specular (closure.h:317, 333-334), Specular in [0, 1].
-        const double specular = std::clamp(luminance_avg(g.f0) / 0.08, 0.0, 1.0);
+        // 3.4: cspec0 = 0.08 Specular mix(1, Base Color / its luminance, Specular Tint) (closure.h:
+        // 317, 327-334), Specular above 1 where F0 is above 0.08 (cycles_v1_dielectric_specular).
+        const CyclesV1Specular spec = cycles_v1_dielectric_specular(g.f0, g.kd);
         m.diffuse = g.kd;
         p["Base Color"] = j3(g.kd), p["Metallic"] = 0.0, p["IOR"] = eta, p["Specular IOR Level"] = 0.5;
-        p["Specular"] = specular;
+        p["Specular"] = spec.specular, p["Specular Tint"] = spec.tint;
         if (v1) {
           m.name = "Cycles 3.4 Principled BSDF v1, dielectric (exact Fresnel, separable Smith G) + Burley diffuse";
           m.lobe.fresnel = FresnelModel::CyclesV1;
-          m.lobe.f0 = cycles_v1_cspec0(g.kd, 0.0, specular, 0.0);
-          m.lobe.eta = glm::dvec3(cycles_v1_ior(specular));
+          m.lobe.f0 = cycles_v1_cspec0(g.kd, 0.0, spec.specular, spec.tint);
+          m.lobe.eta = glm::dvec3(cycles_v1_ior(spec.specular));
           m.burley_roughness = rough;
-          if (luminance_avg(g.f0) > 0.08)
-            notes.push_back(
-                fmt::format("Blender 3.4's Specular stops at 1 (F0 0.08); this F0 {:.4g} needs 4.x's IOR", luminance_avg(g.f0)));
+          if (spec.specular > 1.0)
+            notes.push_back(fmt::format(
+                "Blender 3.4: Specular {:.4g} (F0 {:.4g}) is above the slider's 1: the socket takes it (its hard range is "
+                "unbounded) and Cycles reads it unclamped (closure.h:317)",
+                spec.specular, 0.08 * spec.specular));
+          if (const glm::dvec3 d = m.lobe.f0 - glm::clamp(g.f0, 0.0, 1.0); glm::dot(d, d) > 1e-6)
+            notes.push_back(fmt::format(
+                "Blender 3.4's dielectric F0 is white mixed with the Base Color's hue (Specular Tint {:.3g}, closure.h:327-334): "
+                "the source's F0 {} is written as {}, the closest such colour",
+                spec.tint, fmt3(g.f0), fmt3(m.lobe.f0)));
           notes.push_back(
-              "Blender 3.4: the Fresnel is the exact dielectric one at ior = 2 / (1 - sqrt(0.08 Specular)) - 1 "
-              "(closure.h:317), the diffuse Burley's with retro-reflection at the same Roughness "
+              "Blender 3.4: the Fresnel is the dielectric one at ior = 2 / (1 - sqrt(0.08 Specular)) - 1 interpolated from "
+              "F0 to 1 (closure.h:317, bsdf_util.h:94-105), the diffuse Burley's with retro-reflection at the same Roughness "
               "(bsdf_principled_diffuse.h:45-86), added to the specular");
         } else {
           m.name = "Cycles 4.x Principled BSDF, dielectric (exact Fresnel, height-correlated G) + Lambert";
           m.lobe.fresnel = FresnelModel::Dielectric;
           m.lobe.eta = glm::dvec3(eta);
-          if (f0 > 0.08)
-            notes.push_back(fmt::format("Blender 3.4's Specular stops at 1 (F0 0.08); this F0 {:.4g} needs 4.x's IOR", f0));
           notes.push_back(
               fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of IOR {:.4g} closest to its "
                           "curve (F0 {:.4g})",
@@ -327,8 +333,8 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
               "Cycles layers the diffuse under the specular (its weight times 1 - the specular albedo, "
               "closure_layering_weight); the target model adds them as aniso's GGX does");
         }
-        if (max3(g.f0) - std::min({g.f0.x, g.f0.y, g.f0.z}) > 1e-3)
-          notes.push_back("the coloured dielectric F0 is written as its mean (Specular IOR Level; 3.4: Specular)");
+        if (!v1 && max3(g.f0) - std::min({g.f0.x, g.f0.y, g.f0.z}) > 1e-3)
+          notes.push_back("the coloured dielectric F0 is written as its mean (IOR)");
       }
       notes.push_back(v1 ? "the target model is Blender 3.4's Principled BSDF v1 (separable Smith G, interpolated Fresnel, "
                            "Burley diffuse), distribution GGX (set by the script; Multiscatter GGX adds the energy of the "

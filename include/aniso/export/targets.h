@@ -207,6 +207,41 @@ inline glm::dvec3 cycles_v1_fresnel(double cos_lh, const glm::dvec3& cspec0, dou
   const double FH = (F_Conductor(cos_lh, ior, 0.0) - F0) / (1.0 - F0);
   return cspec0 * (1.0 - FH) + glm::dvec3(FH);
 }
+// A dielectric's Specular and Specular Tint (metallic 0) for a Schlick F0 over the diffuse colour
+// base_color. cspec0 = 0.08 Specular ((1 - Specular Tint) + Specular Tint m_ctint) lies in the cone of
+// white and m_ctint = base_color / m_cdlum (closure.h:327-334): F0 / 0.08 = a white + b m_ctint,
+// a, b >= 0, by non-negative least squares over the channels; Specular = a + b, Specular Tint =
+// b / (a + b). A hue outside the cone (a blue F0 over a yellow diffuse) cannot be written: its
+// projection is. Specular is not capped at 1: the socket's declared 0..1 (node_shader_bsdf_principled.cc,
+// node_declare) is only its soft range (rna_nodetree.c, rna_NodeSocketStandard_float_range: hard
+// range -FLT_MAX..FLT_MAX), and Cycles reads it unclamped (closure.h:141, 317, 333). At most
+// kCyclesV1SpecularMax, where 0.08 Specular = 0.96 and the ior (98) is still finite.
+inline constexpr double kCyclesV1SpecularMax = 12.0;
+struct CyclesV1Specular {
+  double specular = 0.0, tint = 0.0;
+};
+inline CyclesV1Specular cycles_v1_dielectric_specular(const glm::dvec3& f0, const glm::dvec3& base_color) {
+  const glm::dvec3 y = glm::max(f0, 0.0) / 0.08, w(1.0);
+  const double lum = 0.3 * base_color.x + 0.6 * base_color.y + 0.1 * base_color.z;
+  const glm::dvec3 c = lum > 0.0 ? base_color / lum : w;
+  const auto residual = [&](double a, double b) {
+    const glm::dvec3 r = a * w + b * c - y;
+    return glm::dot(r, r);
+  };
+  // The candidates of the active-set enumeration: white alone, the tint alone, both.
+  double a = std::max(0.0, glm::dot(y, w) / 3.0), b = 0.0;
+  if (const double bc = std::max(0.0, glm::dot(y, c) / glm::dot(c, c)); residual(0.0, bc) < residual(a, b)) a = 0.0, b = bc;
+  const double ww = 3.0, wc = glm::dot(w, c), cc = glm::dot(c, c), det = ww * cc - wc * wc;
+  if (det > 1e-12 * ww * cc) {
+    const double a2 = (cc * glm::dot(w, y) - wc * glm::dot(c, y)) / det, b2 = (ww * glm::dot(c, y) - wc * glm::dot(w, y)) / det;
+    if (a2 >= 0.0 && b2 >= 0.0 && residual(a2, b2) < residual(a, b)) a = a2, b = b2;
+  }
+  CyclesV1Specular s;
+  s.specular = a + b;
+  s.tint = s.specular > 0.0 ? b / s.specular : 0.0;
+  s.specular = std::min(s.specular, kCyclesV1SpecularMax);
+  return s;
+}
 // closure/bsdf_principled_diffuse.h:45-86 (PRINCIPLED_DIFFUSE_FULL), as a BRDF times pi:
 //   FV, FL = (1 - cos)^5; (1 - FV / 2)(1 - FL / 2) + RR (FL + FV + FL FV (RR - 1)), RR = roughness
 //   (L.V + 1): Burley's 2012 diffuse with retro-reflection (2 cos_d^2 = L.V + 1).
