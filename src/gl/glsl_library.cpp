@@ -2,6 +2,7 @@
 #include "aniso/gl/glsl_library.h"
 
 #include <cctype>
+#include <deque>
 #include <regex>
 #include <sstream>
 #include <vector>
@@ -79,11 +80,95 @@ std::string glsl_material_dispatch() {
       kinds, members, f, pdf, sample);
 }
 
+namespace {
+
+// The GLSL twin of lobe_mixture.h's templates, one text per template with $Model and $Lobe for the
+// GLSL names of the model and of its lobe (docs/glsl.md, "Naming"): GLSL has no templates, so each
+// model gets overloads with the C++ names and argument order. Every diffuse + specular model:
+// pdf_diffuse_specular, sample_diffuse_specular and the model's pdf and sample through them.
+constexpr std::string_view kDiffuseSpecularGlsl = R"(float pdf_diffuse_specular(float p_spec, $Lobe lobe, vec3 wi, vec3 wo) {
+  if (!same_upper_hemisphere(wi, wo)) return 0.0;
+  return pdf_diffuse_specular_mix(p_spec, $Lobe_pdf(lobe, wi, wo), wi, wo);
+}
+float $Model_pdf($Model self, vec3 wi, vec3 wo) {
+  return pdf_diffuse_specular($Model_specular_probability(self, wo), self.lobe, wi, wo);
+}
+BSDFSample sample_diffuse_specular($Model model, $Lobe lobe, float p_spec, vec3 wo, float uc, vec2 u) {
+  if (!above_horizon(wo)) return BSDFSample_none();
+  vec3 wi = uc < p_spec ? $Lobe_sample(lobe, wo, u) : sample_cosine_hemisphere(u);
+  if (!above_horizon(wi)) return BSDFSample_none();
+  return make_sample(wi, $Model_f(model, wi, wo), $Model_pdf(model, wi, wo));
+}
+BSDFSample $Model_sample($Model self, vec3 wo, float uc, vec2 u) {
+  return sample_diffuse_specular(self, self.lobe, $Model_specular_probability(self, wo), wo, uc, u);
+}
+)";
+
+// LambertPlusLobeT<T, Lobe>: the model's struct, f and lobe choice, before kDiffuseSpecularGlsl.
+constexpr std::string_view kLambertPlusLobeGlsl =
+    R"(// $Model = LambertPlusLobeT<T, $LobeT<T>> (lobe_mixture.h): f = kd / pi + ks lobe(wi, wo).
+struct $Model {
+  vec3 kd;
+  vec3 ks;
+  $Lobe lobe;
+};
+
+vec3 $Model_f($Model self, vec3 wi, vec3 wo) {
+  if (!same_upper_hemisphere(wi, wo)) return vec3(0.0);
+  return self.kd * kInvPi + self.ks * $Lobe_eval(self.lobe, wi, wo);
+}
+// Lobe choice by average colour (Walter 2005, Sec. 4).
+float $Model_specular_probability($Model self, vec3 wo) { return specular_share(average_rgb(self.kd), average_rgb(self.ks)); }
+)";
+
+// A model made of lobe_mixture.h's mixture: one specular `lobe`, chosen with probability
+// specular_probability(wo), its pdf and sample pdf_diffuse_specular and sample_diffuse_specular of
+// those (Phong, Ward, Ashikhmin-Shirley, GGX). The GLSL parity tests hold each generated model to
+// its C++ kernel.
+template <typename M>
+concept DiffuseSpecularModel = requires(const M& m, const Vec3T<float>& wo) {
+  m.lobe;
+  m.specular_probability(wo);
+};
+template <typename M> constexpr bool kIsLambertPlusLobe = false;
+template <typename T, typename Lobe> constexpr bool kIsLambertPlusLobe<LambertPlusLobeT<T, Lobe>> = true;
+
+template <typename M> constexpr LobeMixture lobe_mixture_of() {
+  if constexpr (kIsLambertPlusLobe<M>)
+    return LobeMixture::LambertPlusLobe;
+  else if constexpr (DiffuseSpecularModel<M>)
+    return LobeMixture::DiffuseSpecular;
+  else
+    return LobeMixture::None;
+}
+
+void replace_all(std::string& s, std::string_view from, std::string_view to) {
+  for (size_t i = s.find(from); i != std::string::npos; i = s.find(from, i + to.size())) s.replace(i, from.size(), to);
+}
+
+}  // namespace
+
+std::string glsl_lobe_mixture(std::string_view model, LobeMixture mixture) {
+  if (mixture == LobeMixture::None) return {};
+  std::string out = fmt::format(
+      "// {0} with its lobe {0}Lobe: the diffuse + specular mixture of lobe_mixture.h, generated from\n"
+      "// its template by gl::glsl_lobe_mixture (src/gl/glsl_library.cpp).\n",
+      model);
+  if (mixture == LobeMixture::LambertPlusLobe) out += kLambertPlusLobeGlsl;
+  out += kDiffuseSpecularGlsl;
+  replace_all(out, "$Model", model);
+  replace_all(out, "$Lobe", std::string(model) + "Lobe");
+  return out;
+}
+
 std::span<const GlslFile> glsl_library_files() {
   using namespace aniso::embedded;
   static const std::string dispatch = glsl_material_dispatch();
+  // The models' generated mixtures (a deque keeps each text in place as it grows).
+  static std::deque<std::string> mixtures;
   // Paths as written in the repository; the models' twins in registry order (metal after the
-  // lobes it holds), then the generated Material dispatch.
+  // lobes it holds), each followed by its generated mixture if its C++ type is built on one, then
+  // the generated Material dispatch.
   static const std::vector<GlslFile> files = [] {
     std::vector<GlslFile> v = {
         {"include/aniso/core/platform.glsl", glsl_core_platform},
@@ -93,9 +178,12 @@ std::span<const GlslFile> glsl_library_files() {
         {"include/aniso/core/lobe_mixture.glsl", glsl_core_lobe_mixture},
         {"include/aniso/brdf/fresnel.glsl", glsl_brdf_fresnel},
     };
-#define ANISO_GLSL_FILE_Glsl(member) v.push_back({"include/aniso/brdf/" #member ".glsl", glsl_brdf_##member});
-#define ANISO_GLSL_FILE_NoGlsl(member)
-#define ANISO_X(Tag, Type, member, name, batch, glsl) ANISO_GLSL_FILE_##glsl(member)
+#define ANISO_GLSL_FILE_Glsl(Tag, Type, member)                                                                              \
+  v.push_back({"include/aniso/brdf/" #member ".glsl", glsl_brdf_##member});                                                  \
+  if (const std::string& mix = mixtures.emplace_back(glsl_lobe_mixture(#Tag, lobe_mixture_of<Type<float>>())); !mix.empty()) \
+    v.push_back({"include/aniso/brdf/" #member "_mixture.glsl (generated: lobe_mixture.h's template)", mix});
+#define ANISO_GLSL_FILE_NoGlsl(Tag, Type, member)
+#define ANISO_X(Tag, Type, member, name, batch, glsl) ANISO_GLSL_FILE_##glsl(Tag, Type, member)
     ANISO_MODELS(ANISO_X)
 #undef ANISO_X
     v.push_back({"include/aniso/brdf/material.glsl (generated from the registry)", dispatch});

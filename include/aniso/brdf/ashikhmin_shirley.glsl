@@ -88,11 +88,6 @@ struct AshikhminShirley {
   AshikhminShirleyLobe lobe;
 };
 
-float pdf_diffuse_specular(float p_spec, AshikhminShirleyLobe lobe, vec3 wi, vec3 wo) {
-  if (!same_upper_hemisphere(wi, wo)) return 0.0;
-  return pdf_diffuse_specular_mix(p_spec, AshikhminShirleyLobe_pdf(lobe, wi, wo), wi, wo);
-}
-
 vec3 AshikhminShirley_f(AshikhminShirley self, vec3 wi, vec3 wo) {
   if (!same_upper_hemisphere(wi, wo)) return vec3(0.0);
   vec3 h = normalize(wi + wo);
@@ -106,16 +101,6 @@ float AshikhminShirley_specular_probability(AshikhminShirley self, vec3 wo) {
   return specular_share(average_rgb(self.rd * (vec3(1.0) - self.rs)) + average_rgb(self.kd),
                         average_rgb(self.ks_scale * F_Schlick(self.rs, wo.z)));
 }
-float AshikhminShirley_pdf(AshikhminShirley self, vec3 wi, vec3 wo) {
-  return pdf_diffuse_specular(AshikhminShirley_specular_probability(self, wo), self.lobe, wi, wo);
-}
-BSDFSample sample_diffuse_specular(AshikhminShirley model, AshikhminShirleyLobe lobe, float p_spec, vec3 wo,
-                                   float uc, vec2 u) {
-  if (!above_horizon(wo)) return BSDFSample_none();
-  vec3 wi = uc < p_spec ? AshikhminShirleyLobe_sample(lobe, wo, u) : sample_cosine_hemisphere(u);
-  if (!above_horizon(wi)) return BSDFSample_none();
-  return make_sample(wi, AshikhminShirley_f(model, wi, wo), AshikhminShirley_pdf(model, wi, wo));
-}
-BSDFSample AshikhminShirley_sample(AshikhminShirley self, vec3 wo, float uc, vec2 u) {
-  return sample_diffuse_specular(self, self.lobe, AshikhminShirley_specular_probability(self, wo), wo, uc, u);
-}
+// AshikhminShirley_pdf and AshikhminShirley_sample, the diffuse + specular mixture of lobe_mixture.h
+// (pdf_diffuse_specular, sample_diffuse_specular), are generated from its template after this file
+// (gl::glsl_lobe_mixture, src/gl/glsl_library.cpp).

@@ -74,11 +74,6 @@ struct GGX {
   GGXLobe lobe;
 };
 
-float pdf_diffuse_specular(float p_spec, GGXLobe lobe, vec3 wi, vec3 wo) {
-  if (!same_upper_hemisphere(wi, wo)) return 0.0;
-  return pdf_diffuse_specular_mix(p_spec, GGXLobe_pdf(lobe, wi, wo), wi, wo);
-}
-
 vec3 GGX_f(GGX self, vec3 wi, vec3 wo) {
   if (!same_upper_hemisphere(wi, wo)) return vec3(0.0);
   vec3 h = normalize(wi + wo);
@@ -88,15 +83,6 @@ vec3 GGX_f(GGX self, vec3 wi, vec3 wo) {
 float GGX_specular_probability(GGX self, vec3 wo) {
   return specular_share(average_rgb(self.kd), average_rgb(F_Schlick(self.f0, wo.z)));
 }
-float GGX_pdf(GGX self, vec3 wi, vec3 wo) {
-  return pdf_diffuse_specular(GGX_specular_probability(self, wo), self.lobe, wi, wo);
-}
-BSDFSample sample_diffuse_specular(GGX model, GGXLobe lobe, float p_spec, vec3 wo, float uc, vec2 u) {
-  if (!above_horizon(wo)) return BSDFSample_none();
-  vec3 wi = uc < p_spec ? GGXLobe_sample(lobe, wo, u) : sample_cosine_hemisphere(u);
-  if (!above_horizon(wi)) return BSDFSample_none();
-  return make_sample(wi, GGX_f(model, wi, wo), GGX_pdf(model, wi, wo));
-}
-BSDFSample GGX_sample(GGX self, vec3 wo, float uc, vec2 u) {
-  return sample_diffuse_specular(self, self.lobe, GGX_specular_probability(self, wo), wo, uc, u);
-}
+// GGX_pdf and GGX_sample, the diffuse + specular mixture of lobe_mixture.h
+// (pdf_diffuse_specular, sample_diffuse_specular), are generated from its template after this file
+// (gl::glsl_lobe_mixture, src/gl/glsl_library.cpp).

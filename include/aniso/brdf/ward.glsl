@@ -131,33 +131,6 @@ vec3 WardLobe_sample(WardLobe self, vec3 wo, vec2 u) {
   return reflect_about(wo, Ward_SampleHalf(u, self.alpha_x, self.alpha_y));
 }
 
-// WardT = LambertPlusLobeT<T, WardLobeT<T>> (lobe_mixture.h): f = kd / pi + ks lobe(wi, wo).
-struct Ward {
-  vec3 kd;
-  vec3 ks;
-  WardLobe lobe;
-};
-
-float pdf_diffuse_specular(float p_spec, WardLobe lobe, vec3 wi, vec3 wo) {
-  if (!same_upper_hemisphere(wi, wo)) return 0.0;
-  return pdf_diffuse_specular_mix(p_spec, WardLobe_pdf(lobe, wi, wo), wi, wo);
-}
-
-vec3 Ward_f(Ward self, vec3 wi, vec3 wo) {
-  if (!same_upper_hemisphere(wi, wo)) return vec3(0.0);
-  return self.kd * kInvPi + self.ks * WardLobe_eval(self.lobe, wi, wo);
-}
-// Lobe choice by average colour (Walter 2005, Sec. 4).
-float Ward_specular_probability(Ward self, vec3 wo) { return specular_share(average_rgb(self.kd), average_rgb(self.ks)); }
-float Ward_pdf(Ward self, vec3 wi, vec3 wo) {
-  return pdf_diffuse_specular(Ward_specular_probability(self, wo), self.lobe, wi, wo);
-}
-BSDFSample sample_diffuse_specular(Ward model, WardLobe lobe, float p_spec, vec3 wo, float uc, vec2 u) {
-  if (!above_horizon(wo)) return BSDFSample_none();
-  vec3 wi = uc < p_spec ? WardLobe_sample(lobe, wo, u) : sample_cosine_hemisphere(u);
-  if (!above_horizon(wi)) return BSDFSample_none();
-  return make_sample(wi, Ward_f(model, wi, wo), Ward_pdf(model, wi, wo));
-}
-BSDFSample Ward_sample(Ward self, vec3 wo, float uc, vec2 u) {
-  return sample_diffuse_specular(self, self.lobe, Ward_specular_probability(self, wo), wo, uc, u);
-}
+// WardT = LambertPlusLobeT<T, WardLobeT<T>> (lobe_mixture.h): the struct Ward { kd, ks, lobe } with
+// Ward_f, Ward_pdf and Ward_sample is generated from the template's GLSL twin after this file
+// (gl::glsl_lobe_mixture, src/gl/glsl_library.cpp).

@@ -3,9 +3,12 @@
 // specular lobe, chosen with probability p_spec. The reported pdf is the mixture's, so
 // weight = f cos / pdf stays exact (Veach 1997, Sec. 9.2).
 //
-// GLSL has no templates: pdf_diffuse_specular and sample_diffuse_specular, templates on the lobe
-// and model types in C++, are overloads with the same names and argument order, one per lobe /
-// model, defined in each model's file after its lobe (docs/glsl.md, "Naming").
+// GLSL has no templates: pdf_diffuse_specular, sample_diffuse_specular (templates on the lobe and
+// model types in C++) and LambertPlusLobeT are written once, as GLSL text with the model's and the
+// lobe's names left open, in gl::glsl_lobe_mixture (src/gl/glsl_library.cpp); the library holds
+// one instance per model whose C++ type is built on them (overloads with the C++ names and
+// argument order), right after that model's file, which keeps only its lobe (docs/glsl.md,
+// "Naming"). What they share is here.
 
 // Probability of the specular lobe from the two lobes' weights; no weight at all samples diffuse.
 float specular_share(float diffuse_weight, float specular_weight) {

@@ -19,8 +19,20 @@ struct GlslFile {
 // dispatch of f, pdf and sample), generated from the registry (aniso/brdf/registry.h).
 std::string glsl_material_dispatch();
 
-// Every library file, dependencies first: the core, the models' twins in registry order, the
-// generated Material dispatch, the tangent fields.
+// How a model's C++ type uses lobe_mixture.h: not at all; a diffuse + specular mixture of its own
+// f and lobe choice (a `lobe` member and specular_probability(wo), as GGXT); or a
+// LambertPlusLobeT<T, Lobe> (PhongT, WardT).
+enum class LobeMixture { None, DiffuseSpecular, LambertPlusLobe };
+
+// The GLSL of that mixture for the model `model` (its GLSL struct) and its lobe `model`Lobe, from
+// one template per C++ template: pdf_diffuse_specular, sample_diffuse_specular, <model>_pdf and
+// <model>_sample, and for LambertPlusLobe also the struct, <model>_f and
+// <model>_specular_probability. Empty for None. The model's own file holds its lobe (and for
+// DiffuseSpecular its struct, f and specular_probability).
+std::string glsl_lobe_mixture(std::string_view model, LobeMixture mixture);
+
+// Every library file, dependencies first: the core, the models' twins in registry order (each
+// followed by its generated mixture, if any), the generated Material dispatch, the tangent fields.
 std::span<const GlslFile> glsl_library_files();
 
 // The concatenation of every library file (no #version, no main).
