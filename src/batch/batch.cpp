@@ -49,6 +49,7 @@ HWY_AFTER_NAMESPACE();
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 #include <hwy/targets.h>
 #include <tbb/blocked_range.h>
@@ -152,8 +153,7 @@ template <typename T> void dispatch(const MaterialT<T>& m, const EvalArgs<T>& a,
   }
 }
 
-template <typename T>
-void dispatch_interleaved(const MaterialT<T>& m, const InterleavedArgs<T>& a, size_t b, size_t e, bool want_pdf) {
+template <typename T> void dispatch(const MaterialT<T>& m, const InterleavedArgs<T>& a, size_t b, size_t e, bool want_pdf) {
   if constexpr (sizeof(T) == sizeof(float)) {
     HWY_DYNAMIC_DISPATCH(EvalInterleavedFloat)(m, a, b, e, want_pdf);
   } else {
@@ -168,96 +168,70 @@ template <typename T> Vec3T<T> row(const Interleaved<T>& w, size_t i) {
 }
 template <typename T> bool finite(const Vec3T<T>& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// Row i of the arguments, split or interleaved: its {wi, wo}, and where its f goes.
+template <typename T> std::pair<Vec3T<T>, Vec3T<T>> directions(const EvalArgs<T>& a, size_t i) {
+  return {Vec3T<T>(a.wi.x[i], a.wi.y[i], a.wi.z[i]), Vec3T<T>(a.wo.x[i], a.wo.y[i], a.wo.z[i])};
+}
+template <typename T> std::pair<Vec3T<T>, Vec3T<T>> directions(const InterleavedArgs<T>& a, size_t i) {
+  return {row(a.wi, i), row(a.wo, i)};
+}
+template <typename T> void put_f(const EvalArgs<T>& a, size_t i, const RGBT<T>& c) {
+  a.f.r[i] = c.x, a.f.g[i] = c.y, a.f.b[i] = c.z;
+}
+template <typename T> void put_f(const InterleavedArgs<T>& a, size_t i, const RGBT<T>& c) {
+  a.f_rgb[3 * i] = c.x, a.f_rgb[3 * i + 1] = c.y, a.f_rgb[3 * i + 2] = c.z;
+}
+
+// The four evaluations (f or pdf, of split or interleaved rows) on the blocks of for_blocks: the
+// SIMD twin, or the scalar kernel per row where asked for or where the model's registry row says
+// Scalar (no SIMD twin: the measured BRDF, table lookups and gathers from 35 MB), on the same
+// blocks and threads.
+template <bool kPdf, typename T, typename Args>
+void evaluate_blocks(const MaterialT<T>& m, const Args& a, size_t n, Threads threads, Kernels kernels) {
+  if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;
+  const bool nan_rows = a.non_finite == NonFinite::NaN;
+  for_blocks(n, threads, [&](size_t b, size_t e) {
+    if (kernels == Kernels::Scalar) {
+      const FrameRotationT<T>& r = m.rotation;
+      m.visit([&](const auto& model) {
+        for (size_t i = b; i < e; ++i) {
+          // In the model's own frame (material.h, FrameRotationT: the identity unless rotation_deg).
+          const auto [wi, wo] = directions(a, i);
+          const Vec3T<T> u = r.to_model(wi), v = r.to_model(wo);
+          const bool nan_row = nan_rows && !(finite(u) && finite(v));
+          if constexpr (kPdf)
+            a.pdf[i] = nan_row ? std::numeric_limits<T>::quiet_NaN() : model.pdf(u, v);
+          else
+            put_f(a, i, nan_row ? RGBT<T>(std::numeric_limits<T>::quiet_NaN()) : model.f(u, v));
+        }
+      });
+      return;
+    }
+    const FlushSubnormals ftz;
+    dispatch(m, a, b, e, kPdf);
+  });
+}
+
 }  // namespace
 
 template <typename T> void evaluate(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, Colors<T> f,
                                     Threads threads, Kernels kernels, NonFinite non_finite) {
-  const EvalArgs<T> a{wi, wo, f, nullptr, non_finite};
-  // A model whose registry row says Scalar (the measured BRDF: table lookups, gathers from 35 MB)
-  // has no SIMD twin: the scalar kernel per element, on the same blocks and threads.
-  if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;
-  const bool nan_rows = non_finite == NonFinite::NaN;
-  for_blocks(n, threads, [&](size_t b, size_t e) {
-    if (kernels == Kernels::Scalar) {
-      const FrameRotationT<T>& r = m.rotation;
-      m.visit([&](const auto& model) {
-        for (size_t i = b; i < e; ++i) {
-          // In the model's own frame (material.h, FrameRotationT: the identity unless rotation_deg).
-          const Vec3T<T> u = r.to_model(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i])), v = r.to_model(Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
-          const RGBT<T> c = nan_rows && !(finite(u) && finite(v)) ? RGBT<T>(std::numeric_limits<T>::quiet_NaN()) : model.f(u, v);
-          f.r[i] = c.x, f.g[i] = c.y, f.b[i] = c.z;
-        }
-      });
-      return;
-    }
-    const FlushSubnormals ftz;
-    dispatch(m, a, b, e, false);
-  });
+  evaluate_blocks<false>(m, EvalArgs<T>{wi, wo, f, nullptr, non_finite}, n, threads, kernels);
 }
 
 template <typename T> void pdf(const MaterialT<T>& m, Directions<T> wi, Directions<T> wo, size_t n, T* out, Threads threads,
                                Kernels kernels, NonFinite non_finite) {
-  const EvalArgs<T> a{wi, wo, {}, out, non_finite};
-  if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
-  const bool nan_rows = non_finite == NonFinite::NaN;
-  for_blocks(n, threads, [&](size_t b, size_t e) {
-    if (kernels == Kernels::Scalar) {
-      const FrameRotationT<T>& r = m.rotation;
-      m.visit([&](const auto& model) {
-        for (size_t i = b; i < e; ++i) {
-          // In the model's own frame (material.h, FrameRotationT: the identity unless rotation_deg).
-          const Vec3T<T> u = r.to_model(Vec3T<T>(wi.x[i], wi.y[i], wi.z[i])), v = r.to_model(Vec3T<T>(wo.x[i], wo.y[i], wo.z[i]));
-          out[i] = nan_rows && !(finite(u) && finite(v)) ? std::numeric_limits<T>::quiet_NaN() : model.pdf(u, v);
-        }
-      });
-      return;
-    }
-    const FlushSubnormals ftz;
-    dispatch(m, a, b, e, true);
-  });
+  evaluate_blocks<true>(m, EvalArgs<T>{wi, wo, {}, out, non_finite}, n, threads, kernels);
 }
 
 template <typename T> void evaluate_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* f_rgb,
                                                 Threads threads, Kernels kernels, NonFinite non_finite) {
-  const InterleavedArgs<T> a{wi, wo, f_rgb, nullptr, non_finite};
-  if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
-  const bool nan_rows = non_finite == NonFinite::NaN;
-  for_blocks(n, threads, [&](size_t b, size_t e) {
-    if (kernels == Kernels::Scalar) {
-      const FrameRotationT<T>& r = m.rotation;
-      m.visit([&](const auto& model) {
-        for (size_t i = b; i < e; ++i) {
-          const Vec3T<T> u = r.to_model(row(wi, i)), v = r.to_model(row(wo, i));
-          const RGBT<T> c = nan_rows && !(finite(u) && finite(v)) ? RGBT<T>(std::numeric_limits<T>::quiet_NaN()) : model.f(u, v);
-          f_rgb[3 * i] = c.x, f_rgb[3 * i + 1] = c.y, f_rgb[3 * i + 2] = c.z;
-        }
-      });
-      return;
-    }
-    const FlushSubnormals ftz;
-    dispatch_interleaved(m, a, b, e, false);
-  });
+  evaluate_blocks<false>(m, InterleavedArgs<T>{wi, wo, f_rgb, nullptr, non_finite}, n, threads, kernels);
 }
 
 template <typename T> void pdf_interleaved(const MaterialT<T>& m, Interleaved<T> wi, Interleaved<T> wo, size_t n, T* out,
                                            Threads threads, Kernels kernels, NonFinite non_finite) {
-  const InterleavedArgs<T> a{wi, wo, nullptr, out, non_finite};
-  if (model_info(m.kind).batch == BatchPath::Scalar) kernels = Kernels::Scalar;  // no SIMD twin (see evaluate)
-  const bool nan_rows = non_finite == NonFinite::NaN;
-  for_blocks(n, threads, [&](size_t b, size_t e) {
-    if (kernels == Kernels::Scalar) {
-      const FrameRotationT<T>& r = m.rotation;
-      m.visit([&](const auto& model) {
-        for (size_t i = b; i < e; ++i) {
-          const Vec3T<T> u = r.to_model(row(wi, i)), v = r.to_model(row(wo, i));
-          out[i] = nan_rows && !(finite(u) && finite(v)) ? std::numeric_limits<T>::quiet_NaN() : model.pdf(u, v);
-        }
-      });
-      return;
-    }
-    const FlushSubnormals ftz;
-    dispatch_interleaved(m, a, b, e, true);
-  });
+  evaluate_blocks<true>(m, InterleavedArgs<T>{wi, wo, nullptr, out, non_finite}, n, threads, kernels);
 }
 
 // The SIMD samplers (src/batch/twins/) for every model whose registry row says Simd; the scalar
