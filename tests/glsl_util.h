@@ -5,15 +5,18 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "aniso/core/sampling.h"
 #include "aniso/gl/gl_context.h"
 #include "aniso/gl/glsl_library.h"
 #include "aniso/gl/glsl_material.h"
+#include "stats/rng.h"
 
 namespace aniso::test {
 
@@ -103,6 +106,40 @@ inline std::vector<GpuResult> run_pairs(const std::string& material_glsl, const 
     r[i].sample_pdf = out[3 * i + 2].w;
   }
   return r;
+}
+
+// The GLSL sampler's draws at one view, for the chi-square tests: Material_sample(aniso_material(),
+// wo, u.x, u.yz) of `material_glsl` (whose aniso_material() `set` makes ready) for n triples
+// u = (uc, u0, u1) from Rng(seed), drawn in the order chi2_test draws its own from the same seed.
+struct GlslDraws {
+  std::vector<glm::vec3> u;
+  std::vector<GpuResult> r;
+  size_t next = 0;  // how many of r sample() has handed out
+
+  // chi2_test's sampler: the GPU's draws in order (the (uc, u) it passes are the same numbers).
+  BSDFSampleT<float> sample() {
+    const GpuResult& g = r.at(next++);
+    BSDFSampleT<float> s;
+    s.valid = g.sample_valid;
+    s.wi = g.sample_wi;
+    s.pdf = g.sample_pdf;
+    return s;
+  }
+};
+
+inline GlslDraws glsl_draws(const std::string& material_glsl, const glm::vec3& wo, int64_t n, uint64_t seed,
+                            const std::function<void(const gl::ComputeProgram&)>& set) {
+  GlslDraws d;
+  d.u.resize(size_t(n));
+  Rng rng(seed);
+  for (auto& u : d.u) {
+    u.x = rng.uniform_as<float>();
+    u.y = rng.uniform_as<float>();
+    u.z = rng.uniform_as<float>();
+  }
+  const std::vector<glm::vec3> wi(size_t(n), glm::vec3(0, 0, 1)), wos(size_t(n), wo);
+  d.r = run_pairs(material_glsl, "  s = Material_sample(aniso_material(), wo, u.x, u.yz);\n", wi, wos, d.u, set);
+  return d;
 }
 
 // The GLSL parity bound: within 1e-4 relative, or 1e-6 absolute where the value is tiny.

@@ -358,27 +358,11 @@ TEST_P(GlslParity, SamplesPassChiSquare) {
   for (const auto& view : views) {
     const Vec3d wod = spherical(view[0], view[1]);
     const glm::vec3 wo(wod);
-    std::vector<glm::vec3> wi(kSamples, glm::vec3(0, 0, 1)), wos(kSamples, wo), us(kSamples);
-    Rng rng(kSeed);
-    for (auto& u : us) {
-      u.x = rng.uniform_as<float>();
-      u.y = rng.uniform_as<float>();
-      u.z = rng.uniform_as<float>();
-    }
-    const auto r = run_pairs(gm.declarations + gm.code, "  s = Material_sample(aniso_material(), wo, u.x, u.yz);\n", wi, wos, us,
-                             [&](const gl::ComputeProgram& p) { gl::set_uniforms(p, gm, "u_"); });
-    size_t next = 0;
-    const Chi2Result c = chi2_test(
-        [&](float, Vec2) {
-          const GpuResult& g = r[next++];
-          BSDFSampleT<float> s;
-          s.valid = g.sample_valid;
-          s.wi = g.sample_wi;
-          s.pdf = g.sample_pdf;
-          return s;
-        },
-        [&](const Vec3d& w) { return md.pdf(w, wod); }, kSamples, kSeed);
-    ASSERT_EQ(next, r.size());
+    GlslDraws draws = glsl_draws(gm.declarations + gm.code, wo, kSamples, kSeed,
+                                 [&](const gl::ComputeProgram& p) { gl::set_uniforms(p, gm, "u_"); });
+    const Chi2Result c =
+        chi2_test([&](float, Vec2) { return draws.sample(); }, [&](const Vec3d& w) { return md.pdf(w, wod); }, kSamples, kSeed);
+    ASSERT_EQ(draws.next, draws.r.size());
     ASSERT_TRUE(c.message.empty()) << gm.model_struct << "_sample, wo theta " << view[0] << ": " << c.message;
     // 1% for the family (materials x views), Sidak-corrected.
     const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / double(2 * materials_with_presets().size()));

@@ -267,15 +267,10 @@ TEST_P(GlslMeasured, SamplesPassChiSquare) {
   for (const auto& view : views) {
     const Vec3d wod = spherical(view[0], view[1]);
     const glm::vec3 wo(wod);
-    std::vector<glm::vec3> wi(kSamples, glm::vec3(0, 0, 1)), wos(kSamples, wo), us(kSamples);
-    Rng rng(kSeed);
-    for (auto& u : us) {
-      u.x = rng.uniform_as<float>();
-      u.y = rng.uniform_as<float>();
-      u.z = rng.uniform_as<float>();
-    }
-    const auto r = run_pairs(gm.declarations + gm.code, "  s = Material_sample(aniso_material(), wo, u.x, u.yz);\n", wi, wos, us,
-                             [&](const gl::ComputeProgram& p) { p.set(gl::kGlslTablesSampler, 0); });
+    GlslDraws draws = glsl_draws(gm.declarations + gm.code, wo, kSamples, kSeed,
+                                 [&](const gl::ComputeProgram& p) { p.set(gl::kGlslTablesSampler, 0); });
+    const std::vector<glm::vec3>& us = draws.u;
+    const std::vector<GpuResult>& r = draws.r;
     // Sample by sample: the same u through the C++ float sampler gives the same wi (1e-3, as the
     // parity test above) but for a few draws on a cell edge of the tables' cdfs, where float
     // rounding picks the neighbouring cell.
@@ -290,18 +285,8 @@ TEST_P(GlslMeasured, SamplesPassChiSquare) {
     // (kChi2Sub, the reason there); the tensor's is continuous: 4 as test_rgl.cpp.
     const int tb = merl ? 20 : 30, pb = merl ? 40 : 60, sub = merl ? 24 : 4;
     const auto pdf = [&](const Vec3d& w) { return md.pdf(w, wod); };
-    size_t next = 0;
-    const Chi2Result c = chi2_test(
-        [&](float, Vec2) {
-          const GpuResult& g = r[next++];
-          BSDFSampleT<float> s;
-          s.valid = g.sample_valid;
-          s.wi = g.sample_wi;
-          s.pdf = g.sample_pdf;
-          return s;
-        },
-        pdf, kSamples, kSeed, tb, pb, sub);
-    ASSERT_EQ(next, r.size());
+    const Chi2Result c = chi2_test([&](float, Vec2) { return draws.sample(); }, pdf, kSamples, kSeed, tb, pb, sub);
+    ASSERT_EQ(draws.next, r.size());
     std::cout << "[ INFO     ] " << GetParam().name << " view theta " << view[0] << ": chi2 " << c.chi2 << " dof " << c.dof
               << " p " << c.p_value << " pdf integral " << c.pdf_integral << " accepted " << c.accepted_fraction
               << (c.message.empty() ? "" : " (" + c.message + ")") << "\n";
