@@ -28,7 +28,6 @@
 #include "aniso/rgl/rgl_export.h"
 #include "aniso/rgl/rgl_material.h"
 #include "aniso/rgl/tensor.h"
-#include "stats/rng.h"
 
 namespace aniso {
 namespace {
@@ -36,42 +35,21 @@ namespace {
 using FFn = std::function<glm::dvec3(const Vec3d&, const Vec3d&)>;
 
 Vec3d dir(double t, double p) { return Vec3d(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)); }
-double luminance(const glm::dvec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }  // Rec. 709 Y
 
 struct Errors {
   double l1[5] = {0, 0, 0, 0, 0}, albedo[5] = {0, 0, 0, 0, 0};
 };
 
-// compare_rgl's integration (rgl_export.cpp) with any f in place of the file's, at five elevations.
+// compare_rgl's estimator (rgl::compare_view) with any f in place of the file's, at five elevations.
 Errors compare(const rgl::SourceModel& src, const FFn& g, const double (&thetas)[5], const std::vector<double>& phis,
                int samples) {
   Errors r;
   for (int ti = 0; ti < 5; ++ti)
     for (const double phi_deg : phis) {
       const Vec3d wo = dir(thetas[ti] * kPi<double> / 180.0, phi_deg * kPi<double> / 180.0);
-      Rng rng(1234 + uint64_t(ti) * 7 + uint64_t(phi_deg));
-      double diff = 0, ref = 0, a_src = 0, a_g = 0;
-      for (int k = 0; k < samples; ++k) {
-        const Vec2T<double> u(rng.uniform(), rng.uniform());
-        Vec3d wi;
-        if (k % 2 == 0) {
-          const BSDFSampleT<double> s = src.sample(wo, rng.uniform(), u);
-          if (!s.valid) continue;
-          wi = s.wi;
-        } else {
-          wi = sample_cosine_hemisphere(u);
-        }
-        const double pdf = 0.5 * src.pdf(wi, wo) + 0.5 * cosine_hemisphere_pdf(wi.z);
-        if (!(pdf > 0.0) || !(wi.z > 0.0)) continue;
-        const glm::dvec3 fs = src.f(wi, wo), fg = g(wi, wo);
-        const double w = wi.z / pdf;
-        diff += (std::abs(fg.x - fs.x) + std::abs(fg.y - fs.y) + std::abs(fg.z - fs.z)) * w;
-        ref += (fs.x + fs.y + fs.z) * w;
-        a_src += luminance(fs) * w;
-        a_g += luminance(fg) * w;
-      }
-      r.l1[ti] = std::max(r.l1[ti], ref > 0 ? diff / ref : 0.0);
-      r.albedo[ti] = std::max(r.albedo[ti], a_src > 0 ? std::abs(a_g - a_src) / a_src : 0.0);
+      const rgl::ViewError e = rgl::compare_view(src, g, wo, samples, 1234 + uint64_t(ti) * 7 + uint64_t(phi_deg));
+      r.l1[ti] = std::max(r.l1[ti], e.l1);
+      r.albedo[ti] = std::max(r.albedo[ti], e.albedo);
     }
   return r;
 }

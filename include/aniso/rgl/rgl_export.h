@@ -159,4 +159,15 @@ struct SourceModel {
 SourceModel source_model(const MaterialD& m);
 RoundTripStats compare_rgl(const SourceModel& src, const RglT<double>& file, int samples = 20000);
 
+// compare_rgl's estimator at one viewing direction wo, for any f against src.f: the
+// cosine-weighted relative L1 (sum over channels of integral |f - f_src| cos / integral f_src cos)
+// and the relative error of f's directional albedo (luminance) against src's. `samples` draws
+// from Rng(seed), the even ones by src.sample, the odd ones cosine-distributed, weighted by the
+// mixture's pdf (0.5 src.pdf + 0.5 cos / pi); a draw src rejects still counts.
+struct ViewError {
+  double l1 = 0.0, albedo = 0.0;
+};
+ViewError compare_view(const SourceModel& src, const std::function<glm::dvec3(const Vec3d& wi, const Vec3d& wo)>& f,
+                       const Vec3d& wo, int samples, uint64_t seed);
+
 }  // namespace aniso::rgl
