@@ -108,6 +108,31 @@ inline std::vector<GpuResult> run_pairs(const std::string& material_glsl, const 
   return r;
 }
 
+// Direction pairs for the parity tests, each with a u triple and what kind of pair it is.
+struct Grid {
+  std::vector<glm::vec3> wi, wo, u;
+  std::vector<std::string> kind;
+
+  // (a, b) normalised, and u's three floats drawn from rng.
+  void add(glm::vec3 a, glm::vec3 b, const char* k, Rng& rng) {
+    wi.push_back(glm::normalize(a));
+    wo.push_back(glm::normalize(b));
+    u.push_back(glm::vec3(float(rng.uniform()), float(rng.uniform()), float(rng.uniform())));
+    kind.push_back(k);
+  }
+};
+
+// Pair i, for a failure message.
+inline std::string describe(const Grid& g, size_t i) {
+  return fmt::format("{} pair #{}: wi = ({:.7g}, {:.7g}, {:.7g}), wo = ({:.7g}, {:.7g}, {:.7g}), u = ({:.7g}, {:.7g}, {:.7g})",
+                     g.kind[i], i, g.wi[i].x, g.wi[i].y, g.wi[i].z, g.wo[i].x, g.wo[i].y, g.wo[i].z, g.u[i].x, g.u[i].y,
+                     g.u[i].z);
+}
+
+inline glm::vec3 unit(double theta, double phi) {
+  return glm::vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+}
+
 // The GLSL sampler's draws at one view, for the chi-square tests: Material_sample(aniso_material(),
 // wo, u.x, u.yz) of `material_glsl` (whose aniso_material() `set` makes ready) for n triples
 // u = (uc, u0, u1) from Rng(seed), drawn in the order chi2_test draws its own from the same seed.

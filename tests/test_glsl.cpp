@@ -126,27 +126,13 @@ TEST(GlslMaterial, FloatLiteralsReadBackExactly) {
 
 // --- parity on the GPU (llvmpipe in CI) ----------------------------------------------------------
 
-struct Grid {
-  std::vector<glm::vec3> wi, wo, u;
-  std::vector<std::string> kind;
-};
-
-glm::vec3 unit(double theta, double phi) {
-  return glm::vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-}
-
 // Random pairs, near-mirror pairs, grazing pairs (one or both within 0.06 rad of the horizon),
 // h = n (wi the exact mirror of wo), pairs at the horizon threshold, and a few below the horizon
 // (f = pdf = 0, "no sample").
 Grid make_grid() {
   Grid g;
   Rng rng(6);
-  auto add = [&](glm::vec3 a, glm::vec3 b, const char* k) {
-    g.wi.push_back(glm::normalize(a));
-    g.wo.push_back(glm::normalize(b));
-    g.u.push_back(glm::vec3(float(rng.uniform()), float(rng.uniform()), float(rng.uniform())));
-    g.kind.push_back(k);
-  };
+  auto add = [&](glm::vec3 a, glm::vec3 b, const char* k) { g.add(a, b, k, rng); };
   for (int i = 0; i < 400; ++i) add(random_upper<float>(rng), random_upper<float>(rng), "random");
   for (int i = 0; i < 200; ++i) {
     const glm::vec3 wo = random_upper<float>(rng);
@@ -181,12 +167,6 @@ Grid make_grid() {
     }
   for (int i = 0; i < 20; ++i) add(unit(M_PI / 2 + 0.5 * rng.uniform(), 6 * rng.uniform()), random_upper<float>(rng), "below");
   return g;
-}
-
-std::string describe(const Grid& g, size_t i) {
-  return fmt::format("{} pair #{}: wi = ({:.7g}, {:.7g}, {:.7g}), wo = ({:.7g}, {:.7g}, {:.7g}), u = ({:.7g}, {:.7g}, {:.7g})",
-                     g.kind[i], i, g.wi[i].x, g.wi[i].y, g.wi[i].z, g.wo[i].x, g.wo[i].y, g.wo[i].z, g.u[i].x, g.u[i].y,
-                     g.u[i].z);
 }
 
 class GlslParity : public ::testing::TestWithParam<NamedMaterial> {};
