@@ -2,6 +2,7 @@
 // 3.30 core and ES 3.00, every parameter table entry has a GLSL counterpart, and on llvmpipe (or
 // any GL 4.5) every model, form and normalisation matches the C++ float kernels on a grid of
 // direction pairs: f, pdf, and sampling fed the same u. A mismatch names the GLSL function.
+#include <array>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -268,6 +269,21 @@ TEST_P(GlslParity, MaterialMatchesCppFloat) {
   }
 }
 
+// The floats of a GPU record, to compare bit for bit.
+std::array<float, 11> floats(const GpuResult& r) {
+  return {r.f.x,
+          r.f.y,
+          r.f.z,
+          r.pdf,
+          r.sample_wi.x,
+          r.sample_wi.y,
+          r.sample_wi.z,
+          r.sample_weight.x,
+          r.sample_weight.y,
+          r.sample_weight.z,
+          r.sample_pdf};
+}
+
 // The std140 uniform block: GL's member offsets are pack_std140()'s, and the material read from
 // the block gives bit for bit what the plain uniforms give (whose parity with C++ is tested above).
 TEST_P(GlslParity, UniformBlockMatchesPlainUniforms) {
@@ -295,29 +311,8 @@ TEST_P(GlslParity, UniformBlockMatchesPlainUniforms) {
     }
   });
   for (size_t i = 0; i < g.wi.size(); ++i) {
-    const float fa[] = {a[i].f.x,
-                        a[i].f.y,
-                        a[i].f.z,
-                        a[i].pdf,
-                        a[i].sample_wi.x,
-                        a[i].sample_wi.y,
-                        a[i].sample_wi.z,
-                        a[i].sample_weight.x,
-                        a[i].sample_weight.y,
-                        a[i].sample_weight.z,
-                        a[i].sample_pdf};
-    const float fb[] = {b[i].f.x,
-                        b[i].f.y,
-                        b[i].f.z,
-                        b[i].pdf,
-                        b[i].sample_wi.x,
-                        b[i].sample_wi.y,
-                        b[i].sample_wi.z,
-                        b[i].sample_weight.x,
-                        b[i].sample_weight.y,
-                        b[i].sample_weight.z,
-                        b[i].sample_pdf};
-    ASSERT_TRUE(std::memcmp(fa, fb, sizeof fa) == 0 && a[i].sample_valid == b[i].sample_valid)
+    const std::array<float, 11> fa = floats(a[i]), fb = floats(b[i]);
+    ASSERT_TRUE(std::memcmp(fa.data(), fb.data(), sizeof fa) == 0 && a[i].sample_valid == b[i].sample_valid)
         << "uniform block differs from plain uniforms at " << describe(g, i);
   }
 }
