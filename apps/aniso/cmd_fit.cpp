@@ -15,6 +15,7 @@
 #include "aniso/fit/plot.h"
 #include "aniso/io/materials.h"
 #include "commands.h"
+#include "io/enum_names.h"
 #include "io/text_input.h"
 
 namespace aniso {
@@ -268,12 +269,12 @@ void add_fit_command(CLI::App& app) {
   fit->add_flag("--allow-energy-gain", a->options.allow_energy_gain,
                 "let the fitted material reflect more than it receives (directional albedo > 1), for data that do");
   fit->add_flag("--shared-exponents", a->options.shared_exponents, "Lafortune: one exponent per lobe for all channels");
-  fit->add_option("--normalization", a->options.normalization, "Ward: ward | duer | balanced")
+  fit->add_option("--normalization", a->options.normalization, "Ward: " + enum_names_text<WardNormalization>())
       ->type_name("NAME")
       ->capture_default_str();
   fit->add_option("--metal", a->options.metal, "metal: a measured metal's eta, k (fixed); default: fit eta and k")
       ->type_name("METAL");
-  fit->add_option("--metal-lobe", a->options.metal_lobe, "metal: ggx | ward | ashikhmin-shirley")
+  fit->add_option("--metal-lobe", a->options.metal_lobe, "metal: " + enum_names_text<SpecularLobeKind>())
       ->type_name("MODEL")
       ->capture_default_str();
   fit->add_option("--metric", a->options.metric, "l2cos (Ngan 2005's cosine-weighted L2) | log (relative)")

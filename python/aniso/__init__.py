@@ -24,6 +24,7 @@ from ._aniso import (  # noqa: F401  (re-exported)
     export_brdf,
     export_glsl,
     fit,
+    fittable_models,
     fresnel,
     metals,
     models,
@@ -89,5 +90,5 @@ for _cls in (Material, Frame, FitResult):
 del _cls
 
 __all__ = ["Material", "Frame", "FitResult", "presets", "preset_source", "models", "metals", "fresnel", "render",
-           "save_image", "fit", "fit_many", "read_measured", "export_glsl", "export_brdf", "export", "simd_target", "direction", "angles",
-           *_MODEL_CONSTRUCTORS]
+           "save_image", "fit", "fittable_models", "fit_many", "read_measured", "export_glsl", "export_brdf", "export",
+           "simd_target", "direction", "angles", *_MODEL_CONSTRUCTORS]

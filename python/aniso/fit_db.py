@@ -31,17 +31,29 @@ import warnings
 
 import numpy as np
 
+from . import _aniso
+
 # The extensions aniso.fit reads (read_measured: include/aniso/measured/samples.h), which a folder is
 # searched for (a file named on the command line is given to the reader whatever its extension).
 MEASURED_EXTENSIONS = (".binary", ".brdf", ".bsdf", ".csv")
 
 # A model spec is NAME or NAME:ARG; ARG is the option of aniso.fit that distinguishes the variants
 # of NAME (as `aniso fit --compare` fits them: src/fit/fit.cpp, compare_models). Any other NAME
-# is passed to aniso.fit as it is (without :ARG), which accepts every fittable model or names them.
+# is passed to aniso.fit as it is (without :ARG), which accepts every fittable model
+# (aniso.fittable_models()) or names them. The choices of ward:ARG and metal:ARG are the parameter
+# tables' (aniso.models()), as aniso.fit reads them.
+
+
+def _choices(model, key):
+    return next(p["choices"] for p in _aniso.models()[model]["params"] if p["name"] == key)
+
+
+_NORMALIZATIONS = _choices("ward", "normalization")
+_METAL_LOBES = _choices("metal", "lobe")
 _SPEC_ARGUMENT = {
     "lafortune": ("lobes", "the number of lobes, 1 to 8"),
-    "ward": ("normalization", "ward | duer | balanced"),
-    "metal": ("metal_lobe", "ggx | ward | ashikhmin-shirley"),
+    "ward": ("normalization", " | ".join(_NORMALIZATIONS)),
+    "metal": ("metal_lobe", " | ".join(_METAL_LOBES)),
 }
 DEFAULT_MODELS = "ward,ashikhmin-shirley,ggx,lafortune:1,lafortune:3"
 
@@ -654,9 +666,9 @@ def fit_many(inputs, models=DEFAULT_MODELS, client=None, *, out=None, workers=No
     """Fits every model to every measured file: the rows of results.csv (docs/fit-db.md).
 
     inputs: files or folders (.binary, .brdf, .bsdf, .csv, folders searched recursively). models: specs
-    such as "ward,ashikhmin-shirley,ggx,lafortune:3" (a text or a list): NAME or NAME:ARG with
-    lafortune:LOBES, ward:NORMALIZATION (ward | duer | balanced), metal:LOBE, ashikhmin-shirley,
-    ggx, principled. fit_options: the keywords of aniso.fit (anisotropic, allow_energy_gain, metric,
+    such as "ward,ggx,lafortune:3" (a text or a list): NAME or NAME:ARG, NAME any of
+    aniso.fittable_models(), ARG with lafortune:LOBES, ward:NORMALIZATION (aniso.fit's
+    normalization) and metal:LOBE (its metal_lobe). fit_options: the keywords of aniso.fit (anisotropic, allow_energy_gain, metric,
     loss, loss_scale, starts, seed, max_iterations; threads: per task, default 1).
 
     client: a distributed.Client (each pair a Dask task on its workers, which must import aniso;
@@ -789,8 +801,8 @@ def _parser(prog):
         "material JSON per pair, results.csv and report.md in DIR; a rerun resumes.")
     p.add_argument("inputs", nargs="+", metavar="INPUT", help="measured files (.binary, .brdf, .bsdf, .csv) or folders of them")
     p.add_argument("--models", default=DEFAULT_MODELS,
-                   help="comma-separated model specs: any model aniso fit fits (ashikhmin-shirley, ggx, principled, ...), "
-                        "ward[:ward|duer|balanced], lafortune:LOBES, metal[:ggx|ward|ashikhmin-shirley] "
+                   help=f"comma-separated model specs: any model aniso fit fits ({', '.join(_aniso.fittable_models())}), "
+                        f"ward[:{'|'.join(_NORMALIZATIONS)}], lafortune:LOBES, metal[:{'|'.join(_METAL_LOBES)}] "
                         "(default: %(default)s)")
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="the output folder (created; resumed when it exists)")
     p.add_argument("--force", action="store_true", help="fit every pair again, even those DIR has")

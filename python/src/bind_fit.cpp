@@ -16,6 +16,7 @@
 #include "aniso/measured/samples.h"
 #include "bindings.h"
 #include "convert.h"
+#include "io/enum_names.h"
 #include "io/text_input.h"
 
 namespace aniso::python {
@@ -273,6 +274,38 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
   return PyFitResult{std::move(mat), r->material, std::move(provenance), std::move(*r)};
 }
 
+// aniso.fit's docstring. Its lists of choices come from where the fitter reads them: the models
+// from kFittable (fittable_models()), the Ward normalizations and the metal's lobes from
+// io/enum_names.h.
+const std::string& fit_doc() {
+  static const std::string doc = [] {
+    std::string models;
+    for (const std::string_view m : fittable_models()) (models += models.empty() ? "" : " | ") += m;
+    return fmt::format(
+        "Fits a model to measured data, as `aniso fit` (docs/fitting.md): the same solver, options, starts\n"
+        "and error figures; the same data, options and seed give the same material.\n\n"
+        "data: a path to a MERL .binary, Cornell .brdf, RGL tensor .bsdf or CSV file of samples (what `aniso fit\n"
+        "DATA` reads);\n"
+        "or instead wi, wo: (N, 3) unit directions above the horizon (one of them may be (3,)), value: (N, 3)\n"
+        "f(wi, wo) in 1/sr (no cosine), weight: (N,) or None. The keywords are `aniso fit`'s options:\n"
+        "model ({}), lobes (Lafortune, 1 to 8),\n"
+        "anisotropic (\"auto\": when the data show it, \"yes\" / True, \"no\" / False; an anisotropic fit fits\n"
+        "rotation_deg too), allow_energy_gain (else every directional albedo stays <= 1), shared_exponents, normalization (Ward: "
+        "{}), metal (a named metal; None fits eta\n"
+        "and k), metal_lobe ({}), metric (l2cos | log), loss (none | huber |\n"
+        "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations, max_theta_deg\n"
+        "(samples with a direction farther from the normal are left out: Ngan 2005's 80 degrees), grid (an RGL\n"
+        ".bsdf file's sampling: N theta_h x N/2 theta_d x N phi_d, N even in [4, 256]; None: 64 isotropic, 32\n"
+        "anisotropic).\n"
+        "progress: None (a line on stderr when it is a terminal, as the CLI), True, False, or a callable\n"
+        "given {{stage, iteration, cost, elapsed_s, remaining_s}} each iteration. The GIL is released while\n"
+        "fitting; Ctrl-C stops the fit (KeyboardInterrupt). Returns a FitResult: `m, errors = aniso.fit(...)`.\n"
+        "Bad data or options raise ValueError with the CLI's message.",
+        models, enum_names_text<WardNormalization>(), enum_names_text<SpecularLobeKind>());
+  }();
+  return doc;
+}
+
 }  // namespace
 
 void bind_fit(py::module_& m) {
@@ -348,26 +381,16 @@ void bind_fit(py::module_& m) {
         py::arg("normalization") = "ward", py::arg("metal") = py::none(), py::arg("metal_lobe") = "ggx",
         py::arg("metric") = "l2cos", py::arg("loss") = "none", py::arg("loss_scale") = 0.0, py::arg("starts") = 6,
         py::arg("seed") = 1, py::arg("threads") = 0, py::arg("max_iterations") = 200, py::arg("max_theta_deg") = kNganMaxThetaDeg,
-        py::arg("progress") = py::none(), py::arg("grid") = py::none(),
-        "Fits a model to measured data, as `aniso fit` (docs/fitting.md): the same solver, options, starts\n"
-        "and error figures; the same data, options and seed give the same material.\n\n"
-        "data: a path to a MERL .binary, Cornell .brdf, RGL tensor .bsdf or CSV file of samples (what `aniso fit\n"
-        "DATA` reads);\n"
-        "or instead wi, wo: (N, 3) unit directions above the horizon (one of them may be (3,)), value: (N, 3)\n"
-        "f(wi, wo) in 1/sr (no cosine), weight: (N,) or None. The keywords are `aniso fit`'s options:\n"
-        "model (lafortune | ward | ashikhmin-shirley | ggx | metal | principled), lobes (Lafortune, 1 to 8),\n"
-        "anisotropic (\"auto\": when the data show it, \"yes\" / True, \"no\" / False; an anisotropic fit fits\n"
-        "rotation_deg too), allow_energy_gain (else every directional albedo stays <= 1), shared_exponents, normalization (Ward: "
-        "ward | duer | balanced), metal (a named metal; None fits eta\n"
-        "and k), metal_lobe (ggx | ward | ashikhmin-shirley), metric (l2cos | log), loss (none | huber |\n"
-        "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations, max_theta_deg\n"
-        "(samples with a direction farther from the normal are left out: Ngan 2005's 80 degrees), grid (an RGL\n"
-        ".bsdf file's sampling: N theta_h x N/2 theta_d x N phi_d, N even in [4, 256]; None: 64 isotropic, 32\n"
-        "anisotropic).\n"
-        "progress: None (a line on stderr when it is a terminal, as the CLI), True, False, or a callable\n"
-        "given {stage, iteration, cost, elapsed_s, remaining_s} each iteration. The GIL is released while\n"
-        "fitting; Ctrl-C stops the fit (KeyboardInterrupt). Returns a FitResult: `m, errors = aniso.fit(...)`.\n"
-        "Bad data or options raise ValueError with the CLI's message.");
+        py::arg("progress") = py::none(), py::arg("grid") = py::none(), fit_doc().c_str());
+  m.def(
+      "fittable_models",
+      [] {
+        std::vector<std::string> out;
+        for (const std::string_view n : fittable_models()) out.emplace_back(n);
+        return out;
+      },
+      "The models aniso.fit fits (its model=, `aniso fit --model`), in the order `aniso fit --help` lists them:\n"
+      "the fitter's table (src/fit/fit.cpp, kFittable).");
   m.def(
       "read_measured", &read_measured_py, py::arg("path"), py::kw_only(), py::arg("grid") = py::none(),
       "Reads measured reflectance as `aniso fit DATA` does (a MERL .binary, Cornell .brdf, RGL tensor .bsdf\n"

@@ -8,6 +8,7 @@
 
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "aniso/brdf/metal.h"
@@ -46,6 +47,13 @@ template <typename E> constexpr std::optional<E> enum_from_name(std::string_view
   for (size_t i = 0; i < std::size(EnumNames<E>::kNames); ++i)
     if (EnumNames<E>::kNames[i] == s) return static_cast<E>(i);
   return std::nullopt;
+}
+// The names joined by sep ("ward | duer | balanced"): the help texts and docstrings that list
+// the choices list them from here.
+template <typename E> std::string enum_names_text(std::string_view sep = " | ") {
+  std::string out;
+  for (const std::string_view n : enum_names<E>()) (out += out.empty() ? "" : sep) += n;
+  return out;
 }
 
 }  // namespace aniso
