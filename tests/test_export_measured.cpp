@@ -146,6 +146,31 @@ TEST_F(ExportMeasuredCli, TensorFileWrittenAsTheRenderersMeasuredBsdf) {
   EXPECT_TRUE(contains(r.err, "--analytic")) << r.err;
 }
 
+// The material's name is the source file's stem whatever the target and path (export.cpp,
+// material_name): a tensor file's as a JSON file's, not its full path; the tensor file beside the
+// scene is named from -o (measured_file_name_for_path).
+TEST_F(ExportMeasuredCli, MaterialNameIsTheSourceFilesStem) {
+  std::filesystem::create_directories(dir_ / "films");
+  const auto film = dir_ / "films" / "Film.BSDF";
+  write_rgl(film, R"({"model": "ggx", "alpha_x": 0.15, "alpha_y": 0.15, "f0": 0.05, "kd": [0.3, 0.2, 0.1]})", false);
+  const std::string xml = (dir_ / "scene.xml").string();
+  Result r = run({"export", "--to", "mitsuba3", "--material", film.string(), "-o", xml, "--grid", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(read_file(xml), "<bsdf type=\"measured\" id=\"Film\">")) << read_file(xml);
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "scene_rgb.bsdf"));
+  const std::string pbrt = (dir_ / "fit.pbrt").string();
+  r = run({"export", "--to", "pbrt-v4", "--material", film.string(), "-o", pbrt, "--grid", "2", "--starts", "1", "--analytic"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(read_file(pbrt), "MakeNamedMaterial \"Film\"")) << read_file(pbrt);
+  const std::string json_file = (dir_ / "films" / "paint.json").string();
+  std::ofstream(json_file) << R"({"model": "ggx", "alpha_x": 0.15, "alpha_y": 0.15, "f0": 0.05, "kd": 0.3})";
+  for (const std::string& m : {film.string(), json_file}) {
+    r = run({"export", "--to", "blender", "--material", m, "--grid", "2", "--starts", "1"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, m == json_file ? "NAME = \"paint\"\n" : "NAME = \"Film\"\n")) << r.out;
+  }
+}
+
 // The image check: an exact export renders as its source (within the check's own quadrature), in
 // the report's text, its JSON and the glTF's asset.extras.
 TEST(ExportRules, ImageCheckInEveryReport) {

@@ -168,7 +168,7 @@ void run_export(const ExportArgs& a) {
           fmt::format("--to {} of a measured source writes two files (the scene and the tensor file beside it): "
                       "give -o FILE{} (or --analytic for the fitted analytic material alone)",
                       info->name, info->extension));
-    bin_name = measured_file_name(info->target, fs::path(a.output).stem().string());
+    bin_name = measured_file_name_for_path(info->target, a.output);
     const std::string side = (fs::path(a.output).parent_path() / bin_name).string();
     check_writable(side, "the tensor file beside -o");
     for (const std::string& other : {a.output, a.preview})

@@ -38,7 +38,8 @@ void bind_export(py::module_& m) {
   m.def(
       "export",
       [](const py::object& x, const std::string& to, const py::object& path_in, const std::optional<std::string>& name,
-         const std::string& metric, int starts, uint64_t seed, int grid, double blender_version, double tangent_angle_deg) {
+         const std::string& metric, int starts, uint64_t seed, int grid, double blender_version, double tangent_angle_deg,
+         bool analytic) {
         const PyMaterial mat = as_material(x);
         std::optional<std::string> path;
         if (!path_in.is_none()) path = std::string(py::str(py::module_::import("os").attr("fspath")(path_in)));
@@ -53,8 +54,13 @@ void bind_export(py::module_& m) {
         o.grid = grid;
         o.blender_version = blender_version;
         o.tangent_angle_deg = tangent_angle_deg;
+        o.analytic = analytic;
         exporter::check_export_options(o);  // before anything is written
         std::string bin_name;
+        // A measured source to Mitsuba 3 / pbrt-v4: the tensor file beside path, named from it as the
+        // CLI names it from -o (without path, from the material's name).
+        if (path && exporter::writes_measured(exporter::find_target(to)->target, mat.desc, o))
+          bin_name = exporter::measured_file_name_for_path(exporter::find_target(to)->target, *path);
         if (path && to == "gltf") {
           std::string stem = *path;
           if (const size_t slash = stem.find_last_of('/'); slash != std::string::npos) stem = stem.substr(slash + 1);
@@ -104,14 +110,17 @@ void bind_export(py::module_& m) {
       },
       py::arg("material"), py::kw_only(), py::arg("to"), py::arg("path") = py::none(), py::arg("name") = py::none(),
       py::arg("metric") = "l2cos", py::arg("starts") = 4, py::arg("seed") = 1, py::arg("grid") = 6,
-      py::arg("blender_version") = 4.3, py::arg("tangent_angle_deg") = 0.0,
+      py::arg("blender_version") = 4.3, py::arg("tangent_angle_deg") = 0.0, py::arg("analytic") = false,
       "The material in a renderer's own format, as `aniso export --to` (docs/export.md): to = \"blender\",\n"
       "\"mitsuba3\", \"pbrt-v4\", \"materialx\", \"openpbr\" or \"gltf\". Returns {report, text, files}: the report (target\n"
       "model, parameters, exact or fitted, errors, notes) as a dict and as text, and the files (\"\" the main\n"
-      "file's text, a glTF's .bin as bytes under its name). With path, writes them too (atomically; an\n"
-      "OSError leaves nothing). A bad material or target raises ValueError. grid, blender_version: as `--grid`,\n"
-      "`--blender-version`; tangent_angle_deg: the surface's own turn of the tangent (a scene object's\n"
-      "tangent.angle_deg, as `--scene --object`), composed with the material's rotation_deg.");
+      "file's text, a glTF's .bin or a measured source's tensor file as bytes under its name). With path, writes\n"
+      "them too (atomically; an OSError leaves nothing). A bad material or target raises ValueError. grid,\n"
+      "blender_version: as `--grid`, `--blender-version`; tangent_angle_deg: the surface's own turn of the tangent\n"
+      "(a scene object's tangent.angle_deg, as `--scene --object`), composed with the material's rotation_deg.\n"
+      "A measured source (.bsdf, .binary) to mitsuba3 or pbrt-v4 is the renderer's own measured BSDF with its\n"
+      "tensor file beside path, named from path's stem as the CLI names it from -o (STEM_rgb.bsdf, STEM_spec.bsdf);\n"
+      "analytic=True writes the fitted analytic material instead, as `--analytic`.");
 }
 
 }  // namespace aniso::python

@@ -153,6 +153,36 @@ def test_export_to_a_renderer_equals_the_cli(tmp):
             assert py == cli == r["files"][""]
 
 
+def test_export_of_a_measured_source_equals_the_cli(tmp):
+    """A tensor file to mitsuba3 / pbrt-v4 is the renderer's own measured BSDF, its tensor file beside path
+    and named from path's stem as the CLI names it from -o; analytic=True is --analytic (docs/export.md)."""
+    film = tmp / "film.bsdf"  # aniso's own tensor file, on small grids
+    rc, _, err = run_cli("export-rgl", "-m", '{"model": "ggx", "alpha_x": 0.15, "alpha_y": 0.15, "f0": 0.05, '
+                         '"kd": [0.3, 0.2, 0.1]}', "-o", str(film), "--rgb", "--isotropic", "--resolution", "16",
+                         "--theta-i", "6", "--ndf", "32", "--vndf", "16")
+    assert rc == 0, err
+    (tmp / "cli").mkdir()
+    (tmp / "py").mkdir()
+    for to, ext, side in (("mitsuba3", "xml", "my_film_rgb.bsdf"), ("pbrt-v4", "pbrt", "my_film_spec.bsdf")):
+        rc, _, err = run_cli("export", "--to", to, "-m", str(film), "-o", str(tmp / "cli" / f"my film.{ext}"), "--grid", "2")
+        assert rc == 0, err
+        r = aniso.export(str(film), to=to, path=tmp / "py" / f"my film.{ext}", grid=2)
+        assert r["report"]["measured_file"] == side
+        assert (tmp / "py" / side).read_bytes() == (tmp / "cli" / side).read_bytes() == r["files"][side]
+        text = (tmp / "py" / f"my film.{ext}").read_text()
+        assert text == (tmp / "cli" / f"my film.{ext}").read_text() == r["files"][""]
+        assert ('id="film"' if to == "mitsuba3" else 'MakeNamedMaterial "film"') in text  # the source's stem
+    rc, _, err = run_cli("export", "--to", "pbrt-v4", "-m", str(film), "-o", str(tmp / "cli" / "fit.pbrt"), "--grid", "2",
+                         "--starts", "1", "--analytic")
+    assert rc == 0, err
+    r = aniso.export(str(film), to="pbrt-v4", path=tmp / "py" / "fit.pbrt", grid=2, starts=1, analytic=True)
+    assert list(r["files"]) == [""] and "measured_file" not in r["report"]
+    assert (tmp / "py" / "fit.pbrt").read_text() == (tmp / "cli" / "fit.pbrt").read_text() == r["files"][""]
+    assert "\"string type\" \"measured\"" not in r["files"][""]
+    assert sorted(p.name for p in (tmp / "py").iterdir()) == ["fit.pbrt", "my film.pbrt", "my film.xml",
+                                                              "my_film_rgb.bsdf", "my_film_spec.bsdf"]
+
+
 def test_export_errors(tmp):
     with pytest.raises(ValueError, match="unknown target"):
         aniso.export("gold", to="renderman")

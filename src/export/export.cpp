@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <optional>
 
 #include <fmt/format.h>
@@ -122,18 +123,29 @@ std::string measured_file_name(Target t, const std::string& main_stem) {
   return out + (t == Target::Mitsuba3 ? "_rgb.bsdf" : "_spec.bsdf");
 }
 
+std::string measured_file_name_for_path(Target t, const std::string& main_path) {
+  return measured_file_name(t, std::filesystem::path(main_path).stem().string());
+}
+
 namespace {
 
-// The material's name in the file: --name, else the source's file name or the scene object's.
+// The material's name in the file: --name, else the scene object's, else the source's: a preset's
+// name, a file's stem (its name without the folder and the material file's extension: .json, an RGL
+// tensor file's .bsdf, a MERL table's .binary, in any case), "aniso-MODEL" for inline JSON.
 std::string material_name(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o) {
   std::string name = o.name;
   if (name.empty()) {
     name = source_label;
-    const size_t slash = name.find_last_of('/');
-    if (name.size() > 0 && name.front() != '{' && slash != std::string::npos && name.find(".json") != std::string::npos)
-      name = name.substr(slash + 1);
-    if (name.size() > 5 && name.ends_with(".json")) name.resize(name.size() - 5);
     if (name.empty() || name.front() == '{') name = "aniso-" + desc.model;
+    if (const size_t slash = name.find_last_of('/'); slash != std::string::npos) name = name.substr(slash + 1);
+    std::string lower = name;
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    for (const std::string_view ext : {".json", ".bsdf", ".binary"})
+      if (name.size() > ext.size() && lower.ends_with(ext)) {
+        name.resize(name.size() - ext.size());
+        break;
+      }
+    if (name.empty()) name = "aniso-" + desc.model;
     name = text_escape(name);  // a file name need not be UTF-8; the written name is
   }
   return name;

@@ -215,6 +215,9 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
 // (spectra and wavelengths, all it reads: bxdfs.cpp:889-932). "" when the export writes no tensor
 // file (another target, not measured, or analytic).
 std::string measured_file_name(Target t, const std::string& main_stem);
+// measured_file_name for the main file written at main_path (its stem, std::filesystem's): the
+// CLI's -o and Python's path= name the tensor file the same way.
+std::string measured_file_name_for_path(Target t, const std::string& main_path);
 // Whether the export of this source to this target writes a measured BSDF (and its tensor file).
 bool writes_measured(Target t, const MaterialDesc& desc, const ExportOptions& o);
 
