@@ -85,14 +85,15 @@ class FitResult:
 
 def fit(data: str | os.PathLike | None = None, *, wi: ArrayLike | None = None, wo: ArrayLike | None = None,
         value: ArrayLike | None = None, weight: ArrayLike | None = None,
-        model: Literal["lafortune", "ward", "ashikhmin-shirley", "ggx", "metal", "principled"] = "lafortune", lobes: int = 1,
+        model: Literal["lafortune", "ward", "ashikhmin-shirley", "ggx", "metal", "principled", "phong", "lambert"] = "lafortune", lobes: int = 1,
         anisotropic: bool | Literal["auto", "yes", "no"] = "auto", allow_energy_gain: bool = False,
         shared_exponents: bool = False,
         normalization: Literal["ward", "duer", "balanced"] = "ward", metal: str | None = None,
-        metal_lobe: Literal["ggx", "ward", "ashikhmin-shirley"] = "ggx", metric: Literal["l2cos", "log"] = "l2cos",
+        metal_lobe: Literal["ward", "ashikhmin-shirley", "ggx"] = "ggx", metric: Literal["l2cos", "log"] = "l2cos",
         loss: Literal["none", "huber", "cauchy", "soft_l1"] = "none", loss_scale: float = 0.0, starts: int = 6,
         seed: int = 1, threads: int = 0, max_iterations: int = 200, max_theta_deg: float = 80.0,
         progress: bool | Callable[[dict[str, Any]], Any] | None = None, grid: int | None = None) -> FitResult: ...
+def fittable_models() -> list[str]: ...
 def read_measured(path: str | os.PathLike, *, grid: int | None = None) -> dict[str, Any]: ...
 def fit_many(inputs: str | os.PathLike | Sequence[str | os.PathLike], models: str | Sequence[str] = ...,
              client: Any = None, *, out: str | os.PathLike | None = None, workers: int | None = None,

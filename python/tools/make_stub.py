@@ -3,7 +3,9 @@
 
 The classes and functions are written out below; the per-model constructors (aniso.ward(...),
 ...) are generated from the parameter tables (aniso.models()), so their keywords are the JSON keys
-with their types and defaults. python/tests/test_stub.py fails when the committed stub differs
+with their types and defaults, and so are the choices of fit's model (aniso.fittable_models(), the
+fitter's table), normalization and metal_lobe (the ward table's and the metal's lobe choices).
+python/tests/test_stub.py fails when the committed stub differs
 from what this script writes, or lacks a name the module has.
 
     PYTHONPATH=build/release/python /usr/bin/python3 python/tools/make_stub.py [--check]
@@ -101,14 +103,15 @@ class FitResult:
 
 def fit(data: str | os.PathLike | None = None, *, wi: ArrayLike | None = None, wo: ArrayLike | None = None,
         value: ArrayLike | None = None, weight: ArrayLike | None = None,
-        model: Literal["lafortune", "ward", "ashikhmin-shirley", "ggx", "metal", "principled"] = "lafortune", lobes: int = 1,
+        model: Literal[@FITTABLE@] = "lafortune", lobes: int = 1,
         anisotropic: bool | Literal["auto", "yes", "no"] = "auto", allow_energy_gain: bool = False,
         shared_exponents: bool = False,
-        normalization: Literal["ward", "duer", "balanced"] = "ward", metal: str | None = None,
-        metal_lobe: Literal["ggx", "ward", "ashikhmin-shirley"] = "ggx", metric: Literal["l2cos", "log"] = "l2cos",
+        normalization: Literal[@NORMALIZATIONS@] = "ward", metal: str | None = None,
+        metal_lobe: Literal[@METAL_LOBES@] = "ggx", metric: Literal["l2cos", "log"] = "l2cos",
         loss: Literal["none", "huber", "cauchy", "soft_l1"] = "none", loss_scale: float = 0.0, starts: int = 6,
         seed: int = 1, threads: int = 0, max_iterations: int = 200, max_theta_deg: float = 80.0,
         progress: bool | Callable[[dict[str, Any]], Any] | None = None, grid: int | None = None) -> FitResult: ...
+def fittable_models() -> list[str]: ...
 def read_measured(path: str | os.PathLike, *, grid: int | None = None) -> dict[str, Any]: ...
 def fit_many(inputs: str | os.PathLike | Sequence[str | os.PathLike], models: str | Sequence[str] = ...,
              client: Any = None, *, out: str | os.PathLike | None = None, workers: int | None = None,
@@ -158,8 +161,19 @@ def constructor_stub(model):
     return f"def {name}(*, {', '.join(args)}) -> Material:\n    \"\"\"{model['title']} ({model['citation']}).\"\"\"\n"
 
 
+def choices(names):
+    return ", ".join(f'"{n}"' for n in names)
+
+
+def param(model, key):
+    return next(p for p in aniso.models()[model]["params"] if p["name"] == key)
+
+
 def stub_text():
-    return HEADER + "".join(constructor_stub(m) for m in aniso.models().values())
+    header = (HEADER.replace("@FITTABLE@", choices(aniso.fittable_models()))
+              .replace("@NORMALIZATIONS@", choices(param("ward", "normalization")["choices"]))
+              .replace("@METAL_LOBES@", choices(param("metal", "lobe")["choices"])))
+    return header + "".join(constructor_stub(m) for m in aniso.models().values())
 
 
 def main():
