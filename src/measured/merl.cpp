@@ -25,12 +25,6 @@ namespace {
 
 constexpr const char* kChannelName[3] = {"R", "G", "B"};
 
-// Largest stored number accepted: 1e15 (1e15 / 1500 ~ 7e11 per sr). A measurement stores
-// reflectance times about 1500, far below this even at a mirror-like peak; random bytes (a corrupt
-// file) often decode to 1e100 or 1e300, which would overflow the float kernels (3.4e38) and the
-// sampling tables' sums. Negative numbers of any size mark a missing sample.
-constexpr double kMaxStored = 1e15;
-
 // "channel G, bin (theta_h 3, theta_d 17, phi_d 120)" for the value number n of the data.
 std::string describe_value(size_t n) {
   const int channel = int(n / MerlLayout::kBins);
@@ -144,9 +138,10 @@ MerlBrdf read_merl(const std::string& path) {
       fail(path, 12 + 8 * n,
            fmt::format("{} ({}): expected a finite number (negative marks a missing sample)",
                        std::isnan(raw) ? "NaN" : "infinite value", describe_value(n)));
-    if (raw > kMaxStored)
+    if (raw > MerlBrdf::kMaxStored)
       fail(path, 12 + 8 * n,
-           fmt::format("{:g} ({}): above {:g}, no measured reflectance (a corrupt file?)", raw, describe_value(n), kMaxStored));
+           fmt::format("{:g} ({}): above {:g}, no measured reflectance (a corrupt file?)", raw, describe_value(n),
+                       MerlBrdf::kMaxStored));
     m.table[n] = raw * MerlBrdf::kScale[n / MerlLayout::kBins];
   }
   return m;
@@ -181,9 +176,9 @@ void write_merl(const std::string& path, const MerlBrdf& brdf) {
     if (!std::isfinite(brdf.table[n]))
       throw InputError(fmt::format("{}: cannot write value {} ({}): not finite", path, n, describe_value(n)));
     raw[n] = stored_number(brdf.table[n], MerlBrdf::kScale[n / MerlLayout::kBins]);
-    if (raw[n] > kMaxStored)
+    if (raw[n] > MerlBrdf::kMaxStored)
       throw InputError(fmt::format("{}: cannot write value {} ({}): {:g} / sr is above what a MERL file holds ({:g} stored)",
-                                   path, n, describe_value(n), brdf.table[n], kMaxStored));
+                                   path, n, describe_value(n), brdf.table[n], MerlBrdf::kMaxStored));
   }
   const int32_t dims[3] = {MerlLayout::kThetaH, MerlLayout::kThetaD, MerlLayout::kPhiD};
   io::AtomicFile out(path);

@@ -112,14 +112,6 @@ void expect(const TensorFile& t, const TensorField& f, Dtype dtype, size_t ndim)
     fail(t.source, f.name, fmt::format("shape {} has {} dimensions, expected {}", f.shape_string(), f.shape.size(), ndim));
 }
 
-// The largest magnitude accepted in a table: f multiplies colour by ndf and divides by sigma (>=
-// kMinSigma) and a cosine, all in float; 1e15 keeps that product below float's 3.4e38 for cosines
-// down to 0.1 (a GGX with alpha 0.001 peaks at D = 3e5: real tables are far below).
-constexpr float kMaxTableValue = 1e15f;
-// The floor of sigma (f divides by it; smaller values are raised to it, with a note): sigma(w) >=
-// cos(theta) for every normalised D, so only the horizon row of a mirror-like table comes near it.
-constexpr float kMinSigma = 1e-6f;
-
 // Finite, >= 0 and <= kMaxTableValue: pbrt-v4 and Mitsuba build cdfs from these tables and divide
 // by their sums and by sigma; a NaN or a negative density would give NaN or negative pdfs. Runs
 // after zero_rounding_noise, so a negative value here is beyond float rounding of 0.

@@ -25,6 +25,11 @@ struct MerlBrdf {
   static constexpr double kScale[3] = {1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0};
   // Size of a file: 12 header bytes and 3 kBins doubles (34,992,012 bytes).
   static constexpr size_t kFileBytes = 12 + sizeof(double) * 3 * size_t(kBins);
+  // Largest stored number accepted: 1e15 (1e15 / 1500 ~ 7e11 per sr). A measurement stores
+  // reflectance times about 1500, far below this even at a mirror-like peak; random bytes (a corrupt
+  // file) often decode to 1e100 or 1e300, which would overflow the float kernels (3.4e38) and the
+  // sampling tables' sums. Negative numbers of any size mark a missing sample.
+  static constexpr double kMaxStored = 1e15;
 
   std::vector<double> table;  // 3 * kBins values, channel-major, already scaled (RGB reflectance / sr)
 

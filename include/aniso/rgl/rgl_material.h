@@ -65,6 +65,13 @@ struct RglData {
 // no value at all (bxdfs.cpp MeasuredBxDFData::Create, measured.cpp MeasuredBSDF(): only the
 // dtypes and shapes): aniso reads these files as they do and says so once.
 inline constexpr double kRoundingNoiseUlps = 64.0;
+// The largest magnitude accepted in a table: f multiplies colour by ndf and divides by sigma (>=
+// kMinSigma) and a cosine, all in float; 1e15 keeps that product below float's 3.4e38 for cosines
+// down to 0.1 (a GGX with alpha 0.001 peaks at D = 3e5: real tables are far below).
+inline constexpr float kMaxTableValue = 1e15f;
+// The floor of sigma (f divides by it; smaller values are raised to it, with a note): sigma(w) >=
+// cos(theta) for every normalised D, so only the horizon row of a mirror-like table comes near it.
+inline constexpr float kMinSigma = 1e-6f;
 // kRoundingNoiseUlps x FLT_EPSILON x the largest finite |value| of v.
 double rounding_noise_bound(std::span<const float> v);
 // Sets the values in [-rounding_noise_bound(v), 0) to 0; returns "" when there were none, else the
