@@ -23,9 +23,14 @@ import blender_export_render as ber  # noqa: E402  (exits 77 itself without nump
 
 np = ber.np
 
+# The eight files are all TeckWrap vinyl films (the folder's README); which looks like what, by what
+# aniso fit measures (docs/measured.md, "Real measurements"): aurora_white a plain gloss vinyl (a white
+# diffuse 0.42 under a clear gloss, F0 0.08, alpha 0.055), chm_light_blue a chrome look (a mirror-sharp
+# peak, alpha 0.012, with a blue F0 of 0.32), cc_nothern_aurora a flake film (the RD series: a dark
+# diffuse, a gloss of alpha 0.05 and a broader lobe that three Lafortune lobes take up).
 FILES = {
-    "vinyl film (chm_light_blue)": "chm_light_blue_rgb.bsdf",
-    "chrome-look film (cc_iris_purple_gem)": "cc_iris_purple_gem_rgb.bsdf",
+    "vinyl film (aurora_white)": "aurora_white_rgb.bsdf",
+    "chrome-look film (chm_light_blue)": "chm_light_blue_rgb.bsdf",
     "flake film (cc_nothern_aurora)": "cc_nothern_aurora_rgb.bsdf",
 }
 MAX_MEAN, MAX_LIT = 0.25, 0.40  # issue 39's target: Cycles 3.4 against aniso's render of the source
