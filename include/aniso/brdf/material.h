@@ -65,25 +65,9 @@ template <typename T> struct MaterialT {
   // Calls fn(model) with the active alternative (a tag switch the compiler turns into a jump
   // table). The cases are generated from the registry, one per row, and there is no default; a
   // kind outside the enumeration (corrupted memory only) gets Lambert's member after the switch.
-  template <typename Fn> ANISO_HD auto visit(Fn&& fn) const {
-    switch (kind) {
-#define ANISO_X(Tag, Type, member, name, batch, glsl) \
-  case ModelKind::Tag: return fn(member);
-      ANISO_MODELS(ANISO_X)
-#undef ANISO_X
-    }
-    return fn(lambert);
-  }
+  template <typename Fn> ANISO_HD auto visit(Fn&& fn) const { return visit_of(*this, fn); }
   // visit for a change of the active model (regularize).
-  template <typename Fn> ANISO_HD auto visit_mutable(Fn&& fn) {
-    switch (kind) {
-#define ANISO_X(Tag, Type, member, name, batch, glsl) \
-  case ModelKind::Tag: return fn(member);
-      ANISO_MODELS(ANISO_X)
-#undef ANISO_X
-    }
-    return fn(lambert);
-  }
+  template <typename Fn> ANISO_HD auto visit_mutable(Fn&& fn) { return visit_of(*this, fn); }
 
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     const Vec3T<T> i = rotation.to_model(wi), o = rotation.to_model(wo);
@@ -110,6 +94,18 @@ template <typename T> struct MaterialT {
   // in the shading frame; core/kernel.h).
   ANISO_HD GgxDistributionT<T> ggx_distribution() const {
     return visit([](const auto& m) { return m.ggx_distribution(); });
+  }
+
+ private:
+  // The switch of visit and visit_mutable, for a const or a non-const material.
+  template <typename Self, typename Fn> ANISO_HD static auto visit_of(Self& self, Fn& fn) {
+    switch (self.kind) {
+#define ANISO_X(Tag, Type, member, name, batch, glsl) \
+  case ModelKind::Tag: return fn(self.member);
+      ANISO_MODELS(ANISO_X)
+#undef ANISO_X
+    }
+    return fn(self.lambert);
   }
 };
 
