@@ -3,12 +3,14 @@
 // WebGL2: the lit views shade with it, the plots evaluate it into float targets
 // (EXT_color_buffer_float) and read the values back. The controls are generated from the
 // parameter tables (ANISO_DATA.models) and validated by web/validate.js, the mirror of the CLI's
-// reader. No request leaves the page's own folder.
+// reader; a measured file (.bsdf, .binary) is read by web/measured.js into the tables texture its
+// GLSL twin reads. No request leaves the page's own folder.
 "use strict";
 
 (function () {
   const D = window.ANISO_DATA;
   const V = window.AnisoValidate;
+  const MF = window.AnisoMeasured;
   const $ = (id) => document.getElementById(id);
   const deg = Math.PI / 180;
   const lum = (r, g, b) => 0.2126 * r + 0.7152 * g + 0.0722 * b;  // Rec. 709, as src/view/plots.h
@@ -27,8 +29,10 @@
     view: Object.assign({}, defaults.view),
     lastError: "",
     redraws: 0,
+    fileLoads: 0,  // files opened or dropped and read (or refused) so far
   };
-  const results = { polar: {}, albedo: {}, lobe: {}, frameMs: [], stageMs: [] };
+  // fileMs: the last measured file's reading (and tables) and texture upload times.
+  const results = { polar: {}, albedo: {}, lobe: {}, frameMs: [], stageMs: [], fileMs: null };
 
   function showError(msg) {
     state.lastError = msg;
@@ -55,10 +59,18 @@
     if (!shape) throw new V.InputError(`${where}: model "${desc.model}" has no GLSL form in the page`);
     return { desc, where, preset: preset || "" };
   }
-  // Replaces material A or B; on error the message is shown and the state stays as it was.
-  function setMaterial(which, input, where, preset) {
+  // Puts a material in slot A or B; the tables texture of the one it replaces goes when no slot
+  // holds that material any more.
+  function replaceMaterial(which, mat) {
+    const old = state[which];
+    state[which] = mat;
+    if (old && old.texture && state.A !== old && state.B !== old) gl.deleteTexture(old.texture);
+  }
+  // Replaces material A or B by what make() returns; on error the message is shown and the state
+  // stays as it was.
+  function trySet(which, make) {
     try {
-      state[which] = makeMaterial(input, where, preset);
+      replaceMaterial(which, make());
       showError("");
       onMaterialChange();
       return true;
@@ -67,6 +79,7 @@
       return false;
     }
   }
+  const setMaterial = (which, input, where, preset) => trySet(which, () => makeMaterial(input, where, preset));
 
   // ---- the material's shape and uniforms (mirrors apps/aniso/cmd_web.cpp shape_key) ----------
   function shapeParts(spec, pv, path, parts) {
@@ -261,7 +274,15 @@ void main() {
     programs.set(key, p);
     return p;
   }
+  // A measured material's tables texture, on its own unit (evalDirections uses 0, display 0 and 1).
+  const TABLES_UNIT = 3;
   function setMaterialUniforms(p, mat) {
+    if (p.shape.needs_tables) {
+      gl.activeTexture(gl.TEXTURE0 + TABLES_UNIT);
+      gl.bindTexture(gl.TEXTURE_2D, mat.texture);
+      gl.activeTexture(gl.TEXTURE0);
+      gl.uniform1i(loc(p, D.measured.tables.sampler), TABLES_UNIT);
+    }
     for (const s of p.shape.slots) {
       const v = slotValue(mat.desc, s);
       const l = loc(p, "u_" + s.name);
@@ -306,6 +327,44 @@ void main() {
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
     return tex;
+  }
+
+  // The measured tables texture (docs/glsl.md, "Measured materials"; gl::TablesTexture): R32F,
+  // ANISO_DATA.measured.tables.width texels wide, float i at (i % width, i / width), NEAREST.
+  const limits = { maxTextureSize: gl.getParameter(gl.MAX_TEXTURE_SIZE) };  // the tests lower it
+  function uploadTables(tables, name) {
+    const width = D.measured.tables.width, rows = Math.max(1, Math.ceil(tables.length / width)), max = limits.maxTextureSize;
+    if (rows > max || width > max)
+      throw new V.InputError(`${name}: the measured tables (${tables.length} floats) need a ${width} x ${rows} float texture; ` +
+        `this browser's WebGL2 allows ${max} x ${max} (MAX_TEXTURE_SIZE)`);
+    const padded = new Float32Array(width * rows);
+    padded.set(tables);
+    while (gl.getError() !== gl.NO_ERROR);
+    const tex = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, tex);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 4);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, width, rows, 0, gl.RED, gl.FLOAT, padded);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    const err = gl.getError();
+    if (err !== gl.NO_ERROR) {
+      gl.deleteTexture(tex);
+      throw new V.InputError(`${name}: the measured tables (${tables.length} floats, a ${width} x ${rows} float texture) could not be uploaded: WebGL error 0x${err.toString(16)}`);
+    }
+    return tex;
+  }
+  // A measured file (its first bytes, its size) as material A or B: read by web/measured.js with the
+  // C++ readers' rules, its tables uploaded; on error the message is shown and nothing changes.
+  function setMeasured(which, name, bytes, size) {
+    return trySet(which, () => {
+      const t0 = performance.now();
+      const r = MF.readMeasured(name, bytes, size);
+      const t1 = performance.now();
+      const texture = uploadTables(r.tables, name);
+      results.fileMs = { read: t1 - t0, upload: performance.now() - t1 };
+      const desc = { model: r.model, params: { file: name }, json: { model: r.model, file: name } };
+      return { desc, where: name, preset: "", tables: r.tables, texture, notes: r.notes, summary: r.summary };
+    });
   }
 
   let targets = null;
@@ -668,11 +727,20 @@ void main() {
     gl.deleteTexture(t.tex);
     gl.deleteFramebuffer(t.fb);
     gl.deleteRenderbuffer(t.depth);
+    // Per angle the mean weight and its standard error (of independent samples: the stratified
+    // ones vary less), which the tests hold against `aniso albedo`.
     const rows = [];
     for (let y = 0; y < ALBEDO_ROWS; ++y) {
-      const s = [0, 0, 0];
-      for (let x = 0; x < ALBEDO_SAMPLES; ++x) for (let c = 0; c < 3; ++c) s[c] += out[(y * ALBEDO_SAMPLES + x) * 4 + c];
-      rows.push({ theta: (y / (ALBEDO_ROWS - 1)) * 89, rho: s.map((v) => v / ALBEDO_SAMPLES) });
+      const s = [0, 0, 0], s2 = [0, 0, 0];
+      for (let x = 0; x < ALBEDO_SAMPLES; ++x)
+        for (let c = 0; c < 3; ++c) {
+          const v = out[(y * ALBEDO_SAMPLES + x) * 4 + c];
+          s[c] += v;
+          s2[c] += v * v;
+        }
+      const rho = s.map((v) => v / ALBEDO_SAMPLES);
+      const stderr = s2.map((v, c) => Math.sqrt(Math.max(0, v / ALBEDO_SAMPLES - rho[c] * rho[c]) / (ALBEDO_SAMPLES - 1)));
+      rows.push({ theta: (y / (ALBEDO_ROWS - 1)) * 89, rho, stderr });
     }
     results.albedo[which] = rows;
   }
@@ -1005,7 +1073,14 @@ void main() {
     const box = $("params");
     box.textContent = "";
     buildTable(box, modelSpec(m.desc.model), V.resolvedJson(m.desc), [], "");
-    $("source").textContent = `${state.edit}: ${m.where}`;
+    // A measured file: what it is, and the reader's notes as the CLI prints them.
+    const src = $("source");
+    src.textContent = `${state.edit}: ${m.where}${m.summary ? ` (${m.summary})` : ""}`;
+    for (const n of m.notes || []) {
+      const line = document.createElement("div");
+      line.textContent = `aniso: note: ${n}`;
+      src.appendChild(line);
+    }
   }
   function initPickers() {
     const pr = $("preset");
@@ -1015,7 +1090,14 @@ void main() {
       if (pr.value) setMaterial(state.edit, presetJson(pr.value), `preset ${pr.value}`, pr.value);
     });
     const mo = $("model");
-    for (const m of D.models) if (!D.no_glsl.includes(m.name)) mo.add(new Option(m.name, m.name));
+    // The measured models are files: listed, not chosen (open or drop the file).
+    for (const m of D.models) {
+      if (D.no_glsl.includes(m.name)) continue;
+      const file = D.measured.models.includes(m.name);
+      const o = new Option(file ? `${m.name} (open a file)` : m.name, m.name);
+      o.disabled = file;
+      mo.add(o);
+    }
     mo.addEventListener("change", () => {
       // A model's defaults; a table with required keys gets the first preset of that model.
       const pre = D.presets.find((p) => p.material.model === mo.value);
@@ -1034,9 +1116,9 @@ void main() {
   }
 
   // ---- files, exports, links --------------------------------------------------------------------
-  function download(name, text) {
+  function download(name, data) {
     const a = document.createElement("a");
-    a.href = URL.createObjectURL(new Blob([text], { type: "text/plain" }));
+    a.href = URL.createObjectURL(new Blob([data], { type: typeof data === "string" ? "text/plain" : "application/octet-stream" }));
     a.download = name;
     document.body.appendChild(a);
     a.click();
@@ -1056,6 +1138,14 @@ void main() {
   function oneLine(s) {
     return s.replace(/[\r\n]/g, " ");
   }
+  // The names the GLSL button downloads; a measured material's tables go beside the shader.
+  const GLSL_NAME = "material.glsl", GLSL_TABLES_NAME = GLSL_NAME + ".tables";
+  // The side file of export-glsl (gl::export_glsl_tables): the floats, zero-padded to whole rows.
+  function exportTables(m) {
+    const w = D.measured.tables.width, out = new Float32Array(Math.ceil(m.tables.length / w) * w);
+    out.set(m.tables);
+    return new Uint8Array(out.buffer);
+  }
   // export-glsl --full (src/gl/glsl_export.cpp export_glsl): header, the whole prefixed library,
   // the slots as constants, the prefixed builder; every piece but the constants' values is
   // generated text. (The CLI's default keeps only the library functions the material uses.)
@@ -1066,6 +1156,16 @@ void main() {
       "// Self-contained GLSL (3.30 core and later; ES 3.00 with `precision highp float;`), no #version\n" +
       "// and no main. Defines aniso_f(wi, wo), aniso_pdf(wi, wo), aniso_sample(wo, u, weight, pdf) and\n" +
       "// aniso_f_world(L, V, N, X, Y); every name it defines starts with aniso_ (docs/glsl.md).\n\n";
+    if (shape.needs_tables) {
+      // src/gl/glsl_export.cpp export_glsl: the side file the page downloads beside the shader.
+      const w = D.measured.tables.width, rows = Math.ceil(m.tables.length / w);
+      out +=
+        `// A measured material: its tables are data, in the side file ${GLSL_TABLES_NAME} (${m.tables.length} floats, raw little-endian\n` +
+        `// float32, zero-padded to ${w} x ${rows}). Upload them as one texture and set the sampler to its unit:\n` +
+        `//   glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, ${w}, ${rows}, 0, GL_RED, GL_FLOAT, data);  (NEAREST filters)\n` +
+        '//   glUniform1i(glGetUniformLocation(program, "aniso_MeasuredTables_texture"), unit);\n' +
+        '// Layout: docs/glsl.md, "Measured materials".\n\n';
+    }
     out += D.glsl.library_prefixed;
     out += "\n// ---- the material's parameters (from its parameter table) and entry points\n";
     for (const s of shape.slots) {
@@ -1142,7 +1242,9 @@ void main() {
         canvas.height = next.size[1];
         delete next.size;
       }
-      Object.assign(state, next, { A, B });
+      Object.assign(state, next);
+      replaceMaterial("A", A);
+      replaceMaterial("B", B);
       showError("");
       syncInputs();
       onMaterialChange();
@@ -1153,7 +1255,19 @@ void main() {
     }
   }
 
+  // A file opened or dropped: a measured file (.bsdf, .binary) as material A or B, an OBJ as the
+  // object, anything else as a JSON material. state.fileLoads counts the files done.
   function loadFile(file) {
+    const done = () => state.fileLoads++;
+    if (MF.isMeasuredFile(file.name)) {
+      file
+        .slice(0, MF.bytesNeeded(file.name, file.size))
+        .arrayBuffer()
+        .then((buf) => setMeasured(state.edit, file.name, new Uint8Array(buf), file.size))
+        .catch((err) => reportError(new V.InputError(`${file.name}: cannot read: ${err.message}`)))
+        .finally(done);
+      return;
+    }
     file.text().then((text) => {
       if (/\.obj$/i.test(file.name)) {
         try {
@@ -1169,7 +1283,7 @@ void main() {
         return;
       }
       setMaterial(state.edit, text, file.name);
-    });
+    }).finally(done);
   }
 
   // ---- redraw only on change ------------------------------------------------------------------
@@ -1319,8 +1433,18 @@ void main() {
     lo.addEventListener("pointerup", () => (lastDrag = null));
     $("load").addEventListener("change", () => $("load").files[0] && loadFile($("load").files[0]));
     $("save").addEventListener("click", () => download("material.json", materialText(editing())));
-    $("export-glsl").addEventListener("click", () => download("material.glsl", exportGlsl(editing())));
-    $("export-brdf").addEventListener("click", () => download("material.brdf", exportBrdf(editing())));
+    $("export-glsl").addEventListener("click", () => {
+      const m = editing();
+      download(GLSL_NAME, exportGlsl(m));
+      if (m.tables) download(GLSL_TABLES_NAME, exportTables(m));
+    });
+    $("export-brdf").addEventListener("click", () => {
+      try {
+        download("material.brdf", exportBrdf(editing()));
+      } catch (err) {
+        reportError(err);
+      }
+    });
     $("share").addEventListener("click", () => {
       history.replaceState(null, "", linkHash());
       if (navigator.clipboard) navigator.clipboard.writeText(location.href).catch(() => {});
@@ -1348,6 +1472,9 @@ void main() {
   function exportBrdf(m) {
     const shape = D.shapes[shapeKey(m.desc)];
     const key = shapeKey(m.desc);
+    if (shape.needs_tables)
+      throw new V.InputError(`${oneLine(m.where)}: a measured material's GLSL reads its tables from a texture, which a BRDF Explorer .brdf file cannot ` +
+        "carry; use `aniso export-glsl` (the shader and its tables file) or fit an analytic model first (`aniso fit`)");
     let out =
       `analytic\n\n# Generated by aniso ${D.version} \`aniso export-brdf\` from ${oneLine(m.where.replace(/^preset /, ""))} (model ${m.desc.model}); parameters from aniso's table\n` +
       "# (ranges) and from the material (defaults). Choices are sliders over their index.\n\n::begin parameters\n";
@@ -1379,10 +1506,11 @@ void main() {
 
   // What the tests (tests/web) and the curious read: state, the plots' numbers, exports, links.
   window.anisoExplorer = {
-    state, results, readSphere, toneMapProbe, linkHash, applyHash, exportGlsl, exportBrdf, materialText,
+    state, results, readSphere, toneMapProbe, linkHash, applyHash, exportGlsl, exportBrdf, exportTables, materialText, limits,
     setMaterial: (text, where) => setMaterial(state.edit, text, where),
     material: (which) => V.resolvedJson(state[which || "A"].desc),
     error: () => state.lastError,
+    notes: (which) => state[which || "A"].notes || [],
     idle: () => !pending,
     shapeKey: (which) => shapeKey(state[which || "A"].desc),
   };

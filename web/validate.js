@@ -353,8 +353,10 @@
         }
       });
     }
-    if (model === "measured")
-      throw new InputError(`${where}: a measured material (a MERL table) has no GLSL form and cannot be shown in the page; fit an analytic model to it first (\`aniso fit\`)`);
+    // A measured material's "file" is a path, which a page cannot open: the file itself is opened
+    // or dropped (web/measured.js reads it).
+    if (model === "measured" || model === "rgl")
+      fail(where, "file", `the page opens no paths: open or drop the ${model === "rgl" ? "RGL tensor file (.bsdf)" : "MERL table (.binary)"} itself`);
     if (model === "metal") {
       const named = has(pv, "metal"), custom = has(pv, "eta") || has(pv, "k");
       if (named && custom) fail(where, "metal", 'give either "metal" or "eta" and "k", not both');

@@ -3,7 +3,8 @@
 //                            the parameter tables (src/io/params.cpp) with their range texts, the
 //                            presets, the metals, the GLSL library (the files export-glsl
 //                            assembles), the GLSL tone map (render::tonemap's twin) and, per material shape, the GLSL builder of
-//                            gl::glsl_material() with uniforms; written as one JavaScript
+//                            gl::glsl_material() with uniforms, the measured tables' layout and
+//                            readers' limits (web/measured.js); written as one JavaScript
 //                            assignment so that the page also works opened from file://.
 //   aniso serve [--port P]   a static server for the built page on 127.0.0.1.
 #include <arpa/inet.h>
@@ -38,9 +39,13 @@
 #include "aniso/gl/glsl_material.h"
 #include "aniso/io/materials.h"
 #include "aniso/io/presets.h"
+#include "aniso/measured/measured.h"
+#include "aniso/measured/merl.h"
+#include "aniso/rgl/rgl_material.h"
 #include "aniso/version.h"
 #include "commands.h"
 #include "io/enum_names.h"
+#include "io/json_read.h"
 
 namespace aniso {
 namespace {
@@ -169,6 +174,35 @@ const char* slot_type(gl::GlslSlot::Type t) {
   return "float";
 }
 
+// What the page's reader of measured files (web/measured.js) takes from the C++: the tables
+// texture (gl::glsl_tables, docs/glsl.md "Measured materials"), MERL's layout and scales
+// (measured/merl.h), the sampling tables' resolution (measured/measured.h), and the limits and
+// texts of the readers' messages (rgl/rgl_material.h, measured/merl.h, io/json_read.h).
+json measured_json() {
+  json files = json::array();
+  for (const ModelSpec* m : model_specs())
+    if (m->find("file")) files.push_back(m->name);
+  return {{"models", files},
+          {"tables",
+           {{"width", gl::kGlslTablesWidth}, {"max_floats", gl::kGlslTablesMaxFloats}, {"sampler", gl::kGlslTablesSampler}}},
+          {"merl",
+           {{"theta_h", MerlLayout::kThetaH},
+            {"theta_d", MerlLayout::kThetaD},
+            {"phi_d", MerlLayout::kPhiD},
+            {"scale", MerlBrdf::kScale},
+            {"file_bytes", MerlBrdf::kFileBytes},
+            {"max_stored", MerlBrdf::kMaxStored},
+            {"theta_o_bins", kMeasuredThetaOBins},
+            {"phi_h_bins", kMeasuredPhiHBins},
+            {"uniform_fraction", MeasuredT<float>{}.uniform_fraction}}},
+          {"rgl",
+           {{"max_file_bytes", kMaxTensorFileBytes},
+            {"max_file_text", mib_text(kMaxTensorFileBytes)},
+            {"rounding_noise_ulps", rgl::kRoundingNoiseUlps},
+            {"max_table_value", rgl::kMaxTableValue},
+            {"min_sigma", rgl::kMinSigma}}}};
+}
+
 json web_data() {
   json data = {{"generator", "aniso " ANISO_VERSION " web-data (apps/aniso/cmd_web.cpp)"}, {"version", ANISO_VERSION}};
   data["models"] = json::array();
@@ -193,16 +227,25 @@ json web_data() {
       for (json v : variants(*m, fill)) {
         v["model"] = m->name;
         MaterialDesc d;
-        try {
-          d = parse_material(v, "shape");
-        } catch (const InputError&) {
-          continue;  // a variant the cross-key rules refuse (a metal without eta, k): the filled one serves
+        if (m->find("file")) {
+          // A measured model: its material is a file, which the page reads itself (web/measured.js)
+          // into the tables texture; its GLSL builder needs only the model (glsl_material does not
+          // open the file, glsl_tables does).
+          d.model = std::string(m->name);
+          d.params.where = "shape";
+          d.params.values["file"] = std::string();
+        } else {
+          try {
+            d = parse_material(v, "shape");
+          } catch (const InputError&) {
+            continue;  // a variant the cross-key rules refuse (a metal without eta, k): the filled one serves
+          }
         }
         gl::GlslMaterial g;
         try {
           g = gl::glsl_material(d, gl::GlslStorage::Uniform, "u_");
         } catch (const InputError&) {
-          continue;  // measured: no GLSL form
+          continue;  // a model without a GLSL twin (registry.h)
         }
         const gl::GlslMaterial c = gl::glsl_material(d, gl::GlslStorage::Const, "aniso_p_");
         json slots = json::array();
@@ -210,6 +253,7 @@ json web_data() {
           slots.push_back({{"name", s.name}, {"key", s.table_key}, {"type", slot_type(s.type)}});
         shapes[shape_key(d)] = {
             {"slots", slots},
+            {"needs_tables", g.needs_tables},
             {"declarations", g.declarations},
             {"code", g.code},
             {"code_prefixed", gl::glsl_prefix_names(c.code, "aniso_")},
@@ -221,6 +265,7 @@ json web_data() {
   }
   data["shapes"] = shapes;
   data["no_glsl"] = no_glsl;
+  data["measured"] = measured_json();
   return data;
 }
 

@@ -9,6 +9,7 @@ import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
+import { checker } from "./checks.mjs";
 
 const [anisoArg, webDir, outDir, ...only] = process.argv.slice(2);
 const aniso = path.resolve(anisoArg);
@@ -18,9 +19,9 @@ const skip = (why) => {
 };
 const CHROMIUM = process.env.ANISO_CHROMIUM || "/usr/bin/chromium";  // as harness.mjs
 if (!fs.existsSync(CHROMIUM)) skip(`${CHROMIUM} not found (install Debian's chromium: scripts/install-deps.sh)`);
-let serve, launch;
+let serve, launch, spherePixels;
 try {
-  ({ serve, launch } = await import("./harness.mjs"));  // imports playwright-core
+  ({ serve, launch, spherePixels } = await import("./harness.mjs"));  // imports playwright-core
 } catch {
   skip(`playwright-core not installed (cd ${path.dirname(fileURLToPath(import.meta.url))} && npm ci)`);
 }
@@ -35,15 +36,7 @@ const g9 = (x) => Number(x).toPrecision(9);
 
 const url = await serve(aniso, webDir);
 const browser = await launch();
-const failures = [];
-let checks = 0;
-function check(ok, what) {
-  checks++;
-  if (!ok) {
-    failures.push(what);
-    console.log(`FAIL ${what}`);
-  }
-}
+const { check, finish } = checker();
 
 // A page, with every console error, page error and request to another host recorded.
 async function openPage(hash = "") {
@@ -97,8 +90,12 @@ if (want("load")) {
 // 2. Every model's sliders exist and move the picture (the sphere or the plots).
 if (want("sliders")) {
   const page = await openPage("#views=lit,polar");  // the albedo and the lobe are not needed here
-  const models = await page.evaluate(() => [...document.querySelectorAll("#model option")].map((o) => o.value));
-  const tables = await page.evaluate(() => window.ANISO_DATA.models.filter((m) => !window.ANISO_DATA.no_glsl.includes(m.name)).map((m) => m.name));
+  // The measured models are files (listed, disabled: tests/web/measured.test.mjs opens them).
+  const models = await page.evaluate(() => [...document.querySelectorAll("#model option:not([disabled])")].map((o) => o.value));
+  const tables = await page.evaluate(() => {
+    const D = window.ANISO_DATA;
+    return D.models.filter((m) => !D.no_glsl.includes(m.name) && !D.measured.models.includes(m.name)).map((m) => m.name);
+  });
   check(JSON.stringify(models) === JSON.stringify(tables), `sliders: the model list ${models} is not the tables' ${tables}`);
   for (const model of models) {
     await page.selectOption("#model", model);
@@ -153,7 +150,7 @@ if (want("sliders")) {
 if (want("polar")) {
   const page = await openPage();
   const materials = ["brushed-gold", "ngan/ward/nickel", "ngan/lafortune/nickel", "ngan/ashikhminshirley/blue-acrylic", "matte-steel"];
-  const models = await page.evaluate(() => [...document.querySelectorAll("#model option")].map((o) => o.value));
+  const models = await page.evaluate(() => [...document.querySelectorAll("#model option:not([disabled])")].map((o) => o.value));
   const cases = materials.map((m) => ({ preset: m })).concat(models.map((m) => ({ model: m })));
   for (const c of cases) {
     if (c.preset) {
@@ -322,30 +319,7 @@ if (want("sphere")) {
       const E = window.anisoExplorer, s = E.readSphere(), st = E.state;
       return { w: s.w, h: s.h, data: s.data, light: st.light, material: E.material() };
     });
-    const t = (r.light.theta * Math.PI) / 180, p = (r.light.phi * Math.PI) / 180;
-    const L = [Math.sin(t) * Math.cos(p), Math.sin(t) * Math.sin(p), Math.cos(t)];
-    const ext = 1 / 0.9, m = Math.min(r.w, r.h);
-    const picks = [];
-    for (let y = 8; y < r.h; y += 23)
-      for (let x = 8; x < r.w; x += 23) {
-        // The pixel centre in the shader's coordinates (SPHERE_FS: q = v_xy * u_extent).
-        const qx = ((2 * (x + 0.5)) / r.w - 1) * (ext * r.w) / m, qy = ((2 * (y + 0.5)) / r.h - 1) * (ext * r.h) / m;
-        const r2 = qx * qx + qy * qy;
-        if (r2 >= 0.98) continue;
-        const n = [qx, qy, Math.sqrt(1 - r2)];
-        // Gram-Schmidt of the natural tangent (n.z, 0, -n.x) against n (Frame_from_normal_tangent).
-        let tg = [n[2], 0, -n[0]];
-        const d = tg[0] * n[0] + tg[2] * n[2];
-        tg = tg.map((v, i) => v - d * n[i]);
-        const len = Math.hypot(...tg);
-        if (len < 1e-3) continue;
-        tg = tg.map((v) => v / len);
-        const b = [n[1] * tg[2] - n[2] * tg[1], n[2] * tg[0] - n[0] * tg[2], n[0] * tg[1] - n[1] * tg[0]];
-        const local = (v) => [v[0] * tg[0] + v[1] * tg[1] + v[2] * tg[2], v[0] * b[0] + v[1] * b[1] + v[2] * b[2], v[0] * n[0] + v[1] * n[1] + v[2] * n[2]];
-        const wi = local(L), wo = local([0, 0, 1]);
-        if (wi[2] < 0.05) continue;
-        picks.push({ x, y, wi, wo });
-      }
+    const picks = spherePixels(r.w, r.h, r.light);
     const e = run(["eval", "--material", JSON.stringify(r.material)], picks.map((q) => `${q.wi.map(g9).join(" ")} ${q.wo.map(g9).join(" ")}`).join("\n") + "\n");
     const rows = e.out.trim().split("\n").map((l) => l.split(/\s+/).map(Number));
     let worst = 0, at = "";
@@ -397,5 +371,4 @@ if (want("tonemap")) {
 }
 
 await browser.close();
-console.log(`${checks - failures.length} of ${checks} checks passed in ${((Date.now() - t0) / 1000).toFixed(1)} s; screenshots in ${outDir}`);
-process.exit(failures.length ? 1 : 0);
+finish(t0, outDir);
