@@ -26,6 +26,7 @@ from ._aniso import (  # noqa: F401  (re-exported)
     fit,
     fittable_models,
     fresnel,
+    glsl_tables,
     metals,
     models,
     preset_source,
@@ -90,5 +91,5 @@ for _cls in (Material, Frame, FitResult):
 del _cls
 
 __all__ = ["Material", "Frame", "FitResult", "presets", "preset_source", "models", "metals", "fresnel", "render",
-           "save_image", "fit", "fittable_models", "fit_many", "read_measured", "export_glsl", "export_brdf", "export",
+           "save_image", "fit", "fittable_models", "fit_many", "read_measured", "export_glsl", "glsl_tables", "export_brdf", "export",
            "simd_target", "direction", "angles", *_MODEL_CONSTRUCTORS]

@@ -1,6 +1,7 @@
 // python/src/bind_export.cpp: the material in other programs' formats: aniso.export_glsl() and
 // aniso.export_brdf() (src/gl, docs/glsl.md), aniso.export() (src/export, docs/export.md), as the
 // CLI's export commands.
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -11,6 +12,7 @@
 #include "aniso/export/export.h"
 #include "aniso/fit/fit.h"
 #include "aniso/gl/glsl_export.h"
+#include "aniso/gl/glsl_material.h"
 #include "bindings.h"
 #include "convert.h"
 #include "io/atomic_file.h"
@@ -21,13 +23,53 @@ namespace aniso::python {
 void bind_export(py::module_& m) {
   m.def(
       "export_glsl",
-      [](const py::object& x, bool full) {
+      [](const py::object& x, bool full, const py::object& tables_in) {
         const PyMaterial mat = as_material(x);
-        return gl::export_glsl(mat.desc, mat.what, full);
+        std::string tables_path;
+        if (!tables_in.is_none()) tables_path = std::string(py::str(py::module_::import("os").attr("fspath")(tables_in)));
+        // As `aniso export-glsl --tables` (apps/aniso/cmd_export.cpp): the same checks and messages.
+        const std::string tables = gl::export_glsl_tables(mat.desc);
+        if (tables.empty() && !tables_in.is_none())
+          throw InputError(fmt::format("tables {}: {} is an analytic material, it has no tables", text_escape(tables_path),
+                                       text_escape(mat.what)));
+        if (!tables.empty() && tables_in.is_none())
+          throw InputError(
+              fmt::format("{}: a measured material's shader needs its tables file: give tables=PATH (or "
+                          "use aniso.glsl_tables() for the array)",
+                          text_escape(mat.what)));
+        const std::string shader = gl::export_glsl(mat.desc, mat.what, full, tables_path);
+        if (!tables.empty()) {
+          try {
+            io::write_file_atomically(tables_path, tables);
+          } catch (const io::FileWriteError& e) {
+            PyErr_SetString(PyExc_OSError, terminal_text(e.what()).c_str());
+            throw py::error_already_set();
+          }
+        }
+        return shader;
       },
-      py::arg("material"), py::kw_only(), py::arg("full") = false,
+      py::arg("material"), py::kw_only(), py::arg("full") = false, py::arg("tables") = py::none(),
       "The material as one self-contained GLSL source, as `aniso export-glsl` (docs/glsl.md): the library\n"
-      "functions it uses, or with full=True the whole library (and aniso_material()), as `--full`.");
+      "functions it uses, or with full=True the whole library (and aniso_material()), as `--full`. A measured\n"
+      "material (.bsdf, .binary) also writes its tables to the file tables (raw float32, as `--tables`), whose\n"
+      "name the shader's comment gives; tables is required for it and refused for an analytic material.");
+  m.def(
+      "glsl_tables",
+      [](const py::object& x) -> py::object {
+        const PyMaterial mat = as_material(x);
+        const std::vector<float> t = gl::glsl_tables(mat.desc);
+        if (t.empty()) return py::none();
+        // The texture as export_glsl's side file holds it: whole rows of kGlslTablesWidth, zero-padded.
+        const py::ssize_t w = gl::kGlslTablesWidth, rows = (py::ssize_t(t.size()) + w - 1) / w;
+        py::array_t<float> a({rows, w});
+        float* out = a.mutable_data();
+        std::fill(out, out + rows * w, 0.f);
+        std::copy(t.begin(), t.end(), out);
+        return std::move(a);
+      },
+      py::arg("material"),
+      "A measured material's tables for the GLSL of export_glsl: a float32 array (rows, 4096), the R32F\n"
+      "texture its MeasuredTables_texture reads (docs/glsl.md, \"Measured materials\"); None for an analytic one.");
   m.def(
       "export_brdf",
       [](const py::object& x) {

@@ -225,3 +225,30 @@ def test_export_option_errors(tmp):
         with pytest.raises(ValueError, match=match):
             aniso.export("gold", to="blender", path=tmp / "x.py", **kw)
     assert not (tmp / "x.py").exists()
+
+
+def test_export_glsl_of_a_measured_material_equals_the_cli_and_writes_its_tables(tmp_path):
+    # A tensor file (export-rgl of an isotropic GGX) as GLSL: the shader and its tables file as
+    # `aniso export-glsl -o X --tables T` writes them; glsl_tables() is the same floats as an array.
+    bsdf = tmp_path / "ggx.bsdf"
+    rc, _, err = run_cli("export-rgl", "--material", '{"model": "ggx", "kd": 0.1, "f0": 0.5, "alpha": 0.2}', "-o", str(bsdf))
+    assert rc == 0, err
+    cli_glsl, cli_tables = tmp_path / "cli.glsl", tmp_path / "cli.tables"
+    rc, _, err = run_cli("export-glsl", "--material", str(bsdf), "-o", str(cli_glsl), "--tables", str(cli_tables))
+    assert rc == 0, err
+    py_tables = tmp_path / "py.tables"
+    src = aniso.export_glsl(str(bsdf), tables=py_tables)
+    assert src == cli_glsl.read_text().replace(str(cli_tables), str(py_tables))
+    assert py_tables.read_bytes() == cli_tables.read_bytes()
+    t = aniso.glsl_tables(str(bsdf))
+    assert t.dtype == np.float32 and t.shape[1] == 4096
+    assert t.astype("<f4").tobytes() == cli_tables.read_bytes()
+    # The CLI's refusals, in Python.
+    with pytest.raises(ValueError, match="needs its tables file"):
+        aniso.export_glsl(str(bsdf))
+    with pytest.raises(ValueError, match="is an analytic material, it has no tables"):
+        aniso.export_glsl("gold", tables=tmp_path / "gold.tables")
+    assert not (tmp_path / "gold.tables").exists()
+    assert aniso.glsl_tables("gold") is None
+    with pytest.raises(OSError):
+        aniso.export_glsl(str(bsdf), tables=tmp_path / "no" / "such" / "dir.tables")
