@@ -1,17 +1,31 @@
 // tests/web/measure.mjs: frame times of the browser explorer in headless Chromium (docs/web.md).
-//   node measure.mjs <aniso binary> <built page folder> [WxH ...]
+//   node measure.mjs <aniso binary> <built page folder> [WxH ...] [--open FILE]
 // For each size of the lit views' canvas: the mean time of a redraw (JavaScript + WebGL, gl.finish()
 // at the end) when the light moves (every view recomputed) and when only the exposure changes (the
-// lit views alone), 8 changes each after 2 warm-up ones (the shader compiles).
+// lit views alone), 8 changes each after 2 warm-up ones (the shader compiles). --open: material A
+// is that file (a measured .bsdf or .binary, or a JSON material), opened as the Open button does.
 import { launch, serve } from "./harness.mjs";
 
-const [aniso, webDir, ...sizes] = process.argv.slice(2);
+const args = process.argv.slice(2);
+const openAt = args.indexOf("--open");
+const file = openAt >= 0 ? args.splice(openAt, 2)[1] : null;
+const [aniso, webDir, ...sizes] = args;
 const url = await serve(aniso, webDir);
 const browser = await launch();
 for (const size of sizes.length ? sizes : ["512x384", "1024x768"]) {
   const page = await browser.newPage({ viewport: { width: 1600, height: 1100 } });
   await page.goto(`${url}#size=${size}`);
   await page.waitForFunction(() => window.anisoExplorer && window.anisoExplorer.idle() && window.anisoExplorer.state.redraws > 0, null, { timeout: 120000 });
+  if (file) {
+    const opened = Date.now();
+    await page.setInputFiles("#load", file);
+    await page.waitForFunction(() => window.anisoExplorer.state.fileLoads > 0 && window.anisoExplorer.idle(), null, { timeout: 300000 });
+    const err = await page.evaluate(() => window.anisoExplorer.error());
+    if (err) throw new Error(err);
+    const ms = await page.evaluate(() => window.anisoExplorer.results.fileMs);
+    const tables = ms ? ` (read and tables ${ms.read.toFixed(0)} ms, texture upload ${ms.upload.toFixed(0)} ms)` : "";
+    console.log(`${size}: ${file} opened and every view drawn, shaders compiled, in ${Date.now() - opened} ms${tables}`);
+  }
   const run = async (id, values) => {
     const times = [];
     for (const v of values) {
@@ -33,3 +47,4 @@ for (const size of sizes.length ? sizes : ["512x384", "1024x768"]) {
   await page.close();
 }
 await browser.close();
+process.exit(0);  // the server (harness.mjs) stops with the script
