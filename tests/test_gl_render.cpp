@@ -632,6 +632,12 @@ TEST(GlRender, MeasuredMaterialsMatchCpuDirectLighting) {
     const json objects = json::array({{{"shape", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"material", file}}});
     expect_parity(scene_json(objects, point_light()), fs::path(file).stem().string());
   }
+  // Both in one scene: each object's draw binds its own tables texture, so a MERL table and a
+  // tensor file render side by side, each as it does alone.
+  const json objects =
+      json::array({{{"shape", "sphere"}, {"center", {-1.1, 0, 0}}, {"radius", 0.9}, {"material", write_ward_merl(dir)}},
+                   {{"shape", "sphere"}, {"center", {1.1, 0, 0}}, {"radius", 0.9}, {"material", write_small_tensor(dir)}}});
+  expect_parity(scene_json(objects, point_light()), "merl_and_tensor");
   fs::remove_all(dir);
 }
 
