@@ -1,6 +1,7 @@
 // tests/test_docs.cpp: the documentation quotes what the code says. Each model page
 // docs/models/<name>.md contains its parameter tables exactly as `aniso models --markdown` prints
-// them (markdown_table() in src/io/params.cpp), and README.md gives the two commands up front.
+// them (markdown_table() in src/io/params.cpp, of the tables in the model files src/models/<member>.h), and README.md gives the
+// two commands up front.
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -32,7 +33,7 @@ TEST(Docs, ModelPagesQuoteTheGeneratedParameterTables) {
     const std::string rel = "docs/models/" + name + ".md";
     bool ok = false;
     const std::string page = read_text(std::string(ANISO_SOURCE_DIR) + "/" + rel, ok);
-    ASSERT_TRUE(ok) << rel << " is missing: every model in src/io/params.cpp has a page";
+    ASSERT_TRUE(ok) << rel << " is missing: every model (src/models) has a page";
     ++pages;
     const std::string table = markdown_table(*spec);
     EXPECT_TRUE(page.find(table) != std::string::npos)
@@ -40,7 +41,7 @@ TEST(Docs, ModelPagesQuoteTheGeneratedParameterTables) {
         << "Regenerate it: replace the table(s) under \"## Parameters\" in " << rel << " with the output of\n"
         << "  build/release/bin/aniso models --markdown --model " << name << "\n"
         << "(from its first line \"Parameters of `" << name << "` ...\" through the last nested table; do not edit it "
-        << "by hand: change src/io/params.cpp instead). Expected text:\n"
+        << "by hand: change its model file, src/models/<member>.h, instead). Expected text:\n"
         << table;
   }
   EXPECT_GE(pages, 7);  // lambert phong ward ashikhmin-shirley lafortune ggx metal

@@ -66,7 +66,7 @@ constexpr Checked kChecked[] = {
     {"include/aniso/fit/fit.h", "std::string metal_lobe", "metal lobes"},
     {"include/aniso/io/params.h", "metal_lobe_spec(", "metal lobes"},
     {"src/io/enum_names.h", "kNames[] = {", "metal lobes"},
-    {"src/io/params.cpp", "the specular lobe: {", "metal lobes"},
+    {"src/models/metal.h", "the specular lobe: {", "metal lobes"},
     {"python/aniso/__init__.pyi", "model: Literal[", "fittable"},
     {"python/aniso/__init__.pyi", "metal_lobe: Literal[", "metal lobes"},
     {"aniso fit --help", "--model", "fittable"},

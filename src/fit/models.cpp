@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -32,43 +33,6 @@ const ModelSpec& spec(std::string_view name) { return *find_model_spec(name); }
 
 void clamp_into(std::vector<double>& x, const std::vector<ParamDef>& defs) {
   for (size_t i = 0; i < x.size(); ++i) x[i] = std::clamp(x[i], defs[i].lo, defs[i].hi);
-}
-
-// Ward and GGX share one parameter layout: kd (3), the specular colour (Ward's ks, GGX's f0; 3),
-// alpha_x and, when anisotropic, alpha_y. Their starts are the same functions of it.
-//   moment start: the peak at the mirror direction at normal incidence is spec / (4 pi alpha^2)
-//                 for both (Ward: ks N E with E = 1; GGX: D = 1 / (pi alpha^2), G2 ~ 1);
-//   preset start: the nearest material's Ward fit (kd, ks, alpha_x, alpha_y);
-//   random start: kd up to twice the data's floor albedo, a grey specular colour, log-uniform alpha.
-std::vector<double> alpha_lobe_moment_start(const DataMoments& d, bool anisotropic, const std::vector<ParamDef>& defs) {
-  std::vector<double> x(defs.size());
-  const double a = alpha_from_exponent(d.mirror_exponent);
-  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c], x[3 + c] = d.peak[c] * 4.0 * kPiD * a * a;
-  x[6] = a;
-  if (anisotropic) x[7] = a;
-  clamp_into(x, defs);
-  return x;
-}
-
-std::vector<double> alpha_lobe_preset_start(const MaterialDesc& desc, bool anisotropic, const std::vector<ParamDef>& defs) {
-  std::vector<double> x(defs.size());
-  const ParamValues& p = desc.params;
-  for (int c = 0; c < 3; ++c) x[c] = p.color("kd")[c], x[3 + c] = p.color("ks")[c];
-  x[6] = p.scalar("alpha_x");
-  if (anisotropic) x[7] = p.scalar("alpha_y");
-  clamp_into(x, defs);
-  return x;
-}
-
-std::vector<double> alpha_lobe_random_start(Rng& rng, const DataMoments& d, bool anisotropic, const std::vector<ParamDef>& defs) {
-  std::vector<double> x(defs.size());
-  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
-  const double spec = uniform(rng, 0.01, 1.0);
-  for (int c = 0; c < 3; ++c) x[3 + c] = spec;
-  x[6] = log_uniform(rng, 0.02, 0.6);
-  if (anisotropic) x[7] = log_uniform(rng, 0.02, 0.6);
-  clamp_into(x, defs);
-  return x;
 }
 
 }  // namespace
@@ -195,203 +159,6 @@ std::vector<double> LafortuneFit::random_start(Rng& rng, const DataMoments& d) c
   return x;
 }
 
-// --- Ward --------------------------------------------------------------------------------------
-
-WardFit::WardFit(bool anisotropic, WardNormalization norm) : anisotropic_(anisotropic), norm_(norm) {
-  const char* ch = "rgb";
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("ward"), "kd", fmt::format("kd.{}", ch[c])));
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("ward"), "ks", fmt::format("ks.{}", ch[c])));
-  defs.push_back(table_def(spec("ward"), "alpha_x", anisotropic ? "alpha_x" : "alpha"));
-  if (anisotropic) {
-    aniso_.push_back(7);
-    defs.push_back(table_def(spec("ward"), "alpha_y", "alpha_y"));
-    add_rotation(defs);
-  }
-}
-
-void WardFit::canonicalize(double* x) const {
-  if (!anisotropic_) return;
-  const bool swap = x[6] > x[7];
-  if (swap) std::swap(x[6], x[7]);
-  canonical_angle(x, swap);
-}
-
-Json WardFit::to_json(const double* x) const {
-  const std::string norm(enum_name(norm_));
-  return {{"model", "ward"},
-          {"kd", rgb_json(x)},
-          {"ks", rgb_json(x + 3)},
-          {"alpha_x", x[6]},
-          {"alpha_y", x[anisotropic_ ? 7 : 6]},
-          {"form", "vector"},
-          {"normalization", norm}};
-}
-
-// ks from the peak: at the mirror direction at normal incidence the lobe is ks / (4 pi alpha^2).
-std::vector<double> WardFit::moment_start(const DataMoments& d) const { return alpha_lobe_moment_start(d, anisotropic_, defs); }
-
-std::optional<std::vector<double>> WardFit::from_preset(const MaterialDesc& desc, const DataMoments&) const {
-  return alpha_lobe_preset_start(desc, anisotropic_, defs);
-}
-
-std::vector<double> WardFit::random_start(Rng& rng, const DataMoments& d) const {
-  return alpha_lobe_random_start(rng, d, anisotropic_, defs);
-}
-
-// --- Ashikhmin-Shirley ------------------------------------------------------------------------
-
-AshikhminShirleyFit::AshikhminShirleyFit(bool anisotropic) : anisotropic_(anisotropic) {
-  const ModelSpec& s = spec("ashikhmin-shirley");
-  const char* ch = "rgb";
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(s, "kd", fmt::format("kd.{}", ch[c])));
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(s, "ks_scale", fmt::format("ks_scale.{}", ch[c])));
-  defs.push_back(table_def(s, "rs", "rs"));
-  defs.push_back(table_def(s, "n_u", anisotropic ? "n_u" : "n"));
-  if (anisotropic) {
-    aniso_.push_back(8);
-    defs.push_back(table_def(s, "n_v", "n_v"));
-    add_rotation(defs);
-  }
-}
-
-void AshikhminShirleyFit::canonicalize(double* x) const {
-  if (!anisotropic_) return;
-  const bool swap = x[7] < x[8];
-  if (swap) std::swap(x[7], x[8]);
-  canonical_angle(x, swap);
-}
-
-Json AshikhminShirleyFit::to_json(const double* x) const {
-  return {{"model", "ashikhmin-shirley"},
-          {"rd", 0.0},
-          {"rs", x[6]},
-          {"kd", rgb_json(x)},
-          {"ks_scale", rgb_json(x + 3)},
-          {"n_u", x[7]},
-          {"n_v", x[anisotropic_ ? 8 : 7]}};
-}
-
-// The half-vector exponent is about four times the mirror one (theta_h ~ a / 2); the specular peak
-// at normal incidence is ks_scale rs (n + 1) / (8 pi).
-std::vector<double> AshikhminShirleyFit::moment_start(const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  const double nh = 4.0 * d.mirror_exponent, rs = 0.05;
-  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c], x[3 + c] = d.peak[c] * 8.0 * kPiD / ((nh + 1.0) * rs);
-  x[6] = rs;
-  x[7] = nh;
-  if (anisotropic_) x[8] = nh;
-  clamp_into(x, defs);
-  return x;
-}
-
-std::optional<std::vector<double>> AshikhminShirleyFit::from_preset(const MaterialDesc& desc, const DataMoments&) const {
-  std::vector<double> x(defs.size());
-  const ParamValues& p = desc.params;
-  for (int c = 0; c < 3; ++c) x[c] = p.color("kd")[c], x[3 + c] = p.color("ks_scale")[c];
-  x[6] = p.color("rs")[0];
-  x[7] = p.scalar("n_u");
-  if (anisotropic_) x[8] = p.scalar("n_v");
-  clamp_into(x, defs);
-  return x;
-}
-
-std::vector<double> AshikhminShirleyFit::random_start(Rng& rng, const DataMoments& d) const {
-  std::vector<double> x = moment_start(d);
-  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
-  const double scale = log_uniform(rng, 0.2, 5.0);
-  for (int c = 0; c < 3; ++c) x[3 + c] *= scale;
-  x[6] = uniform(rng, 0.01, 0.5);
-  x[7] = log_uniform(rng, 5.0, 5000.0);
-  if (anisotropic_) x[8] = log_uniform(rng, 5.0, 5000.0);
-  clamp_into(x, defs);
-  return x;
-}
-
-// --- GGX ---------------------------------------------------------------------------------------
-
-GGXFit::GGXFit(bool anisotropic) : anisotropic_(anisotropic) {
-  const char* ch = "rgb";
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("ggx"), "kd", fmt::format("kd.{}", ch[c])));
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("ggx"), "f0", fmt::format("f0.{}", ch[c])));
-  defs.push_back(table_def(spec("ggx"), "alpha_x", anisotropic ? "alpha_x" : "alpha"));
-  if (anisotropic) {
-    aniso_.push_back(7);
-    defs.push_back(table_def(spec("ggx"), "alpha_y", "alpha_y"));
-    add_rotation(defs);
-  }
-}
-
-void GGXFit::canonicalize(double* x) const {
-  if (!anisotropic_) return;
-  const bool swap = x[6] > x[7];
-  if (swap) std::swap(x[6], x[7]);
-  canonical_angle(x, swap);
-}
-
-Json GGXFit::to_json(const double* x) const {
-  return {
-      {"model", "ggx"}, {"kd", rgb_json(x)}, {"f0", rgb_json(x + 3)}, {"alpha_x", x[6]}, {"alpha_y", x[anisotropic_ ? 7 : 6]}};
-}
-
-// At normal incidence the specular peak is f0 / (4 pi alpha^2) (D = 1 / (pi alpha^2), G2 ~ 1).
-std::vector<double> GGXFit::moment_start(const DataMoments& d) const { return alpha_lobe_moment_start(d, anisotropic_, defs); }
-
-// The nearest material's Ward fit: its kd, its ks as f0, its roughness as alpha.
-std::optional<std::vector<double>> GGXFit::from_preset(const MaterialDesc& desc, const DataMoments&) const {
-  return alpha_lobe_preset_start(desc, anisotropic_, defs);
-}
-
-std::vector<double> GGXFit::random_start(Rng& rng, const DataMoments& d) const {
-  return alpha_lobe_random_start(rng, d, anisotropic_, defs);
-}
-
-// --- Principled --------------------------------------------------------------------------------
-
-PrincipledFit::PrincipledFit(bool anisotropic) : anisotropic_(anisotropic) {
-  const char* ch = "rgb";
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("principled"), "base_color", fmt::format("base_color.{}", ch[c])));
-  for (const char* key : {"metallic", "specular", "roughness"}) defs.push_back(table_def(spec("principled"), key, key));
-  // roughness below 0.0316 clamps alpha = roughness^2 at 0.001 (principled.h): a flat direction
-  // for the solver, so the fit stays above it.
-  defs.back().lo = 0.04;
-  if (anisotropic) {
-    aniso_.push_back(6);
-    defs.push_back(table_def(spec("principled"), "anisotropic", "anisotropic"));
-    add_rotation(defs);
-    period_ = 180.0;
-  }
-}
-
-void PrincipledFit::canonicalize(double* x) const {
-  if (anisotropic_) canonical_angle(x, false);
-}
-
-Json PrincipledFit::to_json(const double* x) const {
-  return {{"model", "principled"}, {"base_color", rgb_json(x)}, {"metallic", x[3]},
-          {"specular", x[4]},      {"roughness", x[5]},         {"anisotropic", anisotropic_ ? x[6] : 0.0}};
-}
-
-// A dielectric start: the floor albedo as base colour, specular 0.5 (F0 0.04), roughness from the
-// mirror lobe's width (alpha = roughness^2), anisotropic 0.2 (inside the range, where the
-// derivative of sqrt(1 - 0.9 anisotropic) is moderate).
-std::vector<double> PrincipledFit::moment_start(const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c];
-  x[3] = 0.0, x[4] = 0.5, x[5] = std::sqrt(alpha_from_exponent(d.mirror_exponent));
-  if (anisotropic_) x[6] = 0.2;
-  clamp_into(x, defs);
-  return x;
-}
-
-std::vector<double> PrincipledFit::random_start(Rng& rng, const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
-  x[3] = uniform(rng, 0.0, 1.0), x[4] = uniform(rng, 0.0, 1.0), x[5] = uniform(rng, 0.1, 0.9);
-  if (anisotropic_) x[6] = uniform(rng, 0.0, 0.9);
-  clamp_into(x, defs);
-  return x;
-}
-
 // --- Metal -------------------------------------------------------------------------------------
 
 MetalFit::MetalFit(bool anisotropic, const std::string& metal, SpecularLobeKind lobe)
@@ -491,69 +258,317 @@ std::vector<double> MetalFit::random_start(Rng& rng, const DataMoments&) const {
   return x;
 }
 
-// --- Phong ---------------------------------------------------------------------------------------
+// --- the generated models (BoundFit) -----------------------------------------------------------
 
-PhongFit::PhongFit() {
+template <class P> BoundFit<P>::BoundFit(bool anisotropic, std::vector<models::FitFixed> options)
+    : held_(std::begin(P::fit.fixed), std::end(P::fit.fixed)), anisotropic_(anisotropic) {
+  const ModelSpec& s = P::spec;
+  if (anisotropic && !s.find("rotation_deg"))
+    throw std::logic_error(fmt::format("{} has no anisotropic fit (no rotation_deg)", s.name));
+  held_.insert(held_.end(), options.begin(), options.end());
   const char* ch = "rgb";
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("phong"), "kd", fmt::format("kd.{}", ch[c])));
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("phong"), "ks", fmt::format("ks.{}", ch[c])));
-  defs.push_back(table_def(spec("phong"), "exponent", "exponent"));
+  for (const models::FitKey& k : P::fit.keys) {
+    const bool aniso_only = !k.iso_tie.empty() || !std::isnan(k.iso_value);
+    if (aniso_only && !anisotropic) continue;
+    if (aniso_only) aniso_.push_back(int(defs.size()));
+    entries_[std::string(k.key)] = {int(defs.size()), k.shape == models::FitKey::Rgb};
+    const std::string name(!anisotropic && !k.iso_name.empty() ? k.iso_name : k.key);
+    if (k.shape == models::FitKey::Rgb)
+      for (int c = 0; c < 3; ++c) defs.push_back(table_def(s, k.key, fmt::format("{}.{}", name, ch[c])));
+    else
+      defs.push_back(table_def(s, k.key, name));
+    if (!std::isnan(k.lo)) defs.back().lo = k.lo;
+  }
+  // An isotropic fit: the pair's second half shares its first half's entry.
+  for (const models::FitKey& k : P::fit.keys)
+    if (!anisotropic && !k.iso_tie.empty()) entries_[std::string(k.key)] = entries_.at(std::string(k.iso_tie));
+  if (anisotropic) {
+    add_rotation(defs);
+    period_ = P::fit.rotation_period;
+  }
+  // Where each bound field comes from: its entries, a held value, or its table default.
+  for (const auto& part : P::template bound<double>)
+    for (const auto& row : part) {
+      Source src;
+      const ParamSpec& p = row.spec;
+      const auto e = entries_.find(std::string(p.name));
+      const auto key =
+          std::find_if(std::begin(P::fit.keys), std::end(P::fit.keys), [&](const auto& k) { return k.key == p.name; });
+      const auto held = std::find_if(held_.begin(), held_.end(), [&](const auto& h) { return h.key == p.name; });
+      if (e != entries_.end()) {
+        src.entry = e->second.first;
+        src.rgb = e->second.second;
+      } else if (key != std::end(P::fit.keys) && !std::isnan(key->iso_value)) {
+        src.number = key->iso_value;
+      } else if (held != held_.end() && p.kind == ParamKind::Choice) {
+        const auto it = std::find(p.choices.begin(), p.choices.end(), held->text);
+        if (it == p.choices.end())
+          throw std::logic_error(fmt::format("{}: \"{}\" is not a choice of {}", s.name, held->text, p.name));
+        src.number = double(it - p.choices.begin());
+      } else if (held != held_.end()) {
+        src.number = held->number;
+      } else {
+        src.number = p.kind == ParamKind::Choice ? 0.0 : p.default_value;
+      }
+      sources_.push_back(src);
+    }
 }
 
-Json PhongFit::to_json(const double* x) const {
-  return {{"model", "phong"}, {"kd", rgb_json(x)}, {"ks", rgb_json(x + 3)}, {"exponent", x[6]}, {"normalized", true}};
+template <class P> int BoundFit<P>::at(std::string_view key, int c) const {
+  const auto e = entries_.find(std::string(key));
+  if (e == entries_.end()) throw std::logic_error(fmt::format("{}: \"{}\" is not solved for", P::spec.name, key));
+  return e->second.first + (e->second.second ? c : 0);
 }
 
-// The data's mirror exponent; ks from the peak: at the mirror direction the lobe is ks (s + 2) / (2 pi).
-std::vector<double> PhongFit::moment_start(const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  const double s = d.mirror_exponent;
-  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c], x[3 + c] = d.peak[c] * 2.0 * kPiD / (s + 2.0);
-  x[6] = s;
-  clamp_into(x, defs);
-  return x;
+template <class P> std::string_view BoundFit<P>::held_text(std::string_view key) const {
+  for (const models::FitFixed& h : held_)
+    if (h.key == key) return h.text;
+  return {};
 }
 
-std::optional<std::vector<double>> PhongFit::from_preset(const MaterialDesc& desc, const DataMoments&) const {
-  std::vector<double> x(defs.size());
-  const ParamValues& p = desc.params;
-  for (int c = 0; c < 3; ++c) x[c] = p.color("kd")[c], x[3 + c] = p.color("ks")[c];
-  x[6] = p.scalar("exponent");
-  clamp_into(x, defs);
-  return x;
+template <class P> void BoundFit<P>::canonicalize(double* x) const {
+  if (!anisotropic_) return;
+  bool swap = false;
+  if (!P::fit.pair[0].empty()) {
+    // The narrower direction along the tangent: the smaller alpha, or the larger AS exponent.
+    const int a = at(P::fit.pair[0]), b = at(P::fit.pair[1]);
+    swap = P::fit.narrower_is_larger ? x[a] < x[b] : x[a] > x[b];
+    if (swap) std::swap(x[a], x[b]);
+  }
+  canonical_angle(x, swap);
 }
 
-std::vector<double> PhongFit::random_start(Rng& rng, const DataMoments& d) const {
-  std::vector<double> x = moment_start(d);
-  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
-  x[6] = log_uniform(rng, 1.0, 5000.0);
-  for (int c = 0; c < 3; ++c) x[3 + c] = d.peak[c] * 2.0 * kPiD / (x[6] + 2.0) * log_uniform(rng, 0.3, 3.0);
-  clamp_into(x, defs);
-  return x;
+template <class P> Json BoundFit<P>::to_json(const double* x) const {
+  Json out = {{"model", std::string(P::spec.name)}};
+  for (const models::FitKey& k : P::fit.keys) {
+    const auto e = entries_.find(std::string(k.key));
+    if (e == entries_.end())
+      out[std::string(k.key)] = k.iso_value;
+    else if (e->second.second)
+      out[std::string(k.key)] = rgb_json(x + e->second.first);
+    else
+      out[std::string(k.key)] = x[e->second.first];
+  }
+  for (const models::FitFixed& h : held_) {
+    const ParamSpec* p = P::spec.find(h.key);
+    if (p->kind == ParamKind::Choice || p->kind == ParamKind::String)
+      out[std::string(h.key)] = std::string(h.text);
+    else if (p->kind == ParamKind::Bool)
+      out[std::string(h.key)] = h.number != 0.0;
+    else
+      out[std::string(h.key)] = h.number;
+  }
+  return out;
 }
 
-// --- Lambert -------------------------------------------------------------------------------------
+namespace {
 
-LambertFit::LambertFit() {
-  const char* ch = "rgb";
-  for (int c = 0; c < 3; ++c) defs.push_back(table_def(spec("lambert"), "kd", fmt::format("kd.{}", ch[c])));
+// Each generated model's starts (docs/fitting.md, "Starts"), by key: a start from the data's
+// moments, from a published fit (the Ngan 2005 presets) or nothing, a random one; and the Ngan
+// model whose presets are tried.
+template <class P> struct Starts;
+
+// Ward and GGX share their layout's shape: kd (3), the specular colour (Ward's ks, GGX's f0; 3),
+// alpha_x and, when anisotropic, alpha_y. Their starts are the same functions of it.
+//   moment start: the peak at the mirror direction at normal incidence is spec / (4 pi alpha^2)
+//                 for both (Ward: ks N E with E = 1; GGX: D = 1 / (pi alpha^2), G2 ~ 1);
+//   preset start: the nearest material's Ward fit (kd, ks, alpha_x, alpha_y);
+//   random start: kd up to twice the data's floor albedo, a grey specular colour, log-uniform alpha.
+template <class P> struct AlphaLobeStarts {
+  static std::vector<double> moment(const BoundFit<P>& f, std::string_view spec, const DataMoments& d) {
+    std::vector<double> x(f.defs.size());
+    const double a = alpha_from_exponent(d.mirror_exponent);
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = d.floor_albedo[c], x[f.at(spec, c)] = d.peak[c] * 4.0 * kPiD * a * a;
+    x[f.at("alpha_x")] = a;
+    if (f.anisotropic()) x[f.at("alpha_y")] = a;
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::optional<std::vector<double>> preset(const BoundFit<P>& f, std::string_view spec, const MaterialDesc& desc) {
+    std::vector<double> x(f.defs.size());
+    const ParamValues& p = desc.params;
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = p.color("kd")[c], x[f.at(spec, c)] = p.color("ks")[c];
+    x[f.at("alpha_x")] = p.scalar("alpha_x");
+    if (f.anisotropic()) x[f.at("alpha_y")] = p.scalar("alpha_y");
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::vector<double> random(const BoundFit<P>& f, std::string_view spec, Rng& rng, const DataMoments& d) {
+    std::vector<double> x(f.defs.size());
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+    const double s = uniform(rng, 0.01, 1.0);
+    for (int c = 0; c < 3; ++c) x[f.at(spec, c)] = s;
+    x[f.at("alpha_x")] = log_uniform(rng, 0.02, 0.6);
+    if (f.anisotropic()) x[f.at("alpha_y")] = log_uniform(rng, 0.02, 0.6);
+    clamp_into(x, f.defs);
+    return x;
+  }
+};
+
+// f = kd / pi + ks N E (ward.h): ks from the peak, the lobe is ks / (4 pi alpha^2) at the mirror
+// direction at normal incidence.
+template <> struct Starts<models::Ward> : AlphaLobeStarts<models::Ward> {
+  using F = BoundFit<models::Ward>;
+  static std::vector<double> moment(const F& f, const DataMoments& d) { return AlphaLobeStarts::moment(f, "ks", d); }
+  static std::optional<std::vector<double>> preset(const F& f, const MaterialDesc& desc, const DataMoments&) {
+    return AlphaLobeStarts::preset(f, "ks", desc);
+  }
+  static std::vector<double> random(const F& f, Rng& rng, const DataMoments& d) {
+    return AlphaLobeStarts::random(f, "ks", rng, d);
+  }
+  static std::string ngan(const F& f) { return f.held_text("normalization") == "duer" ? "wardduer" : "ward"; }
+};
+
+// At normal incidence the specular peak is f0 / (4 pi alpha^2) (D = 1 / (pi alpha^2), G2 ~ 1). The
+// preset start is the nearest material's Ward fit: its kd, its ks as f0, its roughness as alpha.
+template <> struct Starts<models::GGX> : AlphaLobeStarts<models::GGX> {
+  using F = BoundFit<models::GGX>;
+  static std::vector<double> moment(const F& f, const DataMoments& d) { return AlphaLobeStarts::moment(f, "f0", d); }
+  static std::optional<std::vector<double>> preset(const F& f, const MaterialDesc& desc, const DataMoments&) {
+    return AlphaLobeStarts::preset(f, "f0", desc);
+  }
+  static std::vector<double> random(const F& f, Rng& rng, const DataMoments& d) {
+    return AlphaLobeStarts::random(f, "f0", rng, d);
+  }
+  static std::string ngan(const F&) { return "ward"; }  // the nearest material's Ward roughness
+};
+
+// Ngan 2005's form of Ashikhmin-Shirley. The half-vector exponent is about four times the mirror
+// one (theta_h ~ a / 2); the specular peak at normal incidence is ks_scale rs (n + 1) / (8 pi).
+template <> struct Starts<models::AshikhminShirley> {
+  using F = BoundFit<models::AshikhminShirley>;
+  static std::vector<double> moment(const F& f, const DataMoments& d) {
+    std::vector<double> x(f.defs.size());
+    const double nh = 4.0 * d.mirror_exponent, rs = 0.05;
+    for (int c = 0; c < 3; ++c)
+      x[f.at("kd", c)] = d.floor_albedo[c], x[f.at("ks_scale", c)] = d.peak[c] * 8.0 * kPiD / ((nh + 1.0) * rs);
+    x[f.at("rs")] = rs;
+    x[f.at("n_u")] = nh;
+    if (f.anisotropic()) x[f.at("n_v")] = nh;
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::optional<std::vector<double>> preset(const F& f, const MaterialDesc& desc, const DataMoments&) {
+    std::vector<double> x(f.defs.size());
+    const ParamValues& p = desc.params;
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = p.color("kd")[c], x[f.at("ks_scale", c)] = p.color("ks_scale")[c];
+    x[f.at("rs")] = p.color("rs")[0];
+    x[f.at("n_u")] = p.scalar("n_u");
+    if (f.anisotropic()) x[f.at("n_v")] = p.scalar("n_v");
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::vector<double> random(const F& f, Rng& rng, const DataMoments& d) {
+    std::vector<double> x = moment(f, d);
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+    const double scale = log_uniform(rng, 0.2, 5.0);
+    for (int c = 0; c < 3; ++c) x[f.at("ks_scale", c)] *= scale;
+    x[f.at("rs")] = uniform(rng, 0.01, 0.5);
+    x[f.at("n_u")] = log_uniform(rng, 5.0, 5000.0);
+    if (f.anisotropic()) x[f.at("n_v")] = log_uniform(rng, 5.0, 5000.0);
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::string ngan(const F&) { return "ashikhminshirley"; }
+};
+
+// A dielectric start: the floor albedo as base colour, specular 0.5 (F0 0.04), roughness from the
+// mirror lobe's width (alpha = roughness^2), anisotropic 0.2 (inside the range, where the
+// derivative of sqrt(1 - 0.9 anisotropic) is moderate). No Ngan fit of this model.
+template <> struct Starts<models::Principled> {
+  using F = BoundFit<models::Principled>;
+  static std::vector<double> moment(const F& f, const DataMoments& d) {
+    std::vector<double> x(f.defs.size());
+    for (int c = 0; c < 3; ++c) x[f.at("base_color", c)] = d.floor_albedo[c];
+    x[f.at("metallic")] = 0.0, x[f.at("specular")] = 0.5,
+    x[f.at("roughness")] = std::sqrt(alpha_from_exponent(d.mirror_exponent));
+    if (f.anisotropic()) x[f.at("anisotropic")] = 0.2;
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::optional<std::vector<double>> preset(const F&, const MaterialDesc&, const DataMoments&) { return std::nullopt; }
+  static std::vector<double> random(const F& f, Rng& rng, const DataMoments& d) {
+    std::vector<double> x(f.defs.size());
+    for (int c = 0; c < 3; ++c) x[f.at("base_color", c)] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+    x[f.at("metallic")] = uniform(rng, 0.0, 1.0), x[f.at("specular")] = uniform(rng, 0.0, 1.0),
+    x[f.at("roughness")] = uniform(rng, 0.1, 0.9);
+    if (f.anisotropic()) x[f.at("anisotropic")] = uniform(rng, 0.0, 0.9);
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::string ngan(const F&) { return "ward"; }  // unused: the start comes from moments
+};
+
+// Phong's lobe about the mirror direction: the data's mirror exponent; ks from the peak, at the
+// mirror direction the lobe is ks (s + 2) / (2 pi).
+template <> struct Starts<models::Phong> {
+  using F = BoundFit<models::Phong>;
+  static std::vector<double> moment(const F& f, const DataMoments& d) {
+    std::vector<double> x(f.defs.size());
+    const double s = d.mirror_exponent;
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = d.floor_albedo[c], x[f.at("ks", c)] = d.peak[c] * 2.0 * kPiD / (s + 2.0);
+    x[f.at("exponent")] = s;
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::optional<std::vector<double>> preset(const F& f, const MaterialDesc& desc, const DataMoments&) {
+    std::vector<double> x(f.defs.size());
+    const ParamValues& p = desc.params;
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = p.color("kd")[c], x[f.at("ks", c)] = p.color("ks")[c];
+    x[f.at("exponent")] = p.scalar("exponent");
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::vector<double> random(const F& f, Rng& rng, const DataMoments& d) {
+    std::vector<double> x = moment(f, d);
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+    const int e = f.at("exponent");
+    x[e] = log_uniform(rng, 1.0, 5000.0);
+    for (int c = 0; c < 3; ++c) x[f.at("ks", c)] = d.peak[c] * 2.0 * kPiD / (x[e] + 2.0) * log_uniform(rng, 0.3, 3.0);
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::string ngan(const F&) { return "blinnphong"; }
+};
+
+// f = kd / pi: the floor albedo (a Lambertian surface has no peak: the floor is it).
+template <> struct Starts<models::Lambert> {
+  using F = BoundFit<models::Lambert>;
+  static std::vector<double> moment(const F& f, const DataMoments& d) {
+    std::vector<double> x(f.defs.size());
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = d.floor_albedo[c];
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::optional<std::vector<double>> preset(const F&, const MaterialDesc&, const DataMoments&) { return std::nullopt; }
+  static std::vector<double> random(const F& f, Rng& rng, const DataMoments& d) {
+    std::vector<double> x(f.defs.size());
+    for (int c = 0; c < 3; ++c) x[f.at("kd", c)] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
+    clamp_into(x, f.defs);
+    return x;
+  }
+  static std::string ngan(const F&) { return "ward"; }  // unused: no preset start
+};
+
+}  // namespace
+
+template <class P> std::vector<double> BoundFit<P>::moment_start(const DataMoments& d) const {
+  return Starts<P>::moment(*this, d);
 }
-
-Json LambertFit::to_json(const double* x) const { return {{"model", "lambert"}, {"kd", rgb_json(x)}}; }
-
-// The floor albedo plus a share of the peak (a Lambertian surface has no peak: the floor is it).
-std::vector<double> LambertFit::moment_start(const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  for (int c = 0; c < 3; ++c) x[c] = d.floor_albedo[c];
-  clamp_into(x, defs);
-  return x;
+template <class P>
+std::optional<std::vector<double>> BoundFit<P>::from_preset(const MaterialDesc& desc, const DataMoments& m) const {
+  return Starts<P>::preset(*this, desc, m);
 }
-
-std::vector<double> LambertFit::random_start(Rng& rng, const DataMoments& d) const {
-  std::vector<double> x(defs.size());
-  for (int c = 0; c < 3; ++c) x[c] = uniform(rng, 0.0, std::min(1.0, 2.0 * d.floor_albedo[c] + 0.05));
-  clamp_into(x, defs);
-  return x;
+template <class P> std::vector<double> BoundFit<P>::random_start(Rng& rng, const DataMoments& d) const {
+  return Starts<P>::random(*this, rng, d);
 }
+template <class P> std::string BoundFit<P>::ngan_model() const { return Starts<P>::ngan(*this); }
+
+template class BoundFit<models::Lambert>;
+template class BoundFit<models::Phong>;
+template class BoundFit<models::Ward>;
+template class BoundFit<models::AshikhminShirley>;
+template class BoundFit<models::GGX>;
+template class BoundFit<models::Principled>;
 
 }  // namespace aniso::fit_detail

@@ -1,6 +1,8 @@
 // fit/models.h: how each model's parameters map to a flat vector for the solver (internal to
-// src/fit). Each model class gives
-//   defs            name and bounds of every entry (bounds from the parameter tables, params.cpp)
+// src/fit). A generated model (one whose table rows are bound to its kernel's fields, src/models)
+// has BoundFit, made from its model file's FitDesc by name; Lafortune and metal have their own
+// classes. Each gives (the concept FitLayout)
+//   defs            name and bounds of every entry (bounds from the parameter tables, src/models)
 //   build<T>(x)     the kernel (include/aniso/brdf/*.h) for the vector x, T = double or ceres::Jet
 //   to_json(x)      the material, as `aniso` reads it
 //   moment_start    a start from the data's moments (DataMoments)
@@ -9,6 +11,8 @@
 #pragma once
 
 #include <cmath>
+#include <concepts>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +22,7 @@
 #include "aniso/brdf/material.h"
 #include "aniso/fit/fit.h"
 #include "aniso/io/materials.h"
+#include "models/all.h"
 #include "stats/rng.h"
 
 namespace aniso::fit_detail {
@@ -49,6 +54,9 @@ ParamDef table_def(const ModelSpec& spec, std::string_view key, std::string name
 // always makes alpha_x >= alpha_y).
 class Orientation {
  public:
+  // No penalty residuals unless a model has them (LafortuneFit's).
+  int penalty_count() const { return 0; }
+  template <typename T> void penalties(const T*, T*) const {}
   int rotation_index() const { return rotation_; }
   // The entries that exist only because the fit is anisotropic: the second half of each pair and
   // the rotation (what the identifiability check ties when the data do not constrain them).
@@ -102,7 +110,7 @@ class LafortuneFit : public Orientation {
       }
     return m;
   }
-  // The material reader bounds each lobe's peak, scale max|C|^n <= 1e30 (materials.cpp: beyond it
+  // The material reader bounds each lobe's peak, scale max|C|^n <= 1e30 (models/lafortune.h: beyond it
   // the float kernels overflow), which box bounds cannot express. One residual per lobe and
   // channel keeps the fit inside: max(0, n ln max|C| - kPeakLog), kPeakLog = 66 < ln(1e30) = 69.08
   // (a margin), weighted 1: a unit of excess costs far more than the whole data term (~1e-3). The
@@ -162,94 +170,10 @@ class LafortuneFit : public Orientation {
   int stride_;
 };
 
-// f = kd / pi + ks N E (ward.h), vector form, the chosen normalisation.
-class WardFit : public Orientation {
- public:
-  void canonicalize(double* x) const;
-  int penalty_count() const { return 0; }
-  template <typename T> void penalties(const T*, T*) const {}
-  WardFit(bool anisotropic, WardNormalization norm);
-  std::vector<ParamDef> defs;
-  template <typename T> WardT<T> build(const T* x) const {
-    WardT<T> m;
-    m.kd = RGBT<T>(x[0], x[1], x[2]);
-    m.ks = RGBT<T>(x[3], x[4], x[5]);
-    m.lobe.alpha_x = x[6];
-    m.lobe.alpha_y = x[anisotropic_ ? 7 : 6];
-    m.lobe.form = WardForm::Vector;
-    m.lobe.normalization = norm_;
-    return m;
-  }
-  Json to_json(const double* x) const;
-  std::vector<double> moment_start(const DataMoments& d) const;
-  std::optional<std::vector<double>> from_preset(const MaterialDesc& d, const DataMoments& m) const;
-  std::vector<double> random_start(Rng& rng, const DataMoments& d) const;
-  std::string ngan_model() const { return norm_ == WardNormalization::Duer ? "wardduer" : "ward"; }
-
- private:
-  bool anisotropic_;
-  WardNormalization norm_;
-};
-
-// Ngan 2005's form of Ashikhmin-Shirley: kd / pi + ks_scale F(rs) f_s, no coupled diffuse (rd = 0).
-class AshikhminShirleyFit : public Orientation {
- public:
-  void canonicalize(double* x) const;
-  int penalty_count() const { return 0; }
-  template <typename T> void penalties(const T*, T*) const {}
-  explicit AshikhminShirleyFit(bool anisotropic);
-  std::vector<ParamDef> defs;
-  template <typename T> AshikhminShirleyT<T> build(const T* x) const {
-    AshikhminShirleyT<T> m;
-    m.rd = RGBT<T>(T(0));
-    m.kd = RGBT<T>(x[0], x[1], x[2]);
-    m.ks_scale = RGBT<T>(x[3], x[4], x[5]);
-    m.rs = RGBT<T>(x[6]);
-    m.lobe.n_u = x[7];
-    m.lobe.n_v = x[anisotropic_ ? 8 : 7];
-    return m;
-  }
-  Json to_json(const double* x) const;
-  std::vector<double> moment_start(const DataMoments& d) const;
-  std::optional<std::vector<double>> from_preset(const MaterialDesc& d, const DataMoments& m) const;
-  std::vector<double> random_start(Rng& rng, const DataMoments& d) const;
-  std::string ngan_model() const { return "ashikhminshirley"; }
-
- private:
-  bool anisotropic_;
-};
-
-class GGXFit : public Orientation {
- public:
-  void canonicalize(double* x) const;
-  int penalty_count() const { return 0; }
-  template <typename T> void penalties(const T*, T*) const {}
-  explicit GGXFit(bool anisotropic);
-  std::vector<ParamDef> defs;
-  template <typename T> GGXT<T> build(const T* x) const {
-    GGXT<T> m;
-    m.kd = RGBT<T>(x[0], x[1], x[2]);
-    m.f0 = RGBT<T>(x[3], x[4], x[5]);
-    m.lobe.alpha_x = x[6];
-    m.lobe.alpha_y = x[anisotropic_ ? 7 : 6];
-    return m;
-  }
-  Json to_json(const double* x) const;
-  std::vector<double> moment_start(const DataMoments& d) const;
-  std::optional<std::vector<double>> from_preset(const MaterialDesc& d, const DataMoments& m) const;
-  std::vector<double> random_start(Rng& rng, const DataMoments& d) const;
-  std::string ngan_model() const { return "ward"; }  // the nearest material's Ward roughness
-
- private:
-  bool anisotropic_;
-};
-
 // A conductor (metal.h): named eta, k (fixed) or fitted ones, and a Ward, AS or GGX lobe.
 class MetalFit : public Orientation {
  public:
   void canonicalize(double* x) const;
-  int penalty_count() const { return 0; }
-  template <typename T> void penalties(const T*, T*) const {}
   MetalFit(bool anisotropic, const std::string& metal, SpecularLobeKind lobe);
   std::vector<ParamDef> defs;
   template <typename T> MetalT<T> build(const T* x) const {
@@ -285,80 +209,94 @@ class MetalFit : public Orientation {
   SpecularLobeKind lobe_;
 };
 
-// The Disney principled BRDF (principled.h): base_color (3), metallic, specular, roughness and,
-// when anisotropic, anisotropic; subsurface, sheen and clearcoat stay 0 (their keys' defaults).
-class PrincipledFit : public Orientation {
+// The fit of a generated model P (src/models: a table whose rows are bound to the kernel's
+// fields): the entries of P::fit's keys in order, then rotation_deg when anisotropic; every bound
+// field is set from its entry, from a held value (P::fit's fixed keys, or the command's options)
+// or from its table default. The starts are each model's (models.cpp, Starts<P>), by key.
+template <class P> class BoundFit : public Orientation {
  public:
+  // options: keys held at a value the command chose (Ward's --normalization).
+  explicit BoundFit(bool anisotropic = false, std::vector<models::FitFixed> options = {});
+  std::vector<ParamDef> defs;
+
+  template <typename T> models::KernelOf<P, T> build(const T* x) const {
+    models::KernelOf<P, T> m;
+    size_t r = 0;
+    for (const auto& part : P::template bound<T>)
+      for (const auto& row : part) {
+        const Source& s = sources_[r++];
+        if (!row.field.get) continue;
+        std::visit(
+            [&](auto* f) {
+              using F = std::remove_pointer_t<decltype(f)>;
+              if constexpr (std::is_same_v<F, T>)
+                *f = s.entry >= 0 ? x[s.entry] : T(s.number);
+              else if constexpr (std::is_same_v<F, RGBT<T>>)
+                *f = s.entry < 0 ? RGBT<T>(T(s.number))
+                     : s.rgb     ? RGBT<T>(x[s.entry], x[s.entry + 1], x[s.entry + 2])
+                                 : RGBT<T>(x[s.entry]);
+              else if constexpr (std::is_same_v<F, bool>)
+                *f = s.number != 0.0;
+              else
+                *f = static_cast<F>(int(s.number));  // a choice's index
+            },
+            row.field.get(m));
+      }
+    return m;
+  }
   void canonicalize(double* x) const;
-  int penalty_count() const { return 0; }
-  template <typename T> void penalties(const T*, T*) const {}
-  explicit PrincipledFit(bool anisotropic);
-  std::vector<ParamDef> defs;
-  template <typename T> PrincipledT<T> build(const T* x) const {
-    PrincipledT<T> m;
-    m.base_color = RGBT<T>(x[0], x[1], x[2]);
-    m.metallic = x[3];
-    m.specular = x[4];
-    m.roughness = x[5];
-    m.anisotropic = anisotropic_ ? x[6] : T(0);
-    m.subsurface = T(0), m.specular_tint = T(0), m.sheen = T(0), m.sheen_tint = T(0.5);
-    m.clearcoat = T(0), m.clearcoat_gloss = T(1);
-    return m;
-  }
-  Json to_json(const double* x) const;
-  std::vector<double> moment_start(const DataMoments& d) const;
-  std::optional<std::vector<double>> from_preset(const MaterialDesc&, const DataMoments&) const { return std::nullopt; }
-  std::vector<double> random_start(Rng& rng, const DataMoments& d) const;
-  std::string ngan_model() const { return "ward"; }  // no Ngan fit of this model: the start comes from moments
-
- private:
-  bool anisotropic_;
-};
-
-// Phong's lobe about the mirror direction (phong.h), normalised (Lewis 1994), as Ngan 2005's
-// "Blinn-Phong" fits are (docs/presets.md: bbm's NganBlinnPhong is this mirror lobe): kd (3),
-// ks (3), exponent. Isotropic: no orientation.
-class PhongFit : public Orientation {
- public:
-  void canonicalize(double*) const {}
-  int penalty_count() const { return 0; }
-  template <typename T> void penalties(const T*, T*) const {}
-  PhongFit();
-  std::vector<ParamDef> defs;
-  template <typename T> PhongT<T> build(const T* x) const {
-    PhongT<T> m;
-    m.kd = RGBT<T>(x[0], x[1], x[2]);
-    m.ks = RGBT<T>(x[3], x[4], x[5]);
-    m.lobe.exponent = x[6];
-    m.lobe.normalized = true;
-    return m;
-  }
   Json to_json(const double* x) const;
   std::vector<double> moment_start(const DataMoments& d) const;
   std::optional<std::vector<double>> from_preset(const MaterialDesc& d, const DataMoments& m) const;
   std::vector<double> random_start(Rng& rng, const DataMoments& d) const;
-  std::string ngan_model() const { return "blinnphong"; }
+  std::string ngan_model() const;
+
+  // The entry of a key (channel c of an Rgb key; a tied key's partner), -1 when not solved for.
+  int at(std::string_view key, int c = 0) const;
+  bool anisotropic() const { return anisotropic_; }
+  // The text a key is held at (a fixed choice), "" when none.
+  std::string_view held_text(std::string_view key) const;
+
+ private:
+  // Where each bound row's field comes from, in the order of P::bound<T>'s rows.
+  struct Source {
+    int entry = -1;     // the first entry, or -1: held at `number`
+    bool rgb = false;   // three entries (else one for all channels)
+    double number = 0;  // a held value (a choice's index)
+  };
+  std::vector<Source> sources_;
+  std::map<std::string, std::pair<int, bool>> entries_;  // key -> its first entry, three of them (Rgb)
+  std::vector<models::FitFixed> held_;
+  bool anisotropic_;
 };
 
-// f = kd / pi: kd (3). The start is the data's albedo over the hemisphere's samples.
-class LambertFit : public Orientation {
- public:
-  void canonicalize(double*) const {}
-  int penalty_count() const { return 0; }
-  template <typename T> void penalties(const T*, T*) const {}
-  LambertFit();
-  std::vector<ParamDef> defs;
-  template <typename T> LambertT<T> build(const T* x) const {
-    LambertT<T> m;
-    m.kd = RGBT<T>(x[0], x[1], x[2]);
-    return m;
-  }
-  Json to_json(const double* x) const;
-  std::vector<double> moment_start(const DataMoments& d) const;
-  std::optional<std::vector<double>> from_preset(const MaterialDesc&, const DataMoments&) const { return std::nullopt; }
-  std::vector<double> random_start(Rng& rng, const DataMoments& d) const;
-  std::string ngan_model() const { return "ward"; }  // unused: no preset start
+using LambertFit = BoundFit<models::Lambert>;
+using PhongFit = BoundFit<models::Phong>;
+using GGXFit = BoundFit<models::GGX>;
+using AshikhminShirleyFit = BoundFit<models::AshikhminShirley>;
+using PrincipledFit = BoundFit<models::Principled>;
+// f = kd / pi + ks N E (ward.h), vector form, the chosen normalisation.
+struct WardFit : BoundFit<models::Ward> {
+  WardFit(bool anisotropic, WardNormalization norm)
+      : BoundFit(anisotropic, {{.key = "normalization", .text = enum_name(norm)}}) {}
 };
+
+// What fit.cpp's fit_with asks of a model's layout (the members the header comment lists).
+template <class M>
+concept FitLayout = requires(const M& m, double* x, Rng& rng, const DataMoments& d, const MaterialDesc& desc) {
+  { m.defs } -> std::convertible_to<std::vector<ParamDef>>;
+  m.template build<double>(x);
+  m.canonicalize(x);
+  { m.to_json(x) } -> std::same_as<Json>;
+  { m.moment_start(d) } -> std::same_as<std::vector<double>>;
+  { m.from_preset(desc, d) } -> std::same_as<std::optional<std::vector<double>>>;
+  { m.random_start(rng, d) } -> std::same_as<std::vector<double>>;
+  { m.ngan_model() } -> std::convertible_to<std::string>;
+  { m.penalty_count() } -> std::same_as<int>;
+  { m.rotation_index() } -> std::same_as<int>;
+};
+static_assert(FitLayout<LafortuneFit> && FitLayout<MetalFit> && FitLayout<WardFit> && FitLayout<GGXFit> &&
+              FitLayout<AshikhminShirleyFit> && FitLayout<PrincipledFit> && FitLayout<PhongFit> && FitLayout<LambertFit>);
 
 // For tests: the largest relative difference between the Lafortune Jacobian assembled by parts
 // and the one from a single Jet over every parameter (fit.cpp), residuals included, at x.

@@ -1,7 +1,8 @@
 // aniso/io/params.h: the parameter tables. One table per model (name, kind, range, default, doc) is
 // the single source of truth that the JSON reader validates against, that `aniso models` prints,
-// that docs/models/*.md quote, and that later the Python keywords, GLSL uniforms and viewer
-// sliders are generated from. Add a parameter here and in the model's builder (materials.cpp).
+// that docs/models/*.md quote, and that the Python keywords, GLSL uniforms and viewer sliders are
+// generated from. Each model's table is in its model file, src/models/<member>.h, each row bound
+// to the kernel field it sets (docs/architecture.md, "Adding a model").
 #pragma once
 
 #include <array>
@@ -30,7 +31,7 @@ enum class ParamKind {
   String,        // free text (for example a metal name, checked by the builder)
   Object,        // a nested object validated against `sub`
   List,          // an array of objects, each validated against `sub`
-  TaggedObject,  // an object whose "model" key (one of `choices`) selects its table: metal_lobe_spec()
+  TaggedObject,  // an object whose "model" key (one of `choices`) selects its table (`tagged`): the metal's lobe
 };
 
 struct ModelSpec;
@@ -46,6 +47,7 @@ struct ParamSpec {
   double default_value = 0.0;
   bool required = false;
   std::span<const std::string_view> choices = {};  // Choice; choices[0] is the default
+  std::span<const ModelSpec* const> tagged = {};   // TaggedObject: the table of each choice, in order
   const ModelSpec* sub = nullptr;                  // Object, List
   int max_items = 0;                               // List
   // Anisotropic pairs (alpha_x / alpha_y, n_u / n_v, cx / cy): the other half. Giving one half
@@ -88,7 +90,8 @@ struct ParamValues {
   [[noreturn]] void fail(std::string_view key, std::string_view what) const;
 };
 
-// All model tables, in the order `aniso models` lists them.
+// All model tables, in the order `aniso models` lists them (the registry's). These and the three
+// below are defined with the model files (src/models/models.cpp).
 std::span<const ModelSpec* const> model_specs();
 const ModelSpec* find_model_spec(std::string_view name);
 // The registry row (aniso/brdf/registry.h) whose name is `name`.

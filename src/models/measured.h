@@ -1,0 +1,44 @@
+// models/measured.h: a MERL table as a material (docs/measured.md; kernel aniso/brdf/measured.h): the
+// file is the material. Hand-written: the file is read by the checks (parse_material), the kernel
+// points into its tables.
+#pragma once
+
+#include "aniso/measured/measured.h"
+#include "models/model.h"
+
+namespace aniso::models {
+
+struct Measured {
+  // A tabulated BRDF has no parameters: the file is the material (docs/measured.md). A path ending
+  // in .binary given as a material means {"model": "measured", "file": PATH}.
+  static constexpr ParamSpec params[] = {
+      {.name = "file",
+       .kind = ParamKind::String,
+       .doc = "MERL BRDF database .binary file (90 x 90 x 180 bins, Matusik et al. 2003), relative to the "
+              "folder of the JSON or scene file naming it (else the working directory); no other parameters",
+       .required = true},
+  };
+  static constexpr std::span<const ParamSpec> parts[] = {params};
+  static constexpr ModelSpec spec{"measured", "Measured (MERL table)",
+                                  "Matusik et al. 2003, A Data-Driven Reflectance Model (MERL BRDF database)", parts};
+  // Keys the host resolves before the GPU sees them (no GLSL slot): the file is read into the
+  // tables texture (glsl_tables).
+  static constexpr std::string_view host_keys[] = {"file"};
+
+  static void check(MaterialDesc& d, const std::string& base_dir) {
+    const std::string& file = d.params.text("file");
+    if (file.empty()) d.params.fail("file", "expected the path of a MERL .binary file, got an empty string");
+    d.measured = load_measured(resolve_file(file, base_dir));  // InputError naming the file and the byte offset
+  }
+
+  template <typename T> static MeasuredT<T> build(const MaterialDesc& d) {
+    if (!d.measured) throw InputError(fmt::format("{}: measured material without its table", d.params.where));
+    return measured_kernel<T>(*d.measured);
+  }
+
+  // The bins and sampling tables come from the tables texture (measured.glsl, Measured_load;
+  // glsl_tables() writes them at base 0).
+  static std::string glsl(const ParamValues&, const SlotFn&) { return "  m = Measured_load(0);\n"; }
+};
+
+}  // namespace aniso::models
