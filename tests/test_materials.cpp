@@ -476,9 +476,9 @@ TEST(MaterialErrors, DirectionalDiffuseNeedsANonZeroCoefficient) {
                   {"metal", "gold"},
                   {"lobe", {{"model", "ggx"}}},
                   {"directional_diffuse", {{"cx", 0.0}, {"cy", 0.0}, {"cz", 0.0}}}};
-  const MaterialDesc d = parse_material(j, "test.json");
+  // The metal's rule (src/models/metal.h) refuses it when the material is read.
   try {
-    (void)build_material<double>(d);
+    (void)build_material<double>(parse_material(j, "test.json"));
     FAIL() << "accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("non-zero"), std::string::npos) << e.what();
