@@ -476,7 +476,8 @@ TEST(MaterialErrors, DirectionalDiffuseNeedsANonZeroCoefficient) {
                   {"metal", "gold"},
                   {"lobe", {{"model", "ggx"}}},
                   {"directional_diffuse", {{"cx", 0.0}, {"cy", 0.0}, {"cz", 0.0}}}};
-  // The metal's rule (src/models/metal.h) refuses it when the material is read.
+  // The metal's rule (src/models/metal.h) refuses it, when the material is built or (with the rules
+  // as table data, branch models-host) already when it is read.
   try {
     (void)build_material<double>(parse_material(j, "test.json"));
     FAIL() << "accepted";
