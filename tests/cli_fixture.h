@@ -4,6 +4,7 @@
 
 #include <sys/wait.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -35,6 +36,27 @@ inline std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
+}
+
+// What a shell command writes to stdout (and stderr, when it says 2>&1); "" when it cannot start.
+inline std::string command_output(const std::string& cmd) {
+  std::string out;
+  if (FILE* p = popen(cmd.c_str(), "r")) {
+    char buf[4096];
+    for (size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    pclose(p);
+  }
+  return out;
+}
+
+// Blender (headless, factory settings) adding a UV sphere, running the exported `script` (its material
+// lands on the active object) and then `checks` (Python, with obj the sphere), written to `driver`;
+// its output, which ends in ANISO_OK when every check held.
+inline std::string blender_on_a_uv_sphere(const fs::path& driver, const std::string& script, const std::string& checks) {
+  std::ofstream(driver) << "import bpy\nbpy.ops.mesh.primitive_uv_sphere_add()\nexec(open(r'" << script
+                        << "').read())\nobj = bpy.context.view_layer.objects.active\n"
+                        << checks << "print('ANISO_OK')\n";
+  return command_output("blender -b --factory-startup -P " + shell_quote(driver.string()) + " 2>&1");
 }
 
 // A fresh directory (mkdtemp) per test; run() writes stdin, stdout and stderr as files there.

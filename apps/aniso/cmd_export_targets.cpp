@@ -244,7 +244,9 @@ void add_export_target_command(CLI::App& app) {
   cmd->add_option("--starts", a->starts, "fitted path: starts of the fit (default 4)")
       ->check(CLI::Range(1, exporter::kExportStartsMax));
   cmd->add_option("--seed", a->seed, "fitted path: random seed (default 1)");
-  cmd->add_option("--grid", a->grid, "sampling of the source: 4n x 4n x 2n x 2n half / difference angle pairs (default 6)")
+  cmd->add_option("--grid", a->grid,
+                  "sampling of an analytic source: 4n x 4n x 2n x 2n half / difference angle pairs (default 6); a measured one "
+                  "(.bsdf, .binary) is fitted and measured on its own samples, as aniso fit's")
       ->check(CLI::Range(exporter::kExportGridMin, exporter::kExportGridMax));
   cmd->add_option("--blender-version", a->blender_version,
                   "--to blender: the Blender whose model the report measures (default 4.3: conductors as the Metallic "

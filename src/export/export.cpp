@@ -34,8 +34,11 @@ constexpr TargetInfo kTargets[] = {
      "dp/du as aniso's meshes), else Cycles' default. Run: blender -b scene.blend -P FILE, or exec(open(FILE).read()) "
      "after making the object. Blender 4.x: metals use the F82-tint Fresnel (Base Color = F0, Specular Tint = the "
      "edge tint at 82 degrees); 3.4 (the Principled BSDF v1: separable Smith G, Fresnel interpolated from Base "
-     "Color to white, Burley diffuse) has no edge tint: its Specular sets the curve's shape. The report measures "
-     "--blender-version (default 4.3) and gives the other versions' errors in its notes."},
+     "Color to white, Burley diffuse) has no edge tint: its Specular sets the curve's shape. Dielectrics: Base Color "
+     "= the diffuse, 4.x: IOR and a colour Specular Tint for the F0; 3.4: Specular and Specular Tint, or, where one "
+     "node cannot write the F0's colour and the pair is the better choice, a diffuse and a metallic Principled BSDF "
+     "joined by an Add Shader. The report measures --blender-version (default 4.3) and gives the other versions' "
+     "errors in its notes."},
     {Target::Mitsuba3, "mitsuba3", ".xml",
      "Mitsuba 3 roughconductor (GGX), principled, or blendbsdf of diffuse and roughconductor",
      "Writes a <scene version=\"3.0.0\"> holding one <bsdf> with id = the material name: a roughconductor with "
@@ -60,7 +63,8 @@ constexpr TargetInfo kTargets[] = {
      "OpenPBR Surface (MaterialX open_pbr_surface, 1.39): F82-tint metals, tangent from the geometry",
      "Writes a MaterialX 1.39 document with an open_pbr_surface shader and a surfacematerial. Metals: base_metalness 1, "
      "base_color = F0 and specular_color = the F82 edge tint matching the source's reflectance at cos = 1/7; "
-     "dielectrics: base_color = the diffuse albedo (Lambert: base_diffuse_roughness 0), specular_ior from F0. "
+     "dielectrics: base_color = the diffuse albedo (Lambert: base_diffuse_roughness 0), specular_ior from F0 and "
+     "specular_color its hue (F0 / its largest channel). "
      "specular_roughness and specular_roughness_anisotropy by the OpenPBR mapping (alpha_t = r^2 sqrt(2 / (1 + (1 - "
      "a)^2)), alpha_b = (1 - a) alpha_t). OpenPBR has no rotation input: the anisotropy follows geometry_tangent "
      "(Tworld by default); a rotation is written as a rotate3d of the world tangent about the world normal feeding "
@@ -214,6 +218,42 @@ void export_measured(const TargetInfo& info, const MaterialDesc& desc, const Mat
   res.files.push_back({side_name, std::string(bytes.begin(), bytes.end())});
 }
 
+// Blender 3.4's node setup (BlenderV1Nodes) for the script's 3.4 branch: the Add Shader where one
+// Principled BSDF v1 cannot write the source's F0 (blender_v1_add_shader_candidate, on the GGX fit
+// `fitted`) and where the pair's 3.4 target model is the better choice (kBlenderV1AddShaderErrorRatio):
+// it fits the samples better in o.metric and renders no further from the source's colour (the image
+// check's chromaticity_difference), or it renders clearly closer to the source's colour and fits
+// about as well. Reported as 3.4 (o.blender_version < 3.5) on the fitted path, each setup is refined in its
+// own model and `refined` becomes the Add Shader's when it is chosen; otherwise (an exact source, or
+// 4.x reported) both setups are measured on `refined`. A note gives both errors.
+void blender_v1_nodes(const MaterialD& source, const GgxSource& fitted, GgxSource& refined, const SampleSet& samples,
+                      const ExportOptions& o, BlenderV1Nodes& nodes, std::vector<std::string>& notes) {
+  nodes = BlenderV1Nodes::Principled;
+  if (!blender_v1_add_shader_candidate(fitted)) return;
+  const bool v1 = o.blender_version < 3.5;
+  const GgxSource add =
+      v1 && !fitted.exact ? refine_for_target(Target::Blender, fitted, samples, o, BlenderV1Nodes::AddShader) : refined;
+  const TargetBrdf m1 = target_model(Target::Blender, refined, nullptr, nullptr, 3.4);
+  const TargetBrdf m2 = target_model(Target::Blender, add, nullptr, nullptr, 3.4, BlenderV1Nodes::AddShader);
+  const FitErrors one = target_errors(m1, samples), two = target_errors(m2, samples);
+  // The colour in image space (ImageCheck::chromaticity_difference), at the check's scene and 32 px.
+  const ImageCheck c1 = image_check(source, m1, 32), c2 = image_check(source, m2, 32);
+  const double e1 = metric_of(one, o.metric), e2 = metric_of(two, o.metric);
+  const double k1 = c1.chromaticity_difference, k2 = c2.chromaticity_difference;
+  const bool better =
+      (e2 < e1 && k2 <= k1) || (k2 <= k1 - kBlenderV1ChromaticityGain && e2 <= kBlenderV1AddShaderErrorRatio * e1);
+  notes.push_back(fmt::format(
+      "Blender 3.4: the source's F0 {} is not white mixed with the Base Color's hue: {} (relative l2cos {:.4g}, log {:.4g}, "
+      "chromaticity {:.3f} in the image check; one Principled BSDF: {:.4g}, {:.4g}, {:.3f})",
+      fmt3(fitted.f0),
+      better ? "a diffuse and a metallic Principled BSDF with an Add Shader are written, the better choice"
+             : "one Principled BSDF is written: a diffuse and a metallic one with an Add Shader are not the better choice",
+      two.relative_l2cos, two.log_all, c2.chromaticity_difference, one.relative_l2cos, one.log_all, c1.chromaticity_difference));
+  if (!better) return;
+  nodes = BlenderV1Nodes::AddShader;
+  if (v1) refined = add;
+}
+
 }  // namespace
 
 ExportResult export_material(const MaterialDesc& desc, const std::string& source_label, const ExportOptions& o,
@@ -223,13 +263,9 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   const MaterialDesc plain = unrotated(desc);
   const MaterialD source = build_material<double>(plain);
   ExportResult res;
-  SampleSet samples = sample_source(source, o.grid);
-  if (desc.rgl || desc.measured) {
-    // A measurement: its errors over Ngan 2005's range, as `aniso fit` measures them (fit.h,
-    // kNganMaxThetaDeg): beyond 80 degrees measurements are least reliable.
-    const double c = std::cos(kNganMaxThetaDeg * kPi<double> / 180.0);
-    std::erase_if(samples.samples, [c](const MeasuredSample& m) { return m.wi.z < c || m.wo.z < c; });
-  }
+  // A measurement: fitted, refined and measured on its own samples within Ngan 2005's range, as
+  // `aniso fit` fits and measures it (export_samples): beyond 80 degrees measurements are least reliable.
+  const SampleSet samples = export_samples(desc, source, o);
   if (writes_measured(info->target, desc, o)) {
     const std::string side =
         bin_name_in.empty() ? measured_file_name(info->target, identifier(material_name(desc, source_label, o))) : bin_name_in;
@@ -240,6 +276,7 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   res.ggx.rotation_deg += o.tangent_angle_deg;  // the surface's turn composed with the material's
   json params;
   std::vector<std::string> notes, notes_before;
+  BlenderV1Nodes nodes = BlenderV1Nodes::Principled;
   if (!res.ggx.conductor && !no_diffuse(res.ggx) && negligible_diffuse(res.ggx)) {
     // The metal / dielectric branch, decided once with a margin (negligible_diffuse): a diffuse this
     // small is written as none, so that a negligible change of the source never flips the branch.
@@ -250,7 +287,8 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
   }
   if (!res.ggx.isotropy.empty()) notes_before.push_back(res.ggx.isotropy);
   if (!res.ggx.exact) {
-    const GgxSource refined = refine_for_target(info->target, res.ggx, samples, o);
+    GgxSource refined = refine_for_target(info->target, res.ggx, samples, o);
+    if (info->target == Target::Blender) blender_v1_nodes(source, res.ggx, refined, samples, o, nodes, notes_before);
     if (refined.alpha_x != res.ggx.alpha_x || refined.alpha_y != res.ggx.alpha_y)
       notes_before.push_back(fmt::format("alphas refined with the target model: {:.4g} x {:.4g} (the GGX fit's {:.4g} x {:.4g})",
                                          refined.alpha_x, refined.alpha_y, res.ggx.alpha_x, res.ggx.alpha_y));
@@ -258,8 +296,11 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
       notes_before.push_back(fmt::format("colours re-solved in the target model: kd {} (the GGX fit's {}), F0 {} (the fit's {})",
                                          fmt3(refined.kd), fmt3(res.ggx.kd), fmt3(refined.f0), fmt3(res.ggx.f0)));
     res.ggx = refined;
+  } else if (info->target == Target::Blender) {
+    GgxSource same = res.ggx;
+    blender_v1_nodes(source, res.ggx, same, samples, o, nodes, notes_before);
   }
-  res.model = target_model(info->target, res.ggx, &params, &notes, o.blender_version);
+  res.model = target_model(info->target, res.ggx, &params, &notes, o.blender_version, nodes);
   std::string mitsuba_origin;
   if (info->target == Target::Mitsuba3 && source.kind == ModelKind::Principled) {
     // The same model: the parameters carry over (principled_differences says what still differs).
@@ -330,7 +371,7 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
     if (o.blender_version < 3.5 || (cond && o.blender_version >= 4.3)) others.push_back(4.0);
     if (cond && o.blender_version < 4.3) others.push_back(4.3);
     for (const double v : others) {
-      const TargetBrdf other = target_model(Target::Blender, res.ggx, nullptr, nullptr, v);
+      const TargetBrdf other = target_model(Target::Blender, res.ggx, nullptr, nullptr, v, nodes);
       const FitErrors e = target_errors(other, samples);
       r.notes.push_back(fmt::format("{}: {}: l2cos {:.4g} (relative {:.3g}), log {:.4g}", span(v), other.name, e.l2cos_all,
                                     e.relative_l2cos, e.log_all));

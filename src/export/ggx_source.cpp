@@ -172,6 +172,16 @@ GgxSource grid_fit(const GgxSource& base, const SampleSet& all) {
 
 }  // namespace
 
+SampleSet export_samples(const MaterialDesc& d, const MaterialD& source, const ExportOptions& o) {
+  if (!d.rgl && !d.measured) return sample_source(source, o.grid);
+  SampleSet s = d.rgl ? rgl_samples(*d.rgl, d.rgl->source, rgl_sample_grid(d.rgl->isotropic, o.measured_grid))
+                      : merl_samples(d.measured->brdf, d.measured->source);
+  // fit_samples' range test (fit.cpp): a sample at the edge is in.
+  const double c = std::cos(kNganMaxThetaDeg * kPi<double> / 180.0) - 1e-12;
+  std::erase_if(s.samples, [c](const MeasuredSample& m) { return m.wi.z < c || m.wo.z < c; });
+  return s;
+}
+
 GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const ExportOptions& o) {
   if (std::optional<GgxSource> g = exact_ggx(d)) {
     g->isotropic = g->alpha_x == g->alpha_y;
@@ -230,10 +240,7 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
     start.k = glm::dvec3(src.metal.k.x, src.metal.k.y, src.metal.k.z);
   }
   // A measured source: `aniso fit`'s own path (its separable grid start and the linear entries
-  // solved exactly, fit/linear.h) on the file's samples, max_iterations as `aniso fit`'s.
-  SampleSet own;
-  if (d.rgl) own = rgl_samples(*d.rgl, d.rgl->source, rgl_sample_grid(d.rgl->isotropic, o.measured_grid));
-  if (d.measured) own = merl_samples(d.measured->brdf, d.measured->source);
+  // solved exactly, fit/linear.h) on the file's samples (export_samples), max_iterations as `aniso fit`'s.
   const GgxSource grid = measured ? start : grid_fit(start, samples);
   const char* ch[3] = {"r", "g", "b"};
   if (!measured) {
@@ -250,7 +257,7 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
   } else {
     fo.max_iterations = 200;
   }
-  const FitResult r = fit_samples(measured ? own : samples, fo);
+  const FitResult r = fit_samples(samples, fo);
   const MaterialDesc fitted = parse_material(r.material, "fitted GGX");
   std::optional<GgxSource> e = exact_ggx(fitted);
   if (!e) throw std::logic_error("export: the fitted material is not a GGX");
@@ -272,15 +279,14 @@ GgxSource ggx_source(const MaterialDesc& d, const SampleSet& samples, const Expo
       measured ? fmt::format(
                      "aniso fit's protocol on the file's {} samples: theta up to {:g} deg, {} starts, best {}; "
                      "relative l2cos {:.4g} there",
-                     own.samples.size(), fo.max_theta_deg, fo.starts, r.best_start, r.errors.relative_l2cos)
+                     samples.samples.size(), fo.max_theta_deg, fo.starts, r.best_start, r.errors.relative_l2cos)
                : fmt::format("Ceres from {} starts and the alpha grid search's result (l2cos {:.4g}, log {:.4g}), best {}",
                              fo.starts, grid_err.l2cos_all, grid_err.log_all, r.best_start);
   g.origin = fmt::format(
       "fitted: aniso's {} {} to {} samples of the {} source ({} metric; {}): l2cos {:.4g}, "
       "log {:.4g}",
-      isotropic ? "isotropic" : "anisotropic", fo.model == "metal" ? "GGX conductor" : "GGX",
-      (measured ? own : samples).samples.size(), d.model, o.metric == FitMetric::L2Cos ? "l2cos" : "log", how,
-      g.source_fit.l2cos_all, g.source_fit.log_all);
+      isotropic ? "isotropic" : "anisotropic", fo.model == "metal" ? "GGX conductor" : "GGX", samples.samples.size(), d.model,
+      o.metric == FitMetric::L2Cos ? "l2cos" : "log", how, g.source_fit.l2cos_all, g.source_fit.log_all);
   return g;
 }
 

@@ -66,10 +66,12 @@ class AlbedoTable {
 
 const glm::dvec3 kSun = glm::normalize(glm::dvec3(-0.5, 0.6, 1.0));
 
-// One sphere of the standard scene into img at column x0; returns {mean, lit mean} of its luminance.
-std::pair<double, double> shade(const Brdf& f, int size, int x0, render::Image* img) {
+// One sphere of the standard scene into img at column x0; returns {mean, lit mean} of its luminance
+// and, in rgb, its mean RGB.
+std::pair<double, double> shade(const Brdf& f, int size, int x0, render::Image* img, glm::dvec3& rgb) {
   const AlbedoTable rho(f);
   double sum = 0.0, lit = 0.0;
+  rgb = glm::dvec3(0.0);
   size_t count = 0, n_lit = 0;
   for (int py = 0; py < size; ++py)
     for (int px = 0; px < size; ++px) {
@@ -82,11 +84,17 @@ std::pair<double, double> shade(const Brdf& f, int size, int x0, render::Image* 
       glm::dvec3 c = kCheckEnvironment * rho(wo);
       if (wi.z > 0.0 && wo.z > 0.0) c += f(wi, wo) * wi.z * kCheckSunIrradiance;
       const double lum = (c.x + c.y + c.z) / 3.0;
-      sum += lum, ++count;
+      sum += lum, rgb += c, ++count;
       if (glm::dot(nrm, kSun) >= 0.5) lit += lum, ++n_lit;
       if (img) img->set(x0 + px, py, RGB(float(c.x), float(c.y), float(c.z)));
     }
+  if (count) rgb /= double(count);
   return {count ? sum / double(count) : 0.0, n_lit ? lit / double(n_lit) : 0.0};
+}
+
+glm::dvec3 chromaticity(const glm::dvec3& c) {
+  const double s = c.x + c.y + c.z;
+  return s > 0.0 ? c / s : glm::dvec3(1.0 / 3.0);
 }
 
 double relative(double target, double source) {
@@ -103,10 +111,12 @@ ImageCheck image_check(const MaterialD& source, const TargetBrdf& target, int si
     return glm::dvec3(v.x, v.y, v.z);
   };
   const Brdf ft = [&](const Vec3d& wi, const Vec3d& wo) { return target.f(wi, wo); };
-  std::tie(c.mean_source, c.lit_source) = shade(fs, size, 0, image);
-  std::tie(c.mean_target, c.lit_target) = shade(ft, size, size, image);
+  std::tie(c.mean_source, c.lit_source) = shade(fs, size, 0, image, c.rgb_source);
+  std::tie(c.mean_target, c.lit_target) = shade(ft, size, size, image, c.rgb_target);
   c.mean_difference = relative(c.mean_target, c.mean_source);
   c.lit_difference = relative(c.lit_target, c.lit_source);
+  const glm::dvec3 d = glm::abs(chromaticity(c.rgb_target) - chromaticity(c.rgb_source));
+  c.chromaticity_difference = std::max({d.x, d.y, d.z});
   return c;
 }
 

@@ -12,15 +12,16 @@ namespace aniso::exporter {
 // Lambert); the target model differs (Mitsuba 3's separable G, MaterialX's G2 at the mean alpha,
 // exact Fresnel curves, Blender 3.4's Burley diffuse and interpolated Fresnel), so the alphas are
 // searched again with the written model itself: factors 0.6 to 1.5 on each alpha (a 9 x 9 log grid,
-// then 7 x 7 around the best), on at most o.refine_samples of the samples, in the chosen metric. At
+// then 7 x 7 around the best), on at most o.refine_samples of the samples (export_samples: a measured
+// source's own, whose peak a --grid of 3 misses), in the chosen metric. At
 // each alpha pair the colours (kd and F0 of the Schlick GGX, per channel, which every target writes
 // as its diffuse colour and its F0 / specular / base colour) are re-solved by weighted least squares
 // in the target model (relinearise), and kept when that lowers the error.
-GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& all, const ExportOptions& o) {
+GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& all, const ExportOptions& o, BlenderV1Nodes nodes) {
   SampleSet data;
   const size_t stride = std::max<size_t>(1, all.samples.size() / size_t(std::max(o.refine_samples, 100)));
   for (size_t i = 0; i < all.samples.size(); i += stride) data.samples.push_back(all.samples[i]);
-  const auto model = [&](const GgxSource& x) { return target_model(t, x, nullptr, nullptr, o.blender_version); };
+  const auto model = [&](const GgxSource& x) { return target_model(t, x, nullptr, nullptr, o.blender_version, nodes); };
   const auto error = [&](const GgxSource& x) { return metric_of(target_errors(model(x), data), o.metric); };
   // The other metric, which a re-solve of the colours may not raise: the report gives both, and a
   // change that trades one for the other is not an improvement.

@@ -117,13 +117,16 @@ double max_albedo_difference(const MaterialD& source, const TargetBrdf& t, doubl
 // --- reports -----------------------------------------------------------------------------------------
 
 json ImageCheck::to_json() const {
-  return {{"size", size},
-          {"scene", fmt::format("orthographic unit sphere, uniform environment {:g}, sun {:g} from normalize(-0.5, 0.6, 1)",
-                                kCheckEnvironment, kCheckSunIrradiance)},
-          {"mean", {{"source", mean_source}, {"target", mean_target}, {"relative_difference", mean_difference}}},
-          {"lit", {{"source", lit_source}, {"target", lit_target}, {"relative_difference", lit_difference}}},
-          {"warn", warn()},
-          {"bounds", {{"mean", kCheckWarnMean}, {"lit", kCheckWarnLit}}}};
+  return {
+      {"size", size},
+      {"scene", fmt::format("orthographic unit sphere, uniform environment {:g}, sun {:g} from normalize(-0.5, 0.6, 1)",
+                            kCheckEnvironment, kCheckSunIrradiance)},
+      {"mean", {{"source", mean_source}, {"target", mean_target}, {"relative_difference", mean_difference}}},
+      {"lit", {{"source", lit_source}, {"target", lit_target}, {"relative_difference", lit_difference}}},
+      {"colour",
+       {{"source_rgb", j3(rgb_source)}, {"target_rgb", j3(rgb_target)}, {"chromaticity_difference", chromaticity_difference}}},
+      {"warn", warn()},
+      {"bounds", {{"mean", kCheckWarnMean}, {"lit", kCheckWarnLit}}}};
 }
 
 json ExportReport::to_json() const {
@@ -157,9 +160,13 @@ std::string ExportReport::text(std::string_view pre) const {
   if (image.size > 0)
     line(fmt::format(
         "  image check (a sphere under a uniform environment and a sun, {} px): the target's mean {:.1f} % "
-        "from the source's, its lit region's {:.1f} %{}",
+        "from the source's, its lit region's {:.1f} %{}; the mean colour {:.3f} / {:.3f} / {:.3f} (the source's {:.3f} / {:.3f} "
+        "/ "
+        "{:.3f}), chromaticity {:.3f} from the source's",
         image.size, 100.0 * image.mean_difference, 100.0 * image.lit_difference,
-        image.warn() ? fmt::format(" (above {:g} % / {:g} %)", 100.0 * kCheckWarnMean, 100.0 * kCheckWarnLit) : std::string()));
+        image.warn() ? fmt::format(" (above {:g} % / {:g} %)", 100.0 * kCheckWarnMean, 100.0 * kCheckWarnLit) : std::string(),
+        image.rgb_target.x, image.rgb_target.y, image.rgb_target.z, image.rgb_source.x, image.rgb_source.y, image.rgb_source.z,
+        image.chromaticity_difference));
   for (const std::string& n : notes) line("  note: " + n);
   return s;
 }

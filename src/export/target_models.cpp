@@ -97,6 +97,21 @@ ExactFresnel match_schlick(double f0, double scale, bool allow_conductor) {
   return cost(c.eta, c.k) < cost(d.eta, 0.0) ? c : d;
 }
 
+// A dielectric F0 colour for the targets whose dielectric Fresnel takes a tint (Blender 4.x's Specular
+// Tint, OpenPBR's specular_color; targets.h): the index whose exact Fresnel is closest to Schlick's
+// curve of the largest channel (match_schlick; a grey F0 gets the index of its own curve, as before
+// the tint) and the tint F0 / max(F0), every channel in [0, 1]: the written reflectance at normal
+// incidence has the source's hue exactly, its largest channel the index's F0.
+struct TintedDielectric {
+  double eta = 1.5;
+  glm::dvec3 tint{1.0};
+};
+TintedDielectric tinted_dielectric(const glm::dvec3& f0_in) {
+  const glm::dvec3 f0 = glm::clamp(f0_in, 0.0, 1.0);
+  const double m = max3(f0);
+  return {match_schlick(m, 1.0, false).eta, m > 0.0 ? f0 / m : glm::dvec3(1.0)};
+}
+
 // For the mixes of Mitsuba 3 and pbrt-v4 (diffuse + specular as (1 - w) A + w B): the largest w
 // that keeps the diffuse reflectance kd / (1 - w) <= 1, but at least max(F0) so that the specular
 // reflectance F0 / w stays <= 1.
@@ -160,22 +175,28 @@ TargetBrdf openpbr_model(const GgxSource& g, json& p, std::vector<std::string>& 
                       "model clamps it to 0",
                       lowest));
   } else {
-    const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
-    m.name = "OpenPBR Surface, dielectric (exact Fresnel, G2 at the mean alpha) layered over Lambert";
+    // dielectric_reflection: dielectric_bsdf with tint = specular_color (open_pbr_surface.mtlx, the
+    // "Dielectric Base"), whose response is D F G tint / (4 NdotV) and whose throughput, which the
+    // layer gives the diffuse, has no tint (mx_dielectric_bsdf.glsl, mx_dielectric_bsdf_reflection;
+    // the specification tints the Fresnel reflection alone, OpenPBR#145): F = specular_color
+    // F_dielectric(specular_ior), the lobe's weight.
+    const TintedDielectric td = tinted_dielectric(g.f0);
+    m.name = "OpenPBR Surface, dielectric (exact Fresnel times specular_color, G2 at the mean alpha) layered over Lambert";
     m.lobe.fresnel = FresnelModel::Dielectric;
-    m.lobe.eta = glm::dvec3(eta);
+    m.lobe.eta = glm::dvec3(td.eta);
+    m.lobe.weight = td.tint;
     m.diffuse = glm::clamp(g.kd, 0.0, 1.0);
     m.diffuse_times_openpbr_throughput = true;
-    p["base_metalness"] = 0.0, p["base_color"] = j3(m.diffuse), p["specular_color"] = j3(glm::dvec3(1.0));
-    p["specular_ior"] = eta;
-    notes.push_back(fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of specular_ior {:.4g} closest to its curve",
-                                luminance_avg(g.f0), eta));
+    p["base_metalness"] = 0.0, p["base_color"] = j3(m.diffuse), p["specular_color"] = j3(td.tint);
+    p["specular_ior"] = td.eta;
+    notes.push_back(
+        fmt::format("Schlick's F0 {} becomes the dielectric Fresnel of specular_ior {:.4g} closest to the curve of its "
+                    "largest channel (F0 {:.4g}) times specular_color {} (F0 / its largest channel: the F0's hue)",
+                    fmt3(g.f0), td.eta, F_Conductor(1.0, td.eta, 0.0), fmt3(td.tint)));
     notes.push_back(
         "OpenPBR layers the specular over the diffuse: the diffuse is scaled by 1 - the specular's directional "
         "albedo at the view (mx_dielectric_bsdf.glsl:47-49, mx_layer_bsdf.glsl:5), which the target model does "
         "and aniso's GGX (a sum) does not");
-    if (max3(g.f0) - std::min({g.f0.x, g.f0.y, g.f0.z}) > 1e-3)
-      notes.push_back("the coloured dielectric F0 is written as its mean (specular_ior)");
   }
   notes.push_back(
       "MaterialX's GGX lobes add a multiple-scattering energy compensation (mx_ggx_energy_compensation) that the "
@@ -220,8 +241,15 @@ double v1_metal_specular(const GgxSource& g, const glm::dvec3& f0) {
 
 // --- GGX -> each target ----------------------------------------------------------------------------
 
+bool blender_v1_add_shader_candidate(const GgxSource& g) {
+  if (g.conductor || no_diffuse(g)) return false;
+  const CyclesV1Specular spec = cycles_v1_dielectric_specular(g.f0, g.kd);
+  const glm::dvec3 miss = glm::abs(cycles_v1_cspec0(g.kd, 0.0, spec.specular, spec.tint) - glm::clamp(g.f0, 0.0, 1.0));
+  return max3(miss) > kBlenderV1ColourMiss;
+}
+
 TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vector<std::string>* notes_out,
-                        double blender_version) {
+                        double blender_version, BlenderV1Nodes nodes) {
   json p = json::object();
   std::vector<std::string> notes;
   TargetBrdf m;
@@ -292,16 +320,45 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
               "Specular Tint is a float, its Specular sets the curve's shape)");
         }
       } else {
-        // Dielectric: F0 = F0_from_ior(IOR) 2 level (closure.h, "Apply IOR adjustment"), exact Fresnel.
-        const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
-        const double f0 = F_Conductor(1.0, eta, 0.0);
-        // 3.4: cspec0 = 0.08 Specular mix(1, Base Color / its luminance, Specular Tint) (closure.h:
-        // 317, 327-334), Specular above 1 where F0 is above 0.08 (cycles_v1_dielectric_specular).
-        const CyclesV1Specular spec = cycles_v1_dielectric_specular(g.f0, g.kd);
+        // 4.x: F = mix(F0_from_ior(IOR) Specular Tint, 1, s), s = (F_dielectric(IOR) - F0(IOR)) / (1 -
+        // F0(IOR)) (closure.h, "Apply IOR adjustment" and the Specular component: f0 = F0_from_ior(eta)
+        // specular_tint, f90 1, exponent -eta; bsdf_microfacet.h, microfacet_fresnel, the
+        // GENERALIZED_SCHLICK case with exponent < 0; cycles_dielectric_tint_fresnel): the exact
+        // dielectric Fresnel where the tint is white. The IOR and the tint: tinted_dielectric (the F0's
+        // hue exactly, every channel in [0, 1]).
+        const TintedDielectric td = tinted_dielectric(g.f0);
+        const double eta = td.eta, f0 = F_Conductor(1.0, eta, 0.0);
         m.diffuse = g.kd;
         p["Base Color"] = j3(g.kd), p["Metallic"] = 0.0, p["IOR"] = eta, p["Specular IOR Level"] = 0.5;
-        p["Specular"] = spec.specular, p["Specular Tint"] = spec.tint;
-        if (v1) {
+        p["Specular Tint"] = j3(td.tint);
+        // 3.4, one node: cspec0 = 0.08 Specular mix(1, Base Color / its luminance, Specular Tint)
+        // (closure.h:317, 327-334), Specular above 1 where F0 is above 0.08 (cycles_v1_dielectric_specular).
+        // 3.4, the Add Shader (BlenderV1Nodes): the diffuse node with Specular 0 and a metallic node with
+        // Base Color = F0 (bsdf_microfacet_ggx_fresnel_setup saturates cspec0, bsdf_microfacet.h:315)
+        // whose Specular shapes the interpolated Fresnel: the curve closest to Schlick's with this F0
+        // (v1_metal_specular, as for a metal).
+        const bool add_shader = nodes == BlenderV1Nodes::AddShader;
+        const CyclesV1Specular spec = cycles_v1_dielectric_specular(g.f0, g.kd);
+        const glm::dvec3 metal_f0 = glm::clamp(g.f0, 0.0, 1.0);
+        const double metal_specular = add_shader ? v1_metal_specular(g, metal_f0) : 0.0;
+        p["Specular"] = add_shader ? 0.0 : spec.specular;
+        p["Specular Tint (3.4)"] = add_shader ? 0.0 : spec.tint;
+        if (add_shader) p["Add Shader (3.4)"] = {{"Base Color", j3(metal_f0)}, {"Metallic", 1.0}, {"Specular", metal_specular}};
+        if (v1 && add_shader) {
+          m.name =
+              "Cycles 3.4 Add Shader: Principled BSDF v1 diffuse (Burley) + Principled BSDF v1 metallic (Base Color = F0, "
+              "interpolated Fresnel, separable Smith G)";
+          m.lobe.fresnel = FresnelModel::CyclesV1;
+          m.lobe.f0 = metal_f0, m.lobe.eta = glm::dvec3(cycles_v1_ior(metal_specular));
+          m.burley_roughness = rough;
+          notes.push_back(fmt::format(
+              "Blender 3.4: one Principled BSDF cannot write this F0 {} over this Base Color (its dielectric F0 is white mixed "
+              "with the Base Color's hue, closure.h:327-334: the closest is {}): the script adds a diffuse-only Principled "
+              "BSDF (Specular 0) and a metallic one (Base Color = F0, Specular {:.4g} for the Fresnel curve's shape, ior "
+              "{:.4g}) with an Add Shader, which Cycles sums",
+              fmt3(g.f0), fmt3(cycles_v1_cspec0(g.kd, 0.0, spec.specular, spec.tint)), metal_specular,
+              cycles_v1_ior(metal_specular)));
+        } else if (v1) {
           m.name = "Cycles 3.4 Principled BSDF v1, dielectric (exact Fresnel, separable Smith G) + Burley diffuse";
           m.lobe.fresnel = FresnelModel::CyclesV1;
           m.lobe.f0 = cycles_v1_cspec0(g.kd, 0.0, spec.specular, spec.tint);
@@ -317,24 +374,24 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
                 "Blender 3.4's dielectric F0 is white mixed with the Base Color's hue (Specular Tint {:.3g}, closure.h:327-334): "
                 "the source's F0 {} is written as {}, the closest such colour",
                 spec.tint, fmt3(g.f0), fmt3(m.lobe.f0)));
-          notes.push_back(
-              "Blender 3.4: the Fresnel is the dielectric one at ior = 2 / (1 - sqrt(0.08 Specular)) - 1 interpolated from "
-              "F0 to 1 (closure.h:317, bsdf_util.h:94-105), the diffuse Burley's with retro-reflection at the same Roughness "
-              "(bsdf_principled_diffuse.h:45-86), added to the specular");
         } else {
-          m.name = "Cycles 4.x Principled BSDF, dielectric (exact Fresnel, height-correlated G) + Lambert";
-          m.lobe.fresnel = FresnelModel::Dielectric;
-          m.lobe.eta = glm::dvec3(eta);
-          notes.push_back(
-              fmt::format("Schlick's F0 {:.4g} becomes the dielectric Fresnel of IOR {:.4g} closest to its "
-                          "curve (F0 {:.4g})",
-                          luminance_avg(g.f0), eta, f0));
+          m.name =
+              "Cycles 4.x Principled BSDF, dielectric (exact Fresnel times the Specular Tint, height-correlated G) + Lambert";
+          m.lobe.fresnel = FresnelModel::CyclesDielectricTint;
+          m.lobe.f0 = f0 * td.tint, m.lobe.eta = glm::dvec3(eta);
+          notes.push_back(fmt::format(
+              "Schlick's F0 {} becomes the dielectric Fresnel of IOR {:.4g} closest to the curve of its largest channel (F0 "
+              "{:.4g}), F0 times Specular Tint {} (F0 / its largest channel: the F0's hue)",
+              fmt3(g.f0), eta, f0, fmt3(td.tint)));
           notes.push_back(
               "Cycles layers the diffuse under the specular (its weight times 1 - the specular albedo, "
               "closure_layering_weight); the target model adds them as aniso's GGX does");
         }
-        if (!v1 && max3(g.f0) - std::min({g.f0.x, g.f0.y, g.f0.z}) > 1e-3)
-          notes.push_back("the coloured dielectric F0 is written as its mean (IOR)");
+        if (v1)
+          notes.push_back(
+              "Blender 3.4: the Fresnel is the dielectric one at ior = 2 / (1 - sqrt(0.08 Specular)) - 1 interpolated from "
+              "F0 to 1 (closure.h:317, bsdf_util.h:94-105), the diffuse Burley's with retro-reflection at the same Roughness "
+              "(bsdf_principled_diffuse.h:45-86), added to the specular");
       }
       notes.push_back(v1 ? "the target model is Blender 3.4's Principled BSDF v1 (separable Smith G, interpolated Fresnel, "
                            "Burley diffuse), distribution GGX (set by the script; Multiscatter GGX adds the energy of the "

@@ -3,7 +3,8 @@ writes where Blender is not installed (tests/test_export.cpp, ExportCli.BlenderS
 The Principled BSDF's inputs are those of node_declare in
 source/blender/nodes/shader/nodes/node_shader_bsdf_principled.cc: 3.x (read at 007b7d03) and 4.x
 (the version with panels); a missing name raises KeyError as Blender's collections do.
-The Metallic BSDF (4.3 and later) has the inputs of node_shader_bsdf_metallic.cc's node_declare.
+The Metallic BSDF (4.3 and later) has the inputs of node_shader_bsdf_metallic.cc's node_declare; the
+Add Shader its two "Shader" inputs, reached by index (node_shader_add_shader.cc).
 ANISO_BPY_VERSION chooses "3.4", "4.2" or "4.3"; ANISO_BPY_UV=0 gives the object no UV map."""
 import os
 
@@ -56,6 +57,13 @@ class _Sockets(dict):
         return dict.__getitem__(self, k)
 
 
+class _IndexedSockets(list):
+    def __getitem__(self, k):
+        if not isinstance(k, int):
+            raise KeyError(f"bpy_prop_collection[key]: use an index for sockets of the same name, got {k!r}")
+        return list.__getitem__(self, k)
+
+
 class _Node:
     def __init__(self, kind):
         self.bl_idname = kind
@@ -75,6 +83,9 @@ class _Node:
                 self.inputs[n] = _Socket(n, n in _COLOR or (color4 and n == "Specular Tint"))
             self.outputs["BSDF"] = _Socket("BSDF")
             self.distribution = "GGX" if _V == "3.4" else "MULTI_GGX"
+        elif kind == "ShaderNodeAddShader":  # node_shader_add_shader.cc: two inputs named "Shader", by index
+            self.inputs = _IndexedSockets([_Socket("Shader"), _Socket("Shader")])
+            self.outputs["Shader"] = _Socket("Shader")
         elif kind == "ShaderNodeOutputMaterial":
             self.inputs["Surface"] = _Socket("Surface")
         elif kind == "ShaderNodeTangent":

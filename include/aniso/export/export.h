@@ -128,7 +128,9 @@ struct ExportOptions {
 // viewer), direct light only (no shadows: a convex sphere shadows nothing that n.l does not).
 // mean: the luminance (mean of R, G, B) averaged over the sphere's pixels; lit: over its lit region,
 // the pixels where the sun is within 60 degrees of the normal (n.l >= 0.5). The differences are
-// relative to the source's: |target / source - 1|.
+// relative to the source's: |target / source - 1|. colour: the chromaticity of the sphere's mean RGB
+// (each channel over the sum of the three), source against target: the largest difference over the
+// channels (absolute, 0 to 1), which the luminance differences cannot see (a grey sphere for a blue one).
 inline constexpr double kCheckEnvironment = 0.25;
 inline constexpr double kCheckSunIrradiance = 2.5;
 // Above either bound the export warns (stderr; the exit status stays 0): 25 % on the mean, 40 % on
@@ -139,6 +141,8 @@ struct ImageCheck {
   int size = 0;  // pixels per sphere side; 0: not run
   double mean_source = 0.0, mean_target = 0.0, lit_source = 0.0, lit_target = 0.0;
   double mean_difference = 0.0, lit_difference = 0.0;
+  glm::dvec3 rgb_source{0.0}, rgb_target{0.0};  // the sphere's mean RGB
+  double chromaticity_difference = 0.0;
   bool warn() const { return size > 0 && (mean_difference > kCheckWarnMean || lit_difference > kCheckWarnLit); }
   nlohmann::json to_json() const;
 };
@@ -187,13 +191,46 @@ void check_export_options(const ExportOptions& o);
 // The samples the exporter compares (and fits) against: the source over a half / difference grid.
 SampleSet sample_source(const MaterialD& m, int grid);
 
-// The GGX the targets map from: exact where the source has one, else fitted (InputError: a source
-// that no GGX can stand for, with the reason).
+// The samples an export fits, refines and reports on (export_samples): for an analytic source
+// sample_source(source, o.grid); for a measured one (an RGL tensor file, a MERL table) the file's
+// own samples, the ones `aniso fit` fits (rgl_samples on rgl_sample_grid(isotropic,
+// o.measured_grid), merl_samples), within Ngan 2005's 80 degrees (kNganMaxThetaDeg, fit_samples'
+// test): a --grid of 3 has 12 theta_h bins, too coarse for a mirror-sharp measured peak.
+SampleSet export_samples(const MaterialDesc& desc, const MaterialD& source, const ExportOptions& o);
+
+// The GGX the targets map from: exact where the source has one, else fitted to `samples`
+// (export_samples: a measured source's own) (InputError: a source that no GGX can stand for, with
+// the reason).
 GgxSource ggx_source(const MaterialDesc& desc, const SampleSet& samples, const ExportOptions& o);
+
+// Blender 3.4's node setup for a GGX with a diffuse part (docs/export.md, "Blender 3.4"): one
+// Principled BSDF v1, whose dielectric F0 is white mixed with the Base Color's hue (closure.h:327-334),
+// or a diffuse-only Principled BSDF (Base Color = kd, Specular 0: no specular closure, closure.h:
+// 304-305) and a metallic one (Metallic 1, Base Color = F0: cspec0 = F0 of any colour, no diffuse
+// closure, closure.h:169, 262) joined by an Add Shader, which Cycles sums (shader_graph.cpp,
+// transform_multi_closure: "add closure: just pass on any weights"; surface_shader.h:230-243 adds
+// every closure's eval times its weight). The exporter writes the Add Shader where the single
+// node cannot write the source's F0 and the pair renders closer to the source's colour
+// (blender_v1_add_shader_candidate, kBlenderV1AddShaderErrorRatio, export_material).
+enum class BlenderV1Nodes { Principled, AddShader };
+// The Add Shader's precondition: a GGX with a diffuse part whose F0 the single Principled BSDF v1
+// misses (its closest cspec0, cycles_v1_dielectric_specular) by more than kBlenderV1ColourMiss in
+// some channel. A grey F0 is always written exactly (Specular Tint 0): never an Add Shader.
+inline constexpr double kBlenderV1ColourMiss = 0.01;
+bool blender_v1_add_shader_candidate(const GgxSource& g);
+// A candidate is written as the Add Shader where it is the better choice, by the fit's error (o.metric
+// on the export's samples) and the colour of the image check (ImageCheck::chromaticity_difference):
+// either better in the error and no worse in colour, or closer in colour by at least
+// kBlenderV1ChromaticityGain (about the smallest chromaticity step a viewer sees side by side) with
+// an error at most kBlenderV1AddShaderErrorRatio times the single node's (as good a fit: issue 39's
+// bar for a fit against an independent one).
+inline constexpr double kBlenderV1ChromaticityGain = 0.01;
+inline constexpr double kBlenderV1AddShaderErrorRatio = 1.1;
 
 // The fitted path's last step: the alphas searched again with the target's own model (its masking and
 // Fresnel), factors 0.6 to 1.5 around the GGX fit's, in o.metric.
-GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& samples, const ExportOptions& o);
+GgxSource refine_for_target(Target t, const GgxSource& g, const SampleSet& samples, const ExportOptions& o,
+                            BlenderV1Nodes nodes = BlenderV1Nodes::Principled);
 
 // The written target model's errors against the samples (fit_errors' formulas, fit.cpp).
 FitErrors target_errors(const TargetBrdf& t, const SampleSet& data);
@@ -228,8 +265,11 @@ ImageCheck image_check(const MaterialD& source, const TargetBrdf& target, int si
 // For tests and the docs: the target model and parameters for a GGX, without the file.
 // blender_version: which of the script's node setups the model is (4.3 and later: the Metallic BSDF
 // with n, k for conductors; earlier: the Principled BSDF).
+// nodes: Blender 3.4's node setup (BlenderV1Nodes), which the script's 3.4 branch builds whatever
+// version is reported.
 TargetBrdf target_model(Target t, const GgxSource& g, nlohmann::json* parameters = nullptr,
-                        std::vector<std::string>* notes = nullptr, double blender_version = 4.3);
+                        std::vector<std::string>* notes = nullptr, double blender_version = 4.3,
+                        BlenderV1Nodes nodes = BlenderV1Nodes::Principled);
 
 // A picture for the docs and `--preview`: two spheres, the source (left) and the written target
 // model (right), shaded by aniso in the image check's scene (ImageCheck: a uniform environment and

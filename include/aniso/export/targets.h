@@ -65,6 +65,9 @@ enum class FresnelModel {
   // Cycles 3.4 Principled v1: cspec0 (1 - FH) + FH, FH the dielectric Fresnel at ior normalised to
   // [F0(ior), 1] (cycles_v1_fresnel); cspec0 in f0, ior in eta.x.
   CyclesV1,
+  // Cycles 4.x Principled dielectric: the same with FH clamped to [0, 1] (cycles_dielectric_tint_fresnel);
+  // F0(ior) Specular Tint in f0, ior in eta.x.
+  CyclesDielectricTint,
 };
 
 struct TargetLobe {
@@ -206,6 +209,20 @@ inline glm::dvec3 cycles_v1_fresnel(double cos_lh, const glm::dvec3& cspec0, dou
   const double F0 = F_Conductor(1.0, ior, 0.0);
   const double FH = (F_Conductor(cos_lh, ior, 0.0) - F0) / (1.0 - F0);
   return cspec0 * (1.0 - FH) + glm::dvec3(FH);
+}
+// Cycles 4.x's Principled dielectric (closure.h @ 02e6985c, "Apply IOR adjustment" and the Specular
+// component: fresnel->f0 = F0_from_ior(eta) specular_tint, f90 = 1, exponent = -eta) evaluates the
+// generalized Schlick Fresnel with a negative exponent as the real Fresnel curve's interpolation
+// (bsdf_microfacet.h, fresnel_generalized_schlick / microfacet_fresnel, GENERALIZED_SCHLICK, exponent
+// < 0): s = saturatef(inverse_lerp(F0_real, 1, F_real)), F = mix(f0, f90, s). This is 3.4's
+// interpolated Fresnel with cspec0 = F0(ior) tint, and with a white tint the exact dielectric
+// Fresnel, except where the dielectric curve dips below its F0 (unpolarised light, ior above about
+// 2.4): there s is clamped at 0 (a stored earlier 4.x version, "Used by Principled v1", has no
+// saturatef; 3.4's interpolate_fresnel_color none either), so that a tinted channel never goes negative.
+inline glm::dvec3 cycles_dielectric_tint_fresnel(double cos_lh, const glm::dvec3& f0, double ior) {
+  const double F0 = F_Conductor(1.0, ior, 0.0);
+  const double s = std::clamp((F_Conductor(cos_lh, ior, 0.0) - F0) / (1.0 - F0), 0.0, 1.0);
+  return f0 * (1.0 - s) + glm::dvec3(s);
 }
 // A dielectric's Specular and Specular Tint (metallic 0) for a Schlick F0 over the diffuse colour
 // base_color. cspec0 = 0.08 Specular ((1 - Specular Tint) + Specular Tint m_ctint) lies in the cone of
@@ -468,6 +485,7 @@ inline glm::dvec3 TargetBrdf::fresnel(double c) const {
     case FresnelModel::Dielectric: return glm::dvec3(F_Conductor(c, lobe.eta.x, 0.0));
     case FresnelModel::F82Tint: return cycles_f82(c, lobe.f0, lobe.f82_b);
     case FresnelModel::CyclesV1: return cycles_v1_fresnel(c, lobe.f0, lobe.eta.x);
+    case FresnelModel::CyclesDielectricTint: return cycles_dielectric_tint_fresnel(c, lobe.f0, lobe.eta.x);
   }
   return glm::dvec3(1.0);
 }
