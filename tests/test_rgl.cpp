@@ -826,12 +826,8 @@ TEST_F(RglFromTensor, IsotropicSourceStaysIsotropicAndSmall) {
   // An isotropic material on an anisotropic grid (33 phi_i, as export-rgl --anisotropic writes):
   // a measured source within the rotation noise, isotropic (written with one phi_i by the
   // resampling path, which IsotropyDecision covers).
-  rgl::ExportOptions grid;
-  grid.spectral = false;
-  grid.colour = 16;
-  grid.theta_i = 8;
+  rgl::ExportOptions grid = small_rgl_options();
   grid.phi_i = 33;
-  grid.ndf = 32;
   grid.isotropy = rgl::ExportOptions::Isotropy::Anisotropic;
   const std::vector<uint8_t> aniso_bytes = rgl::serialize_tensor(export_json(kGGXIso, grid));
   const std::string aniso_path = write("grid.bsdf", std::string(aniso_bytes.begin(), aniso_bytes.end()));
