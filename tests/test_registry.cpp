@@ -2,9 +2,9 @@
 //
 // Compile time: the dispatches are generated from ANISO_MODELS, so a row cannot be left out of
 // the ModelKind enumeration, the union, visit, visit_kind, the batch dispatch or the GLSL
-// Material; what a row must bring (its parameter table k<Tag>Spec, its builder build(ModelType<..>),
-// its GLSL builder body(ModelType<..>), its SimdTwin when it says Simd) is a compile error where it
-// is used when missing (params.cpp, materials.cpp, glsl_material.cpp, dispatch-inl.h). The
+// Material; what a row must bring (its model file src/models/<member>.h with its table and its
+// builders, bound rows or hand-written; its SimdTwin when it says Simd) is a compile error where it
+// is used when missing (src/models/all.h, dispatch-inl.h). The
 // static_asserts below hold the union side over the whole list.
 // Run time: every row has a parameter table named like it, a docs page quoting the table, its GLSL
 // twin in the library and in the Material dispatch (or none, declared), a batch path (a SIMD twin

@@ -1,5 +1,5 @@
 // apps/aniso/cmd_models.cpp: `aniso models`, the models and their parameter tables
-// (src/io/params.cpp) as text, or with --markdown as docs/models/*.md quote them (docs/cli.md).
+// (the model files, src/models/<member>.h) as text, or with --markdown as docs/models/*.md quote them (docs/cli.md).
 #include <memory>
 #include <string>
 #include <vector>

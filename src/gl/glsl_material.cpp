@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <map>
 #include <optional>
 #include <stdexcept>
 
@@ -15,8 +14,6 @@
 
 #include "aniso/brdf/material.h"
 #include "aniso/gl/gl_context.h"
-#include "aniso/measured/measured.h"
-#include "aniso/rgl/rgl_material.h"
 #include "models/all.h"
 
 namespace aniso::gl {
@@ -175,75 +172,18 @@ template <typename P> std::string body(const ParamValues& pv, Slots& slots) {
     return models::glsl_generated<P>(P_);
 }
 
-// --- the tables texture (measured.glsl, rgl.glsl) ---------------------------------------------
-
-size_t append(std::vector<float>& out, const float* v, size_t n) {
-  const size_t at = out.size();
-  out.insert(out.end(), v, v + n);
-  return at;
-}
-
-// One PL2D header (rgl.glsl): sizes, strides, then the offsets of its tables, appended to `out`.
-void append_pl2d(std::vector<float>& out, size_t header, const rgl::PL2DTables& t) {
-  const PL2D& v = t.view;
-  const float head[9] = {float(v.size_x),          float(v.size_y),          float(v.dim),
-                         float(v.param_size[0]),   float(v.param_size[1]),   float(v.param_size[2]),
-                         float(v.param_stride[0]), float(v.param_stride[1]), float(v.param_stride[2])};
-  std::copy(head, head + 9, out.begin() + ptrdiff_t(header));
-  for (int d = 0; d < 3; ++d) {
-    const size_t at = append(out, t.param_values[d].data(), t.param_values[d].size());
-    out[header + 9 + size_t(d)] = t.param_values[d].empty() ? 0.f : float(at);
-  }
-  const std::vector<float>* tables[3] = {&t.data, &t.marginal_cdf, &t.conditional_cdf};
-  for (int k = 0; k < 3; ++k) {
-    const size_t at = append(out, tables[k]->data(), tables[k]->size());
-    out[header + 12 + size_t(k)] = tables[k]->empty() ? 0.f : float(at);
-  }
-}
-
 }  // namespace
 
 std::vector<float> glsl_tables(const MaterialDesc& m) {
-  std::vector<float> out;
-  if (m.model == "rgl") {
-    if (!m.rgl) throw InputError(fmt::format("{}: rgl material without its tensor file", m.params.where));
-    const rgl::RglData& d = *m.rgl;
-    out.assign(96, 0.f);
-    out[0] = 1.f;
-    out[1] = d.tables.isotropic ? 1.f : 0.f;
-    const rgl::PL2DTables* parts[5] = {&d.ndf, &d.sigma, &d.vndf, &d.luminance, &d.rgb};
-    for (int k = 0; k < 5; ++k) append_pl2d(out, size_t(16 + 16 * k), *parts[k]);
-  } else if (m.model == "measured") {
-    if (!m.measured) throw InputError(fmt::format("{}: measured material without its table", m.params.where));
-    const MeasuredData& d = *m.measured;
-    const MeasuredT<float> k = measured_kernel<float>(d);
-    constexpr int kH = MerlLayout::kThetaH;
-    out.assign(16, 0.f);
-    out[0] = 2.f;
-    out[1] = float(d.theta_o_bins);
-    out[2] = float(d.phi_h_bins);
-    out[3] = k.uniform_fraction;
-    auto put = [&](int slot, const std::vector<double>& v) {
-      out[size_t(slot)] = float(out.size());
-      for (double x : v) out.push_back(float(x));
-    };
-    put(4, d.brdf.table);
-    put(5, d.marginal_cdf);
-    put(6, d.conditional_cdf);
-    put(7, d.v_edges);
-    // P(cell) / solid angle(cell) in double, as MeasuredT::table_pdf computes it before its cast.
-    out[8] = float(out.size());
-    const int nj = d.phi_h_bins;
-    for (int o = 0; o < d.theta_o_bins; ++o)
-      for (int i = 0; i < kH; ++i) {
-        const double* mcdf = d.marginal_cdf.data() + size_t(o) * (kH + 1);
-        const double* ccdf = d.conditional_cdf.data() + (size_t(o) * kH + size_t(i)) * size_t(nj + 1);
-        for (int j = 0; j < nj; ++j)
-          out.push_back(float((mcdf[i + 1] - mcdf[i]) * (ccdf[j + 1] - ccdf[j]) / d.cell_solid_angle[size_t(i)]));
-      }
-  } else {
-    return out;
-  }
+  const std::optional<ModelKind> kind = find_model_kind(m.model);
+  if (!kind) return {};
+  std::vector<float> out = models::visit_model(*kind, [&](auto file) {
+    using Model = typename decltype(file)::plugin;
+    if constexpr (models::HasTables<Model>)
+      return Model::glsl_tables(m);
+    else
+      return std::vector<float>{};
+  });
   if (out.size() > kGlslTablesMaxFloats)
     throw InputError(fmt::format("{}: the tables need {} floats, more than the {} a tables texture addresses (docs/glsl.md)",
                                  m.params.where, out.size(), kGlslTablesMaxFloats));
@@ -276,7 +216,7 @@ GlslMaterial glsl_material(const MaterialDesc& m, const ModelSpec& spec, GlslSto
   P.check_all_used();
 
   out.model_struct = info.tag;
-  out.needs_tables = *kind == ModelKind::Rgl || *kind == ModelKind::Measured;
+  out.needs_tables = models::visit_model(*kind, [](auto file) { return models::HasTables<typename decltype(file)::plugin>; });
   out.model_kind = std::string("ModelKind_") + info.tag;
   const std::string member = info.member;
 

@@ -41,6 +41,12 @@ template <> struct EnumNames<ParamKind> {
   static_assert(int(ParamKind::TaggedObject) + 1 == std::size(kNames));
 };
 
+// The kinds of a table's cross-key rules, as `aniso web-data` exports them (web/validate.js applies them).
+template <> struct EnumNames<ParamRule::Kind> {
+  static constexpr std::string_view kNames[] = {"exclusive", "key-or-all", "non-zero", "peak-below"};
+  static_assert(int(ParamRule::Kind::PeakBelow) + 1 == std::size(kNames));
+};
+
 template <typename E> constexpr std::span<const std::string_view> enum_names() { return EnumNames<E>::kNames; }
 template <typename E> constexpr std::string_view enum_name(E e) { return EnumNames<E>::kNames[static_cast<int>(e)]; }
 template <typename E> constexpr std::optional<E> enum_from_name(std::string_view s) {

@@ -130,6 +130,57 @@ void resolve_pairs(ParamValues& pv, const json& obj, const ModelSpec& spec) {
   }
 }
 
+// A key's value in channel c: a number, or a colour's channel.
+double channel(const ParamValues& pv, std::string_view key, int c) {
+  const auto it = pv.values.find(key);
+  if (it != pv.values.end())
+    if (const glm::dvec3* v = std::get_if<glm::dvec3>(&it->second)) return (*v)[c];
+  return pv.scalar(key);
+}
+
+// The table's cross-key rules (ParamRule), in order; web/validate.js applyRule is their twin.
+void apply_rule(const ParamRule& r, const ParamValues& pv) {
+  const auto given = [&](std::string_view k) { return !k.empty() && pv.has(k); };
+  switch (r.kind) {
+    case ParamRule::Kind::Exclusive:
+      if (given(r.key) && (given(r.keys[0]) || given(r.keys[1]) || given(r.keys[2]))) pv.fail(r.key, r.message);
+      return;
+    case ParamRule::Kind::KeyOrAll: {
+      if (given(r.key)) return;
+      std::string_view missing;
+      bool some = false;
+      for (const std::string_view k : r.keys) {
+        if (k.empty()) continue;
+        if (given(k))
+          some = true;
+        else if (missing.empty())
+          missing = k;
+      }
+      if (!missing.empty()) pv.fail(some ? missing : r.key, r.message);
+      return;
+    }
+    case ParamRule::Kind::NonZero: {
+      double largest = 0.0;
+      for (const std::string_view k : r.keys)
+        if (!k.empty())
+          for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(channel(pv, k, c)));
+      if (!(largest > 0.0)) pv.fail(r.key, r.message);
+      return;
+    }
+    case ParamRule::Kind::PeakBelow:
+      for (int c = 0; c < 3; ++c) {
+        double cmax = 0.0;
+        for (const std::string_view k : r.keys)
+          if (!k.empty()) cmax = std::max(cmax, std::abs(channel(pv, k, c)));
+        const double n = channel(pv, r.exponent, c), scale = channel(pv, r.scale, c);
+        if (n * std::log10(std::max(cmax, 1e-300)) + std::log10(std::max(scale, 1e-300)) > r.limit)
+          pv.fail(r.key, fmt::format(fmt::runtime(r.message), fmt::arg("cmax", cmax), fmt::arg("scale", scale),
+                                     fmt::arg("channel", c), fmt::arg("n", n)));
+      }
+      return;
+  }
+}
+
 }  // namespace
 
 ParamValues read_params(const json& obj, const ModelSpec& spec, const std::string& where, std::string_view tag_key) {
@@ -162,6 +213,7 @@ ParamValues read_params(const json& obj, const ModelSpec& spec, const std::strin
     }
   }
   resolve_pairs(pv, obj, spec);
+  for (const ParamRule& r : spec.rules) apply_rule(r, pv);
   return pv;
 }
 

@@ -44,6 +44,13 @@ concept HandWritten = requires(const MaterialDesc& d, const ParamValues& pv, con
   P::glsl(pv, s);
 };
 
+// A model file whose kernel reads the tables texture (measured.glsl, rgl.glsl): glsl_tables(m)
+// writes its contents (gl::glsl_tables).
+template <typename P>
+concept HasTables = requires(const MaterialDesc& m) {
+  P::glsl_tables(m);
+};
+
 // Each row's model file: its table is named like the row, and it has a builder and a GLSL twin,
 // generated from its bound rows or hand-written.
 #define ANISO_X(Tag, Type, member_, name_, batch_, glsl_)                                                          \

@@ -49,9 +49,23 @@ inline constexpr ParamSpec kLafortuneLobe[] = {
      .default_value = 1.0},
 };
 
+// A lobe's value is at most scale max|C|^n (the base is C . (wi * wo) <= max|C| by Cauchy-Schwarz);
+// beyond 1e30 the float kernels overflow (float max 3.4e38, with room for the sums and the
+// sampling weights).
+inline constexpr ParamRule kLafortuneLobeRules[] = {
+    {.kind = ParamRule::Kind::PeakBelow,
+     .key = "n",
+     .keys = {"cx", "cy", "cz"},
+     .message = "with max|C| = {cmax:g} and scale {scale:g}, channel {channel} reaches {cmax:g}^{n:g}, beyond the float range "
+                "(the peak scale max|C|^n must stay below 1e30: lower n or |C|)",
+     .exponent = "n",
+     .scale = "scale",
+     .limit = 30.0},
+};
+
 struct Lafortune {
   static constexpr std::span<const ParamSpec> lobe_parts[] = {kLafortuneLobe};
-  static constexpr ModelSpec lobe_spec{"lobes[i]", "Lafortune lobe", "", lobe_parts};
+  static constexpr ModelSpec lobe_spec{"lobes[i]", "Lafortune lobe", "", lobe_parts, kLafortuneLobeRules};
   static constexpr ParamSpec params[] = {
       reflectance("rho_d", 0.0, "diffuse albedo (rho_d / pi)"),
       {.name = "lobes",
@@ -63,25 +77,6 @@ struct Lafortune {
   };
   static constexpr std::span<const ParamSpec> parts[] = {params, kOrientation};
   static constexpr ModelSpec spec{"lafortune", "Lafortune", "Lafortune et al. 1997, SIGGRAPH", parts};
-
-  // A lobe's value is at most scale max|C|^n (the base is C . (wi * wo) <= max|C| by
-  // Cauchy-Schwarz); beyond 1e30 the float kernels overflow (float max 3.4e38, with room for the
-  // sums and the sampling weights).
-  static void check(MaterialDesc& d, const std::string&) {
-    const auto& lobes = d.params.list("lobes");
-    for (size_t i = 0; i < lobes.size(); ++i) {
-      const ParamValues& l = lobes[i];
-      for (int c = 0; c < 3; ++c) {
-        const double cmax = std::max({std::abs(l.color("cx")[c]), std::abs(l.color("cy")[c]), std::abs(l.color("cz")[c])});
-        const double log10_peak =
-            l.color("n")[c] * std::log10(std::max(cmax, 1e-300)) + std::log10(std::max(l.color("scale")[c], 1e-300));
-        if (log10_peak > 30.0)
-          l.fail("n", fmt::format("with max|C| = {:g} and scale {:g}, channel {} reaches {:g}^{:g}, beyond the float range "
-                                  "(the peak scale max|C|^n must stay below 1e30: lower n or |C|)",
-                                  cmax, l.color("scale")[c], c, cmax, l.color("n")[c]));
-      }
-    }
-  }
 
   template <typename T> static LafortuneT<T> build(const MaterialDesc& d) {
     const ParamValues& p = d.params;

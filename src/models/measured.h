@@ -3,6 +3,8 @@
 // points into its tables.
 #pragma once
 
+#include <vector>
+
 #include "aniso/measured/measured.h"
 #include "models/model.h"
 
@@ -39,6 +41,39 @@ struct Measured {
   // The bins and sampling tables come from the tables texture (measured.glsl, Measured_load;
   // glsl_tables() writes them at base 0).
   static std::string glsl(const ParamValues&, const SlotFn&) { return "  m = Measured_load(0);\n"; }
+
+  // The tables texture's contents from base 0 (docs/glsl.md, "Measured materials"): measured.glsl's
+  // header, the bins, the sampling tables and the cells' pdf.
+  static std::vector<float> glsl_tables(const MaterialDesc& m) {
+    if (!m.measured) throw InputError(fmt::format("{}: measured material without its table", m.params.where));
+    const MeasuredData& d = *m.measured;
+    const MeasuredT<float> k = measured_kernel<float>(d);
+    constexpr int kH = MerlLayout::kThetaH;
+    std::vector<float> out(16, 0.f);
+    out[0] = 2.f;
+    out[1] = float(d.theta_o_bins);
+    out[2] = float(d.phi_h_bins);
+    out[3] = k.uniform_fraction;
+    auto put = [&](int slot, const std::vector<double>& v) {
+      out[size_t(slot)] = float(out.size());
+      for (double x : v) out.push_back(float(x));
+    };
+    put(4, d.brdf.table);
+    put(5, d.marginal_cdf);
+    put(6, d.conditional_cdf);
+    put(7, d.v_edges);
+    // P(cell) / solid angle(cell) in double, as MeasuredT::table_pdf computes it before its cast.
+    out[8] = float(out.size());
+    const int nj = d.phi_h_bins;
+    for (int o = 0; o < d.theta_o_bins; ++o)
+      for (int i = 0; i < kH; ++i) {
+        const double* mcdf = d.marginal_cdf.data() + size_t(o) * (kH + 1);
+        const double* ccdf = d.conditional_cdf.data() + (size_t(o) * kH + size_t(i)) * size_t(nj + 1);
+        for (int j = 0; j < nj; ++j)
+          out.push_back(float((mcdf[i + 1] - mcdf[i]) * (ccdf[j + 1] - ccdf[j]) / d.cell_solid_angle[size_t(i)]));
+      }
+    return out;
+  }
 };
 
 }  // namespace aniso::models

@@ -53,11 +53,30 @@ inline constexpr ParamSpec kDirectionalDiffuse[] = {
      .default_value = 5.0},
 };
 
+// The lobe divides C by max|C| (Metal::build): one coefficient at least is non-zero.
+inline constexpr ParamRule kDirectionalDiffuseRules[] = {
+    {.kind = ParamRule::Kind::NonZero,
+     .key = "cz",
+     .keys = {"cx", "cy", "cz"},
+     .message = "the lobe needs at least one non-zero coefficient"},
+};
+// Either a metal's name or both eta and k.
+inline constexpr ParamRule kMetalRules[] = {
+    {.kind = ParamRule::Kind::Exclusive,
+     .key = "metal",
+     .keys = {"eta", "k"},
+     .message = "give either \"metal\" or \"eta\" and \"k\", not both"},
+    {.kind = ParamRule::Kind::KeyOrAll,
+     .key = "metal",
+     .keys = {"eta", "k"},
+     .message = "missing: a metal needs \"metal\" (a name) or both \"eta\" and \"k\""},
+};
+
 struct Metal {
   static constexpr std::span<const ParamSpec> directional_diffuse_parts[] = {kDirectionalDiffuse};
   static constexpr ModelSpec directional_diffuse_spec{"directional_diffuse", "Directional-diffuse lobe",
                                                       "Lafortune 1997 lobe with Ngan 2005's normalisation",
-                                                      directional_diffuse_parts};
+                                                      directional_diffuse_parts, kDirectionalDiffuseRules};
   // The lobe's table for each of its "model" choices (enum_names<SpecularLobeKind>, in that order).
   static constexpr const ModelSpec* lobe_specs[] = {&Ward::lobe_spec, &AshikhminShirley::lobe_spec, &GGX::lobe_spec};
   static constexpr ParamSpec params[] = {
@@ -91,19 +110,16 @@ struct Metal {
        .sub = &directional_diffuse_spec},
   };
   static constexpr std::span<const ParamSpec> parts[] = {params, kOrientation};
-  static constexpr ModelSpec spec{"metal", "Metal", "Cook & Torrance 1982; Born & Wolf (conductor Fresnel)", parts};
+  static constexpr ModelSpec spec{"metal", "Metal", "Cook & Torrance 1982; Born & Wolf (conductor Fresnel)", parts, kMetalRules};
   // Keys the host resolves before the GPU sees them (no GLSL slot): the metal's name, whose eta
   // and k the host looks up (glsl_material).
   static constexpr std::string_view host_keys[] = {"metal"};
 
-  // Either a metal's name or both eta and k.
+  // A metal's name is one of the table's (the page checks it against the metals `aniso web-data`
+  // exports).
   static void check(MaterialDesc& d, const std::string&) {
-    const bool named = d.params.has("metal"), custom = d.params.has("eta") || d.params.has("k");
-    if (named && custom) d.params.fail("metal", "give either \"metal\" or \"eta\" and \"k\", not both");
-    if (!named && !(d.params.has("eta") && d.params.has("k")))
-      d.params.fail(d.params.has("eta") ? "k" : (d.params.has("k") ? "eta" : "metal"),
-                    "missing: a metal needs \"metal\" (a name) or both \"eta\" and \"k\"");
-    if (named && !find_metal(d.params.text("metal"))) d.params.fail("metal", unknown_metal_message(d.params.text("metal")));
+    if (d.params.has("metal") && !find_metal(d.params.text("metal")))
+      d.params.fail("metal", unknown_metal_message(d.params.text("metal")));
   }
 
   template <typename T> static MetalT<T> build(const MaterialDesc& d) {
@@ -143,7 +159,7 @@ struct Metal {
       const ParamValues& dd = p.object("directional_diffuse");
       const double cx = dd.scalar("cx"), cy = dd.scalar("cy"), cz = dd.scalar("cz"), n = dd.scalar("n");
       const double cmax = std::max({std::abs(cx), std::abs(cy), std::abs(cz)});
-      if (!(cmax > 0.0)) dd.fail("cz", "the lobe needs at least one non-zero coefficient");
+      if (!(cmax > 0.0)) dd.fail("cz", "the lobe needs at least one non-zero coefficient");  // kDirectionalDiffuseRules
       const RGBT<T> f0 = F_Conductor(T(1), m.eta, m.k);
       m.has_directional_diffuse = true;
       m.directional_diffuse.cx = RGBT<T>(T(cx / cmax));

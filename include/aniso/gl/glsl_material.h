@@ -1,8 +1,9 @@
 // aniso/gl/glsl_material.h: a material's parameters on the GLSL side, generated from the parameter
-// tables (src/io/params.cpp). One slot per table entry (nested objects and list items flattened
-// with '_': lobe_alpha_x, lobes0_cx, directional_diffuse_albedo), declared as uniforms or baked
-// constants, and the GLSL that builds the model's kernel struct from them the way
-// build_material() does (src/io/materials.cpp). A table entry that the builder does not use is an
+// tables (the model files, src/models/<member>.h). One slot per table entry (nested objects and
+// list items flattened with '_': lobe_alpha_x, lobes0_cx, directional_diffuse_albedo), declared as
+// uniforms or baked constants, and the GLSL that builds the model's kernel struct from them the
+// way build_material() does (generated from the table's rows bound to the kernel's fields, or the
+// model file's own). A table entry that the builder does not use is an
 // error (std::logic_error naming it): adding a parameter to a table without its GLSL counterpart
 // fails the GLSL tests.
 #pragma once

@@ -36,6 +36,27 @@ enum class ParamKind {
 
 struct ModelSpec;
 
+// A rule across the keys of one table that their ranges cannot express. The reader applies a
+// table's rules after its keys (read_params), and `aniso web-data` exports them with the table, so
+// that the page's reader (web/validate.js) applies the same ones: one copy of each rule. A failure
+// is an InputError naming `key`: "<where>: key \"<key>\": <message>".
+struct ParamRule {
+  enum class Kind {
+    Exclusive,  // `key` is not given together with any of `keys`
+    KeyOrAll,   // `key` or every one of `keys` is given; else the first missing of `keys` fails once one of
+                // them is given, `key` when none is
+    NonZero,    // some of `keys` is non-zero
+    PeakBelow,  // per channel c: exponent[c] log10(max_k |keys_k[c]|) + log10(scale[c]) <= limit; `message` is
+                // a template with {cmax:g}, {scale:g}, {n:g} and {channel}
+  };
+  Kind kind;
+  std::string_view key;
+  std::array<std::string_view, 3> keys = {};
+  std::string_view message = {};
+  std::string_view exponent = {}, scale = {};  // PeakBelow
+  double limit = 0.0;                          // PeakBelow
+};
+
 struct ParamSpec {
   std::string_view name;
   ParamKind kind = ParamKind::Scalar;
@@ -66,6 +87,7 @@ struct ModelSpec {
   std::string_view title;
   std::string_view citation;
   std::span<const std::span<const ParamSpec>> parts;
+  std::span<const ParamRule> rules = {};
 
   // Every parameter of every part, in order.
   std::vector<const ParamSpec*> params() const;
