@@ -3,8 +3,9 @@
 // reader gives, line for line:
 //   parseJsonText          src/io/json_read.cpp  parse_json_text (duplicate keys, depth 64)
 //   jsonTypeName           src/io/materials.cpp  json_type_name
-//   readParams, readValue  src/io/materials.cpp  read_params, read_value, resolve_pairs
-//   parseMaterial          src/io/materials.cpp  parse_material (the cross-key rules)
+//   readParams, readValue  src/io/materials.cpp  read_params, read_value, resolve_pairs, apply_rule (the
+//                                                tables' cross-key rules, exported with them)
+//   parseMaterial          src/models/models.cpp parse_material
 // The range texts ("number in (0, 1]") come from the C++ describe_range() through the tables, so
 // they are not rewritten here. Known differences (docs/web.md): the syntax-error text of invalid
 // JSON is the page's own ("invalid JSON: parse error at line L, column C: <what>"), not nlohmann's.
@@ -323,11 +324,38 @@
         if (q.sets && (q.sets[0] === p.name || q.sets[1] === p.name)) shorthand = `, or "${q.name}" alone for an isotropic value`;
       pfail(p.name, `given without its partner "${p.partner}": give both${shorthand}`);
     }
+    for (const r of spec.rules || []) applyRule(r, pv, where);
     Object.defineProperty(pv, "$where", { value: where, enumerable: false });
     return pv;
   }
 
-  // parse_material: the model key, "fit", the table, then the cross-key rules.
+  // A table's cross-key rules as `aniso web-data` exports them (ParamRule, include/aniso/io/params.h;
+  // src/io/materials.cpp apply_rule): the C++ reader's own, not a copy.
+  function applyRule(r, pv, where) {
+    const given = (k) => has(pv, k);
+    const at = (k, c) => (Array.isArray(pv[k]) ? pv[k][c] : pv[k]);
+    if (r.kind === "exclusive") {
+      if (given(r.key) && r.keys.some(given)) fail(where, r.key, r.message);
+    } else if (r.kind === "key-or-all") {
+      const missing = r.keys.find((k) => !given(k));
+      if (!given(r.key) && missing !== undefined) fail(where, r.keys.some(given) ? missing : r.key, r.message);
+    } else if (r.kind === "non-zero") {
+      let largest = 0;
+      for (const k of r.keys) for (let c = 0; c < 3; ++c) largest = Math.max(largest, Math.abs(at(k, c)));
+      if (!(largest > 0)) fail(where, r.key, r.message);
+    } else if (r.kind === "peak-below") {
+      for (let c = 0; c < 3; ++c) {
+        const cmax = Math.max(0, ...r.keys.map((k) => Math.abs(at(k, c))));
+        const n = at(r.exponent, c), scale = at(r.scale, c);
+        if (n * Math.log10(Math.max(cmax, 1e-300)) + Math.log10(Math.max(scale, 1e-300)) > r.limit) {
+          const vals = { cmax, scale, n, channel: c };
+          fail(where, r.key, r.message.replace(/\{(\w+)(:g)?\}/g, (m, name, g) => (g ? fmtG(vals[name]) : String(vals[name]))));
+        }
+      }
+    }
+  }
+
+  // parse_material: the model key, "fit", the table (with its cross-key rules), the metal's name.
   function parseMaterial(obj, where, data) {
     if (!isObject(obj)) throw new InputError(`${where}: expected a JSON object, got ${jsonTypeName(obj)}`);
     const models = data.models.map((m) => `"${m.name}"`).join(", ");
@@ -341,35 +369,13 @@
     if (floatLiterals.has(obj)) floatLiterals.set(body, floatLiterals.get(obj));
     const pv = readParams(body, spec, where, "model", data);
     const model = obj.model;
-    if (model === "lafortune") {
-      pv.lobes.forEach((l) => {
-        for (let c = 0; c < 3; ++c) {
-          const cmax = Math.max(Math.abs(l.cx[c]), Math.abs(l.cy[c]), Math.abs(l.cz[c]));
-          const peak = l.n[c] * Math.log10(Math.max(cmax, 1e-300)) + Math.log10(Math.max(l.scale[c], 1e-300));
-          if (peak > 30.0)
-            fail(l.$where, "n",
-              `with max|C| = ${fmtG(cmax)} and scale ${fmtG(l.scale[c])}, channel ${c} reaches ${fmtG(cmax)}^${fmtG(l.n[c])}, beyond the float range ` +
-                "(the peak scale max|C|^n must stay below 1e30: lower n or |C|)");
-        }
-      });
-    }
     // A measured material's "file" is a path, which a page cannot open: the file itself is opened
     // or dropped (web/measured.js reads it).
     if (model === "measured" || model === "rgl")
       fail(where, "file", `the page opens no paths: open or drop the ${model === "rgl" ? "RGL tensor file (.bsdf)" : "MERL table (.binary)"} itself`);
-    if (model === "metal") {
-      const named = has(pv, "metal"), custom = has(pv, "eta") || has(pv, "k");
-      if (named && custom) fail(where, "metal", 'give either "metal" or "eta" and "k", not both');
-      if (!named && !(has(pv, "eta") && has(pv, "k")))
-        fail(where, has(pv, "eta") ? "k" : has(pv, "k") ? "eta" : "metal", 'missing: a metal needs "metal" (a name) or both "eta" and "k"');
-      if (named && !data.metals.find((m) => m.name === pv.metal))
-        fail(where, "metal", `unknown metal "${textEscape(pv.metal)}"; the metals are ${data.metal_names}`);
-    }
-    // The builders' own check (build_metal, src/io/materials.cpp), which every command runs.
-    if (model === "metal" && pv.directional_diffuse) {
-      const dd = pv.directional_diffuse;
-      if (!(Math.max(Math.abs(dd.cx), Math.abs(dd.cy), Math.abs(dd.cz)) > 0)) fail(dd.$where, "cz", "the lobe needs at least one non-zero coefficient");
-    }
+    // The metal's name (src/models/metal.h, Metal::check): one of the exported metals.
+    if (model === "metal" && has(pv, "metal") && !data.metals.find((m) => m.name === pv.metal))
+      fail(where, "metal", `unknown metal "${textEscape(pv.metal)}"; the metals are ${data.metal_names}`);
     return { model, params: pv, json: obj };
   }
 

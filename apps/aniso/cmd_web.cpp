@@ -1,6 +1,6 @@
 // apps/aniso/cmd_web.cpp: the browser explorer's two commands (docs/web.md).
 //   aniso web-data -o FILE   the data the page is built from, generated from the sources of truth:
-//                            the parameter tables (src/io/params.cpp) with their range texts, the
+//                            the parameter tables (src/models/<member>.h) with their range texts and rules, the
 //                            presets, the metals, the GLSL library (the files export-glsl
 //                            assembles), the GLSL tone map (render::tonemap's twin) and, per material shape, the GLSL builder of
 //                            gl::glsl_material() with uniforms, the measured tables' layout and
@@ -80,6 +80,20 @@ json table_json(const ModelSpec& spec) {
       for (const ModelSpec* s : nested_specs(*p)) j["subs"][std::string(s->name)] = table_json(*s);
     }
     t["params"].push_back(j);
+  }
+  // The cross-key rules (ParamRule), applied by web/validate.js applyRule as by the C++ reader.
+  t["rules"] = json::array();
+  for (const ParamRule& r : spec.rules) {
+    json keys = json::array();
+    for (const std::string_view k : r.keys)
+      if (!k.empty()) keys.push_back(k);
+    t["rules"].push_back({{"kind", std::string(enum_name(r.kind))},
+                          {"key", r.key},
+                          {"keys", keys},
+                          {"message", r.message},
+                          {"exponent", r.exponent},
+                          {"scale", r.scale},
+                          {"limit", r.limit}});
   }
   return t;
 }

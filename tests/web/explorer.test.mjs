@@ -247,6 +247,8 @@ if (want("errors")) {
     '{"model": "ward", "alpha_x": 0.1, "alpha_x": 0.2}',
     '{"model": "metal", "metal": "gold", "eta": 1}',
     '{"model": "metal"}',
+    '{"model": "metal", "eta": 1, "lobe": {"model": "ggx"}}',
+    '{"model": "metal", "metal": "gold", "lobe": {"model": "ggx"}, "directional_diffuse": {"cx": 0, "cy": 0, "cz": 0}}',
     '{"model": "metal", "metal": "gold", "lobe": {"model": "phong"}}',
     '{"model": "metal", "metal": "gold", "lobe": {"model": "ggx", "alpha_x": 0.1, "alpha_y": 0.1, "q": 1}}',
     '{"model": "lafortune", "lobes": []}',
