@@ -17,7 +17,7 @@ import time
 import aniso
 
 # bench/plain_fit.py's model names -> aniso.fit's keywords.
-MODELS = {"ggx": {"model": "ggx"}, "ward": {"model": "ward"}, "ashikhmin-shirley": {"model": "ashikhmin-shirley"},
+MODELS = {"ggx": {"model": "ggx"}, "ggx-f90": {"model": "ggx", "fresnel": "free-f90"}, "ward": {"model": "ward"}, "ashikhmin-shirley": {"model": "ashikhmin-shirley"},
           "lafortune1": {"model": "lafortune", "lobes": 1}, "lafortune3": {"model": "lafortune", "lobes": 3},
           "metal": {"model": "metal"}}
 

@@ -95,6 +95,23 @@ def make_ggx():
                  lambda x: {"model": "ggx", "kd": list(x[0:3]), "f0": list(x[3:6]), "alpha": x[6]})
 
 
+def make_ggx_f90():
+    # docs/models/ggx.md with a free f90 per channel: F(c) = f0 (1 - w) + f90 w, w = (1 - c)^5
+    # (Schlick's form with the grazing value free, as Filament writes it); f90 in [0, 1].
+    def f(wi, wo, x):
+        spec, h = ggx_lobe(wi, wo, x[9], x[9])
+        w5 = ((1.0 - np.clip(np.sum(wi * h, axis=1), 0.0, 1.0)) ** 5)[:, None]
+        return x[None, 0:3] / PI + (x[None, 3:6] * (1.0 - w5) + x[None, 6:9] * w5) * spec[:, None]
+
+    def start(rng):
+        x = weights_and_alpha(rng)
+        return np.r_[x[0:6], rng.uniform(0, 1, 3), x[6]]
+
+    return Model("ggx-f90", ["kd.r", "kd.g", "kd.b", "f0.r", "f0.g", "f0.b", "f90.r", "f90.g", "f90.b", "alpha"],
+                 [0] * 9 + [1e-3], [1] * 10, start, f,
+                 lambda x: {"model": "ggx", "kd": list(x[0:3]), "f0": list(x[3:6]), "f90": list(x[6:9]), "alpha": x[9]})
+
+
 def make_ward():
     # docs/models/ward.md: f = kd / pi + ks N E, form "vector": E = exp(-((h.x/a)^2 + (h.y/a)^2) / h.z^2)
     # with h = wi + wo unnormalised; normalization "ward": N = 1 / (4 pi a^2 sqrt(cos_i cos_o)).
@@ -183,7 +200,7 @@ def make_metal():
                  lambda x: {"model": "metal", "eta": list(x[0:3]), "k": list(x[3:6]), "lobe": {"model": "ggx", "alpha": x[6]}})
 
 
-MODELS = {"ggx": make_ggx, "ward": make_ward, "ashikhmin-shirley": make_as, "lafortune1": lambda: make_lafortune(1),
+MODELS = {"ggx": make_ggx, "ggx-f90": make_ggx_f90, "ward": make_ward, "ashikhmin-shirley": make_as, "lafortune1": lambda: make_lafortune(1),
           "lafortune3": lambda: make_lafortune(3), "metal": make_metal}
 
 

@@ -276,6 +276,13 @@ TEST(ReferenceValues, GGX) {
                           [](const R::V3& wi, const R::V3& wo) {
                             return R::ggx({0.3, 0.2, 0.1}, R::grey(0.5), 0.7, 0.2, wi, wo);
                           });
+  // A flat Fresnel: f90 below f0 in one channel, at it in another, 1 in the third.
+  check_against_reference(
+      "ggx f90 (0.2, 0.6, 1)",
+      {{"model", "ggx"}, {"kd", 0.1}, {"f0", {0.4, 0.6, 0.05}}, {"f90", {0.2, 0.6, 1.0}}, {"alpha_x", 0.15}, {"alpha_y", 0.35}},
+      [](const R::V3& wi, const R::V3& wo) {
+        return R::ggx(R::grey(0.1), {0.4, 0.6, 0.05}, 0.15, 0.35, wi, wo, {0.2, 0.6, 1.0});
+      });
 }
 
 // --- Metals ------------------------------------------------------------------------------------------
@@ -560,6 +567,14 @@ TEST(ReferenceFresnel, Schlick) {
   for (double f0 : {0.0, 0.04, 0.5, 0.95})
     for (double c : {0.0, 0.1, 0.5, 0.9, 1.0})
       EXPECT_NEAR(aniso::F_Schlick<double>(f0, c), R::schlick(f0, c), 1e-15) << f0 << " " << c;
+  // With F90: its value at grazing incidence and the blend between; F90 = 1 is Schlick's bit for bit.
+  for (double f0 : {0.0, 0.04, 0.5, 0.95})
+    for (double f90 : {0.0, 0.3, 1.0})
+      for (double c : {0.0, 0.1, 0.5, 0.9, 1.0}) {
+        const aniso::RGBT<double> F = aniso::F_Schlick(aniso::RGBT<double>(f0), aniso::RGBT<double>(f90), c);
+        EXPECT_NEAR(F.x, R::schlick_f90(f0, f90, c), 1e-15) << f0 << " " << f90 << " " << c;
+        if (f90 == 1.0) EXPECT_EQ(F.x, aniso::F_Schlick(aniso::RGBT<double>(f0), c).x) << f0 << " " << c;
+      }
 }
 
 TEST(ReferenceFresnel, EveryMetalOfTheTable) {

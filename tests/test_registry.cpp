@@ -186,7 +186,7 @@ TEST(Registry, AWholeGgxIsTheModel) {
                   (4.0 * wi.z * wo.z)
             : Principled_SmithG_GGX_Aniso(wi, d.alpha_x, d.alpha_y) * Principled_SmithG_GGX_Aniso(wo, d.alpha_x, d.alpha_y);
     const double c = glm::dot(wi, h);
-    const Vec3d F = d.fresnel == GgxFresnel::Conductor ? F_Conductor(c, d.eta, d.k) : F_Schlick(d.f0, c);
+    const Vec3d F = d.fresnel == GgxFresnel::Conductor ? F_Conductor(c, d.eta, d.k) : F_Schlick(d.f0, d.f90, c);
     return F * D * G + d.kd / M_PI;
   };
   int whole = 0;

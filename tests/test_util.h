@@ -72,7 +72,9 @@ inline std::vector<NamedMaterial> all_model_materials() {
   v.push_back(
       {"matte_steel", {{"model", "lafortune"}, {"lobes", json::array({{{"cxy", -1.11954}, {"cz", 1.01272}, {"n", 15.8708}}})}}});
   v.push_back({"ggx_aniso", {{"model", "ggx"}, {"kd", 0.2}, {"f0", {0.9, 0.6, 0.3}}, {"alpha_x", 0.05}, {"alpha_y", 0.4}}});
-  v.push_back({"ggx_iso", {{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.04}, {"alpha_x", 0.3}, {"alpha_y", 0.3}}});
+  // A flatter Fresnel than Schlick's (f90 below 1, per channel), as fits of films give.
+  v.push_back(
+      {"ggx_iso", {{"model", "ggx"}, {"kd", 0.0}, {"f0", 0.04}, {"f90", {0.3, 0.5, 0.8}}, {"alpha_x", 0.3}, {"alpha_y", 0.3}}});
   v.push_back({"metal_ward",
                {{"model", "metal"},
                 {"metal", "gold"},

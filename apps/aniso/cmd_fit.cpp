@@ -142,7 +142,7 @@ void check_options_apply(const FitArgs& a, const CLI::App& fit) {
     std::string labels;
     for (const auto& [label, options] : compare_models(FitOptions{}))
       labels += fmt::format("{}{}", labels.empty() ? "" : ", ", label);
-    for (const char* name : {"--model", "--lobes", "--normalization", "--metal", "--metal-lobe"})
+    for (const char* name : {"--model", "--lobes", "--normalization", "--metal", "--metal-lobe", "--fresnel"})
       if (given(name))
         throw InputError(
             fmt::format("{} does not apply with --compare, which fits every model with its own settings ({})", name, labels));
@@ -152,11 +152,8 @@ void check_options_apply(const FitArgs& a, const CLI::App& fit) {
   const struct {
     const char* option;
     const char* model;
-  } only[] = {{"--lobes", "lafortune"},
-              {"--shared-exponents", "lafortune"},
-              {"--normalization", "ward"},
-              {"--metal", "metal"},
-              {"--metal-lobe", "metal"}};
+  } only[] = {{"--lobes", "lafortune"}, {"--shared-exponents", "lafortune"}, {"--normalization", "ward"},
+              {"--metal", "metal"},     {"--metal-lobe", "metal"},           {"--fresnel", "ggx"}};
   for (const auto& [option, model] : only)
     if (given(option) && m != model)
       throw InputError(fmt::format("{} applies to --model {} only, not to --model {}", option, model, m));
@@ -276,6 +273,11 @@ void add_fit_command(CLI::App& app) {
       ->type_name("METAL");
   fit->add_option("--metal-lobe", a->options.metal_lobe, "metal: " + enum_names_text<SpecularLobeKind>())
       ->type_name("MODEL")
+      ->capture_default_str();
+  fit->add_option("--fresnel", a->options.fresnel,
+                  "ggx: schlick (f90 = 1, as the renderers' GGX materials) | free-f90 (f90 fitted per channel: a Fresnel "
+                  "the data can keep flat, docs/fitting.md)")
+      ->type_name("NAME")
       ->capture_default_str();
   fit->add_option("--metric", a->options.metric, "l2cos (Ngan 2005's cosine-weighted L2) | log (relative)")
       ->type_name("NAME")

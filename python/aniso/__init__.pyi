@@ -89,7 +89,8 @@ def fit(data: str | os.PathLike | None = None, *, wi: ArrayLike | None = None, w
         anisotropic: bool | Literal["auto", "yes", "no"] = "auto", allow_energy_gain: bool = False,
         shared_exponents: bool = False,
         normalization: Literal["ward", "duer", "balanced"] = "ward", metal: str | None = None,
-        metal_lobe: Literal["ward", "ashikhmin-shirley", "ggx"] = "ggx", metric: Literal["l2cos", "log"] = "l2cos",
+        metal_lobe: Literal["ward", "ashikhmin-shirley", "ggx"] = "ggx", fresnel: Literal["schlick", "free-f90"] = "schlick",
+        metric: Literal["l2cos", "log"] = "l2cos",
         loss: Literal["none", "huber", "cauchy", "soft_l1"] = "none", loss_scale: float = 0.0, starts: int = 6,
         seed: int = 1, threads: int = 0, max_iterations: int = 200, max_theta_deg: float = 80.0,
         progress: bool | Callable[[dict[str, Any]], Any] | None = None, grid: int | None = None) -> FitResult: ...
@@ -135,7 +136,7 @@ def ashikhmin_shirley(*, rd: Color = 0.3, rs: Color = 0.05, kd: Color = 0.0, ks_
     """Ashikhmin-Shirley (Ashikhmin & Shirley 2000, JGT 5(2))."""
 def lafortune(*, rho_d: Color = 0.0, lobes: Sequence[dict[str, Any]], rotation_deg: float = 0.0) -> Material:
     """Lafortune (Lafortune et al. 1997, SIGGRAPH)."""
-def ggx(*, kd: Color = 0.0, f0: Color = 0.04, alpha_x: float = 0.2, alpha_y: float = 0.2, alpha: float = ..., rotation_deg: float = 0.0) -> Material:
+def ggx(*, kd: Color = 0.0, f0: Color = 0.04, f90: Color = 1.0, alpha_x: float = 0.2, alpha_y: float = 0.2, alpha: float = ..., rotation_deg: float = 0.0) -> Material:
     """Anisotropic GGX (Walter et al. 2007; Heitz 2014 (Smith G2); Heitz 2018 (visible normals))."""
 def metal(*, metal: str = ..., eta: Color = ..., k: Color = ..., lobe: dict[str, Any], directional_diffuse: dict[str, Any] = ..., rotation_deg: float = 0.0) -> Material:
     """Metal (Cook & Torrance 1982; Born & Wolf (conductor Fresnel))."""

@@ -145,7 +145,7 @@ std::string option_text(const py::object& v, const char* name) {
 PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::object& wo, const py::object& value,
                    const py::object& weight, const std::string& model, const py::object& lobes, const py::object& anisotropic,
                    bool allow_energy_gain, bool shared_exponents, const std::string& normalization, const py::object& metal,
-                   const std::string& metal_lobe, const std::string& metric, const std::string& loss,
+                   const std::string& metal_lobe, const std::string& fresnel, const std::string& metric, const std::string& loss,
                    const py::object& loss_scale, const py::object& starts, const py::object& seed, const py::object& threads,
                    const py::object& max_iterations, const py::object& max_theta_deg, const py::object& progress,
                    const py::object& grid) {
@@ -165,6 +165,7 @@ PyFitResult fit_py(const py::object& data_in, const py::object& wi, const py::ob
   t.normalization = normalization;
   t.metal = metal.is_none() ? "" : std::string(py::str(metal));
   t.metal_lobe = metal_lobe;
+  t.fresnel = fresnel;
   t.metric = metric;
   t.loss = loss;
   t.loss_scale = option_text(loss_scale, "loss_scale");
@@ -292,7 +293,8 @@ const std::string& fit_doc() {
         "anisotropic (\"auto\": when the data show it, \"yes\" / True, \"no\" / False; an anisotropic fit fits\n"
         "rotation_deg too), allow_energy_gain (else every directional albedo stays <= 1), shared_exponents, normalization (Ward: "
         "{}), metal (a named metal; None fits eta\n"
-        "and k), metal_lobe ({}), metric (l2cos | log), loss (none | huber |\n"
+        "and k), metal_lobe ({}), fresnel (ggx: \"schlick\", f90 = 1, or \"free-f90\", f90 fitted per channel),\n"
+        "metric (l2cos | log), loss (none | huber |\n"
         "cauchy | soft_l1), loss_scale, starts, seed, threads (0: all cores), max_iterations, max_theta_deg\n"
         "(samples with a direction farther from the normal are left out: Ngan 2005's 80 degrees), grid (an RGL\n"
         ".bsdf file's sampling: N theta_h x N/2 theta_d x N phi_d, N even in [4, 256]; None: 64 isotropic, 32\n"
@@ -379,9 +381,10 @@ void bind_fit(py::module_& m) {
         py::arg("value") = py::none(), py::arg("weight") = py::none(), py::arg("model") = "lafortune", py::arg("lobes") = 1,
         py::arg("anisotropic") = "auto", py::arg("allow_energy_gain") = false, py::arg("shared_exponents") = false,
         py::arg("normalization") = "ward", py::arg("metal") = py::none(), py::arg("metal_lobe") = "ggx",
-        py::arg("metric") = "l2cos", py::arg("loss") = "none", py::arg("loss_scale") = 0.0, py::arg("starts") = 6,
-        py::arg("seed") = 1, py::arg("threads") = 0, py::arg("max_iterations") = 200, py::arg("max_theta_deg") = kNganMaxThetaDeg,
-        py::arg("progress") = py::none(), py::arg("grid") = py::none(), fit_doc().c_str());
+        py::arg("fresnel") = "schlick", py::arg("metric") = "l2cos", py::arg("loss") = "none", py::arg("loss_scale") = 0.0,
+        py::arg("starts") = 6, py::arg("seed") = 1, py::arg("threads") = 0, py::arg("max_iterations") = 200,
+        py::arg("max_theta_deg") = kNganMaxThetaDeg, py::arg("progress") = py::none(), py::arg("grid") = py::none(),
+        fit_doc().c_str());
   m.def(
       "fittable_models",
       [] {

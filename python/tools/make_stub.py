@@ -107,7 +107,8 @@ def fit(data: str | os.PathLike | None = None, *, wi: ArrayLike | None = None, w
         anisotropic: bool | Literal["auto", "yes", "no"] = "auto", allow_energy_gain: bool = False,
         shared_exponents: bool = False,
         normalization: Literal[@NORMALIZATIONS@] = "ward", metal: str | None = None,
-        metal_lobe: Literal[@METAL_LOBES@] = "ggx", metric: Literal["l2cos", "log"] = "l2cos",
+        metal_lobe: Literal[@METAL_LOBES@] = "ggx", fresnel: Literal["schlick", "free-f90"] = "schlick",
+        metric: Literal["l2cos", "log"] = "l2cos",
         loss: Literal["none", "huber", "cauchy", "soft_l1"] = "none", loss_scale: float = 0.0, starts: int = 6,
         seed: int = 1, threads: int = 0, max_iterations: int = 200, max_theta_deg: float = 80.0,
         progress: bool | Callable[[dict[str, Any]], Any] | None = None, grid: int | None = None) -> FitResult: ...

@@ -39,6 +39,9 @@ std::optional<GgxSource> exact_ggx(const MaterialDesc& d) {
     g.origin = "exact: the source is a conductor with a GGX lobe (eta, k)";
     return g;
   }
+  // A Fresnel with f90 below 1 (ggx.h): no target writes Schlick's F90, so the targets' Schlick GGX
+  // is fitted to it like any other model.
+  if (dist.f90 != RGBT<double>(1.0)) return std::nullopt;
   g.kd = dist.kd, g.f0 = dist.f0;
   if (dist.masking == GgxMasking::HeightCorrelated) {
     g.origin = "exact: the source is an anisotropic GGX (Schlick F0, Lambertian kd)";

@@ -479,7 +479,12 @@ constexpr Fittable kFittable[] = {
      }},
     {"ashikhmin-shirley",
      [](const SampleSet& data, const FitOptions& o, bool aniso) { return dispatch(AshikhminShirleyFit(aniso), data, o); }},
-    {"ggx", [](const SampleSet& data, const FitOptions& o, bool aniso) { return dispatch(GGXFit(aniso), data, o); }},
+    {"ggx",
+     [](const SampleSet& data, const FitOptions& o, bool aniso) {
+       std::vector<std::string_view> freed;
+       if (o.fresnel == "free-f90") freed.push_back("f90");
+       return dispatch(GGXFit(aniso, {}, freed), data, o);
+     }},
     {"metal",
      [](const SampleSet& data, const FitOptions& o, bool aniso) {
        const SpecularLobeKind lobe = option_enum<SpecularLobeKind>(o.metal_lobe, "--metal-lobe");
@@ -537,6 +542,10 @@ FitResult fit_in_range(const SampleSet& data, const FitOptions& o);
 FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
   if (!(o.max_theta_deg > 0.0 && o.max_theta_deg <= 90.0))
     throw InputError(fmt::format("--max-theta: expected degrees in (0, 90], got {}", o.max_theta_deg));
+  if (o.fresnel != "schlick" && o.fresnel != "free-f90")
+    throw InputError(fmt::format("--fresnel: expected schlick or free-f90, got \"{}\"", text_escape(o.fresnel)));
+  if (o.fresnel != "schlick" && o.model != "ggx")
+    throw InputError(fmt::format("--fresnel {}: applies to --model ggx only (its f90), not to --model {}", o.fresnel, o.model));
   // A sample exactly at the range's edge (a grid at 80 degrees) is in: the cosine's last ulps.
   const double lowest_cos = o.max_theta_deg >= 90.0 ? -1.0 : std::cos(o.max_theta_deg * M_PI / 180.0) - 1e-12;
   const auto in_range = [&](const MeasuredSample& s) { return s.wi.z >= lowest_cos && s.wo.z >= lowest_cos; };
@@ -663,6 +672,9 @@ nlohmann::json fit_provenance(const FitResult& r, const SampleSet& data, const F
   if (o.model == "lafortune") f["lobes"] = o.lobes, f["shared_exponents"] = o.shared_exponents;
   if (o.model == "ward") f["normalization"] = o.normalization;
   if (o.model == "metal") f["metal"] = o.metal.empty() ? "fitted eta, k" : o.metal, f["lobe"] = o.metal_lobe;
+  if (o.model == "ggx")
+    f["fresnel"] = o.fresnel == "free-f90" ? "Schlick's form with a fitted f90: F0 + (F90 - F0)(1 - c)^5"
+                                           : "Schlick 1994: F0 + (1 - F0)(1 - c)^5 (f90 = 1)";
   f["anisotropic"] = r.anisotropic;
   f["anisotropy"] = o.anisotropy == Anisotropy::Auto ? "auto" : o.anisotropy == Anisotropy::Yes ? "yes" : "no";
   f["anisotropy_reason"] = r.anisotropy_reason;
@@ -714,7 +726,8 @@ std::vector<std::pair<std::string, FitOptions>> compare_models(const FitOptions&
   add("ward (duer)", [](FitOptions& o) { o.model = "ward", o.normalization = "duer"; });
   add("ward (balanced)", [](FitOptions& o) { o.model = "ward", o.normalization = "balanced"; });
   add("ashikhmin-shirley", [](FitOptions& o) { o.model = "ashikhmin-shirley"; });
-  add("ggx", [](FitOptions& o) { o.model = "ggx"; });
+  add("ggx", [](FitOptions& o) { o.model = "ggx", o.fresnel = "schlick"; });
+  add("ggx (free f90)", [](FitOptions& o) { o.model = "ggx", o.fresnel = "free-f90"; });
   add("metal (ggx, fitted eta, k)", [](FitOptions& o) { o.model = "metal", o.metal.clear(), o.metal_lobe = "ggx"; });
   add("phong", [](FitOptions& o) { o.model = "phong"; });
   return out;

@@ -260,7 +260,8 @@ std::vector<double> MetalFit::random_start(Rng& rng, const DataMoments&) const {
 
 // --- the generated models (BoundFit) -----------------------------------------------------------
 
-template <class P> BoundFit<P>::BoundFit(bool anisotropic, std::vector<models::FitFixed> options)
+template <class P>
+BoundFit<P>::BoundFit(bool anisotropic, std::vector<models::FitFixed> options, std::vector<std::string_view> freed)
     : held_(std::begin(P::fit.fixed), std::end(P::fit.fixed)), anisotropic_(anisotropic) {
   const ModelSpec& s = P::spec;
   if (anisotropic && !s.find("rotation_deg"))
@@ -270,6 +271,7 @@ template <class P> BoundFit<P>::BoundFit(bool anisotropic, std::vector<models::F
   for (const models::FitKey& k : P::fit.keys) {
     const bool aniso_only = !k.iso_tie.empty() || !std::isnan(k.iso_value);
     if (aniso_only && !anisotropic) continue;
+    if (k.optional && std::find(freed.begin(), freed.end(), k.key) == freed.end()) continue;
     if (aniso_only) aniso_.push_back(int(defs.size()));
     entries_[std::string(k.key)] = {int(defs.size()), k.shape == models::FitKey::Rgb};
     const std::string name(!anisotropic && !k.iso_name.empty() ? k.iso_name : k.key);
@@ -342,6 +344,7 @@ template <class P> Json BoundFit<P>::to_json(const double* x) const {
   Json out = {{"model", std::string(P::spec.name)}};
   for (const models::FitKey& k : P::fit.keys) {
     const auto e = entries_.find(std::string(k.key));
+    if (e == entries_.end() && k.optional) continue;  // held at the table's default
     if (e == entries_.end())
       out[std::string(k.key)] = k.iso_value;
     else if (e->second.second)
@@ -423,12 +426,21 @@ template <> struct Starts<models::Ward> : AlphaLobeStarts<models::Ward> {
 // preset start is the nearest material's Ward fit: its kd, its ks as f0, its roughness as alpha.
 template <> struct Starts<models::GGX> : AlphaLobeStarts<models::GGX> {
   using F = BoundFit<models::GGX>;
-  static std::vector<double> moment(const F& f, const DataMoments& d) { return AlphaLobeStarts::moment(f, "f0", d); }
+  // A free f90 starts at Schlick's 1 (the linear solve at every start then moves it).
+  static std::vector<double> schlick_f90(const F& f, std::vector<double> x) {
+    if (f.solves("f90"))
+      for (int c = 0; c < 3; ++c) x[f.at("f90", c)] = 1.0;
+    return x;
+  }
+  static std::vector<double> moment(const F& f, const DataMoments& d) {
+    return schlick_f90(f, AlphaLobeStarts::moment(f, "f0", d));
+  }
   static std::optional<std::vector<double>> preset(const F& f, const MaterialDesc& desc, const DataMoments&) {
-    return AlphaLobeStarts::preset(f, "f0", desc);
+    const std::optional<std::vector<double>> x = AlphaLobeStarts::preset(f, "f0", desc);
+    return x ? std::optional(schlick_f90(f, *x)) : std::nullopt;
   }
   static std::vector<double> random(const F& f, Rng& rng, const DataMoments& d) {
-    return AlphaLobeStarts::random(f, "f0", rng, d);
+    return schlick_f90(f, AlphaLobeStarts::random(f, "f0", rng, d));
   }
   static std::string ngan(const F&) { return "ward"; }  // the nearest material's Ward roughness
 };

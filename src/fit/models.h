@@ -215,8 +215,10 @@ class MetalFit : public Orientation {
 // or from its table default. The starts are each model's (models.cpp, Starts<P>), by key.
 template <class P> class BoundFit : public Orientation {
  public:
-  // options: keys held at a value the command chose (Ward's --normalization).
-  explicit BoundFit(bool anisotropic = false, std::vector<models::FitFixed> options = {});
+  // options: keys held at a value the command chose (Ward's --normalization); freed: the optional
+  // keys (models::FitKey::optional) the command asks the fit to solve for.
+  explicit BoundFit(bool anisotropic = false, std::vector<models::FitFixed> options = {},
+                    std::vector<std::string_view> freed = {});
   std::vector<ParamDef> defs;
 
   template <typename T> models::KernelOf<P, T> build(const T* x) const {
@@ -253,6 +255,7 @@ template <class P> class BoundFit : public Orientation {
 
   // The entry of a key (channel c of an Rgb key; a tied key's partner), -1 when not solved for.
   int at(std::string_view key, int c = 0) const;
+  bool solves(std::string_view key) const { return entries_.count(std::string(key)) > 0; }
   bool anisotropic() const { return anisotropic_; }
   // The text a key is held at (a fixed choice), "" when none.
   std::string_view held_text(std::string_view key) const;

@@ -17,12 +17,12 @@ namespace aniso::fit_detail {
 // --- Separable least squares (fit/linear.h) ----------------------------------------------------
 
 // The linear entries of a model, by their names in its defs (models.h): the diffuse and specular
-// weights of each channel ("kd.r", "ks.g", "f0.b", "rho_d.r", "ks_scale.g"), in which f_c is affine
-// when the other entries are held: kd / pi, ks times Ward's or Phong's lobe, ks_scale times the AS
-// lobe, F0 in Schlick's F0 (1 - (1 - c)^5) + (1 - c)^5 times the GGX lobe, rho_d / pi beside the
-// Lafortune lobes. A model with none (metal: eta and k; principled) gets an empty layout.
+// weights of each channel ("kd.r", "ks.g", "f0.b", "f90.r", "rho_d.r", "ks_scale.g"), in which f_c is
+// affine when the other entries are held: kd / pi, ks times Ward's or Phong's lobe, ks_scale times
+// the AS lobe, F0 and F90 in Schlick's F0 (1 - (1 - c)^5) + F90 (1 - c)^5 times the GGX lobe, rho_d
+// / pi beside the Lafortune lobes. A model with none (metal: eta and k; principled) gets an empty layout.
 template <class Model> LinearLayout linear_layout(const Model& model) {
-  static constexpr std::string_view kLinear[] = {"kd", "ks", "f0", "rho_d", "ks_scale"};
+  static constexpr std::string_view kLinear[] = {"kd", "ks", "f0", "f90", "rho_d", "ks_scale"};
   LinearLayout layout;
   for (size_t i = 0; i < model.defs.size(); ++i) {
     const std::string_view n = model.defs[i].name;

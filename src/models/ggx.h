@@ -9,6 +9,8 @@ namespace aniso::models {
 template <typename T> inline constexpr Row<T, GGXT<T>> kGGXColours[] = {
     {reflectance("kd", 0.0, "Lambertian albedo added to the specular term (kd / pi)"), ANISO_FIELD(kd)},
     {reflectance("f0", 0.04, "Schlick's reflectance at normal incidence"), ANISO_FIELD(f0)},
+    {reflectance("f90", 1.0, "the reflectance at grazing incidence: 1 in Schlick's form; below 1 a flatter Fresnel"),
+     ANISO_FIELD(f90)},
 };
 template <typename T> inline constexpr Row<T, GGXT<T>> kGGXLobe[] = {
     {roughness("alpha_x", 0.2, "GGX roughness along the tangent t", "alpha_y"), ANISO_FIELD(lobe.alpha_x)},
@@ -27,8 +29,11 @@ struct GGX {
   static constexpr std::span<const ParamSpec> lobe_parts[] = {kGGXLobeParams};
   static constexpr ModelSpec lobe_spec{"ggx", "GGX lobe", "", lobe_parts};
   // The fit (src/fit).
-  static constexpr FitKey fit_keys[] = {
-      {"kd", FitKey::Rgb}, {"f0", FitKey::Rgb}, {"alpha_x", FitKey::One, "alpha"}, {"alpha_y", FitKey::One, {}, "alpha_x"}};
+  static constexpr FitKey fit_keys[] = {{"kd", FitKey::Rgb},
+                                        {"f0", FitKey::Rgb},
+                                        {.key = "f90", .shape = FitKey::Rgb, .optional = true},
+                                        {"alpha_x", FitKey::One, "alpha"},
+                                        {"alpha_y", FitKey::One, {}, "alpha_x"}};
   static constexpr FitDesc fit{fit_keys, {}, {"alpha_x", "alpha_y"}};
 };
 static_assert(rows_match_fields<GGX>());

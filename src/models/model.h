@@ -136,6 +136,9 @@ struct FitKey {
   std::string_view iso_tie = {};
   double iso_value = NAN;
   double lo = NAN;  // a lower bound above the table's (the reason at the row)
+  // A key the fit solves for only when its options free it (FitOptions::fresnel "free-f90": GGX's
+  // f90); else it is held at the table's default, and the fitted material does not name it.
+  bool optional = false;
 };
 // A key the fitter holds at a value (a number; a choice's or string's text).
 struct FitFixed {

@@ -237,12 +237,19 @@ inline double ggx_lobe(double ax, double ay, const V3& wi, const V3& wo) {
   return ggx_D(ax, ay, a.theta, a.phi) * G2 / (4.0 * wi.z * wo.z);
 }
 
-inline C3 ggx(const C3& kd, const C3& f0, double ax, double ay, const V3& wi, const V3& wo) {
+// Schlick's F with a reflectance F90 at grazing incidence, as a blend of the two ends (Filament's
+// F_Schlick(f0, f90, VoH); Karis 2013): F0 (1 - w) + F90 w, w = (1 - c)^5. F90 = 1 is schlick().
+inline double schlick_f90(double f0, double f90, double c) {
+  const double w = std::pow(1.0 - c, 5.0);
+  return f0 * (1.0 - w) + f90 * w;
+}
+
+inline C3 ggx(const C3& kd, const C3& f0, double ax, double ay, const V3& wi, const V3& wo, const C3& f90 = grey(1.0)) {
   if (!valid(wi, wo)) return grey(0.0);
   const HalfAngles a = half_angles(wi, wo);
   const double lobe = ggx_lobe(ax, ay, wi, wo), c = dot(wi, a.h);
   C3 out;
-  for (int i = 0; i < 3; ++i) out[i] = kd[i] / kPi + schlick(f0[i], c) * lobe;
+  for (int i = 0; i < 3; ++i) out[i] = kd[i] / kPi + schlick_f90(f0[i], f90[i], c) * lobe;
   return out;
 }
 

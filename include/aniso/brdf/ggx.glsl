@@ -5,7 +5,7 @@
 // Heitz 2014, "Understanding the Masking-Shadowing Function", Eq. 86 (anisotropic Lambda), Eq. 99
 // (height-correlated G2); Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4).
 //
-//   f = kd / pi + F(wi.h) D(h) G2(wi, wo) / (4 cos_i cos_o),   F = Schlick with f0
+//   f = kd / pi + F(wi.h) D(h) G2(wi, wo) / (4 cos_i cos_o),   F = Schlick with f0 and f90
 
 // D(h) = 1 / (pi ax ay ((h.t / ax)^2 + (h.b / ay)^2 + (h.n)^2)^2), h unit.
 float D_GGX_Aniso(float HoT, float HoB, float HoN, float ax, float ay) {
@@ -71,17 +71,18 @@ vec3 GGXLobe_sample(GGXLobe self, vec3 wo, vec2 u) {
 struct GGX {
   vec3 kd;
   vec3 f0;
+  vec3 f90;
   GGXLobe lobe;
 };
 
 vec3 GGX_f(GGX self, vec3 wi, vec3 wo) {
   if (!same_upper_hemisphere(wi, wo)) return vec3(0.0);
   vec3 h = normalize(wi + wo);
-  return F_Schlick(self.f0, dot(wi, h)) * GGXLobe_eval(self.lobe, wi, wo) + self.kd * kInvPi;
+  return F_Schlick(self.f0, self.f90, dot(wi, h)) * GGXLobe_eval(self.lobe, wi, wo) + self.kd * kInvPi;
 }
 // Specular weight: Schlick's Fresnel at the view angle (the lobe's albedo is <= that).
 float GGX_specular_probability(GGX self, vec3 wo) {
-  return specular_share(average_rgb(self.kd), average_rgb(F_Schlick(self.f0, wo.z)));
+  return specular_share(average_rgb(self.kd), average_rgb(F_Schlick(self.f0, self.f90, wo.z)));
 }
 // GGX_pdf and GGX_sample, the diffuse + specular mixture of lobe_mixture.h
 // (pdf_diffuse_specular, sample_diffuse_specular), are generated from its template after this file

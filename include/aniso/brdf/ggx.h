@@ -6,7 +6,8 @@
 // Heitz 2014, "Understanding the Masking-Shadowing Function", Eq. 86 (anisotropic Lambda), Eq. 99
 // (height-correlated G2); Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4).
 //
-//   f = kd / pi + F(wi.h) D(h) G2(wi, wo) / (4 cos_i cos_o),   F = Schlick with f0
+//   f = kd / pi + F(wi.h) D(h) G2(wi, wo) / (4 cos_i cos_o),   F = Schlick with f0 and f90
+// (f90 = 1: Schlick 1994; below 1 a flatter Fresnel, fresnel.h).
 // The diffuse and specular terms are simply added (no energy coupling): docs/models/ggx.md.
 #pragma once
 
@@ -99,15 +100,18 @@ template <typename T> struct GGXLobeT {
 template <typename T> struct GGXT {
   RGBT<T> kd{T(0)};
   RGBT<T> f0{T(0.04)};
+  RGBT<T> f90{T(1)};
   GGXLobeT<T> lobe;
 
   ANISO_HD RGBT<T> f(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     if (!same_upper_hemisphere(wi, wo)) return RGBT<T>(T(0));
     const Vec3T<T> h = glm::normalize(wi + wo);
-    return F_Schlick(f0, glm::dot(wi, h)) * lobe.eval(wi, wo) + kd * kInvPi<T>;
+    return F_Schlick(f0, f90, glm::dot(wi, h)) * lobe.eval(wi, wo) + kd * kInvPi<T>;
   }
   // Specular weight: Schlick's Fresnel at the view angle (the lobe's albedo is <= that).
-  ANISO_HD T specular_probability(const Vec3T<T>& wo) const { return specular_share(average(kd), average(F_Schlick(f0, wo.z))); }
+  ANISO_HD T specular_probability(const Vec3T<T>& wo) const {
+    return specular_share(average(kd), average(F_Schlick(f0, f90, wo.z)));
+  }
   ANISO_HD T pdf(const Vec3T<T>& wi, const Vec3T<T>& wo) const {
     return pdf_diffuse_specular(specular_probability(wo), lobe, wi, wo);
   }
@@ -121,19 +125,20 @@ template <typename T> struct GGXT {
     T lobe_pdf;
     const T spec = lobe_eval_pdf(lobe, wi, wo, &lobe_pdf);
     *pdf_out = mix_diffuse_specular_pdf(specular_probability(wo), lobe_pdf, wi);
-    return F_Schlick(f0, glm::dot(wi, h)) * spec + kd * kInvPi<T>;
+    return F_Schlick(f0, f90, glm::dot(wi, h)) * spec + kd * kInvPi<T>;
   }
   ANISO_HD BSDFSampleT<T> sample(const Vec3T<T>& wo, T uc, const Vec2T<T>& u) const {
     return sample_diffuse_specular(*this, lobe, specular_probability(wo), wo, uc, u);
   }
   ANISO_HD void regularize(T alpha) { lobe.regularize(alpha); }
-  // The whole model is a GGX: Schlick's F, height-correlated G2, a Lambertian kd.
+  // The whole model is a GGX: Schlick's F (with its f90), height-correlated G2, a Lambertian kd.
   ANISO_HD GgxDistributionT<T> ggx_distribution() const {
     GgxDistributionT<T> d;
     d.part = GgxPart::Whole;
     d.alpha_x = lobe.alpha_x, d.alpha_y = lobe.alpha_y;
     d.fresnel = GgxFresnel::Schlick;
     d.f0 = f0;
+    d.f90 = f90;
     d.kd = kd;
     return d;
   }

@@ -44,6 +44,7 @@ template <typename T> struct GgxDistributionT {
   // The rest of the model, where part is Whole.
   GgxFresnel fresnel = GgxFresnel::Schlick;
   RGBT<T> f0{T(0)};            // Schlick: the reflectance at normal incidence
+  RGBT<T> f90{T(1)};           // Schlick: the reflectance at grazing incidence (1 in Schlick 1994)
   RGBT<T> eta{T(0)}, k{T(0)};  // Conductor: the complex refractive index
   RGBT<T> kd{T(0)};            // the Lambertian term's albedo (f adds kd / pi); 0 without one
   GgxMasking masking = GgxMasking::HeightCorrelated;

@@ -59,6 +59,9 @@ struct FitOptions {
   std::string normalization = "ward";  // Ward: ward | duer | balanced
   std::string metal;                   // metal: a named metal (fixed eta, k); empty fits eta and k
   std::string metal_lobe = "ggx";      // metal: ggx | ward | ashikhmin-shirley
+  // GGX: "schlick" holds f90 at 1 (Schlick 1994, what the renderers' GGX materials write);
+  // "free-f90" fits f90 per channel too, a Fresnel the data can keep flat (docs/fitting.md).
+  std::string fresnel = "schlick";
   FitMetric metric = FitMetric::L2Cos;
   // Ngan, Matusik & Durand 2005's range (Sec. 4: "we discard [...] samples with incident or
   // outgoing angles larger than 80 degrees"): the samples with either direction farther than this
@@ -107,6 +110,7 @@ struct FitOptionText {
   std::string loss = "none", loss_scale = "0", starts = "6", seed = "1", threads = "0", max_iterations = "200";
   std::string anisotropic = "auto";  // auto | yes | no
   std::string max_theta = "80";      // --max-theta: degrees, (0, 90]
+  std::string fresnel = "schlick";   // --fresnel: schlick | free-f90 (GGX)
   bool shared_exponents = false, allow_energy_gain = false;
 };
 // Throws InputError naming the option for a value out of range (the model's own options, such as an

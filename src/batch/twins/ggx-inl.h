@@ -71,10 +71,10 @@ template <typename T> struct GGXLobeK {
 };
 
 template <typename T> struct GGXK {
-  T f0[3], kd_pi[3], diffuse_weight;
+  T f0[3], f90[3], kd_pi[3], diffuse_weight;
   GGXLobeK<T> lobe;
   explicit GGXK(const GGXT<T>& m) : lobe(m.lobe) {
-    for (int c = 0; c < 3; ++c) f0[c] = m.f0[c], kd_pi[c] = m.kd[c] * kInvPi<T>;
+    for (int c = 0; c < 3; ++c) f0[c] = m.f0[c], f90[c] = m.f90[c], kd_pi[c] = m.kd[c] * kInvPi<T>;
     diffuse_weight = average(m.kd);
   }
   template <class D> HWY_INLINE RGBV<D> F(D d, const V3<D>& wi, const V3<D>& wo) const {
@@ -84,11 +84,12 @@ template <typename T> struct GGXK {
     const V<D> cos_ih = Dot(wi, h);
     RGBV<D> out;
     for (int c = 0; c < 3; ++c)
-      out.c[c] = hn::IfThenElseZero(upper, hn::Add(hn::Mul(F_Schlick(d, f0[c], cos_ih), l), K(d, kd_pi[c])));
+      out.c[c] = hn::IfThenElseZero(upper, hn::Add(hn::Mul(F_Schlick(d, f0[c], f90[c], cos_ih), l), K(d, kd_pi[c])));
     return out;
   }
   template <class D> HWY_INLINE V<D> SpecularProbability(D d, const V3<D>& wo) const {
-    const V<D> sw = Average(d, F_Schlick(d, f0[0], wo.z), F_Schlick(d, f0[1], wo.z), F_Schlick(d, f0[2], wo.z));
+    const V<D> sw =
+        Average(d, F_Schlick(d, f0[0], f90[0], wo.z), F_Schlick(d, f0[1], f90[1], wo.z), F_Schlick(d, f0[2], f90[2], wo.z));
     return SpecularShare(d, K(d, diffuse_weight), sw);
   }
   template <class D> HWY_INLINE V<D> Pdf(D d, const V3<D>& wi, const V3<D>& wo) const {
