@@ -1,9 +1,9 @@
 // tests/test_export_colour.cpp: exports keep the source's colour and add none (issue 39, item 4;
-// docs/export.md, "Colour"): a dielectric F0 of any hue through Blender 4.x's Specular Tint and
-// OpenPBR's specular_color, each target model against the renderer's formulas quoted here; Blender
-// 3.4's Add Shader of a diffuse and a metallic Principled BSDF v1 where one node cannot write the F0,
-// written only where it is the better choice and never for a colourless F0; a measured source
-// refined and measured on its own samples, whatever --grid.
+// docs/export.md, "Colour"): a dielectric F0 of any hue through Blender 4.x's Specular Tint, OpenPBR's
+// and MaterialX standard_surface's specular_color, each target model against the renderer's formulas
+// quoted here; Blender 3.4's Add Shader of a diffuse and a metallic Principled BSDF v1 where one node
+// cannot write the F0, written only where it is the better choice and never for a colourless F0; a
+// measured source refined and measured on its own samples, whatever --grid.
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -49,6 +49,10 @@ double Lambda(const Vec3d& v, double ax, double ay) {
   return 0.5 * (std::sqrt(1.0 + t2) - 1.0);
 }
 const std::pair<Vec3d, Vec3d> kPairs[] = {{dir(30, 10), dir(40, 200)}, {dir(70, 80), dir(10, 250)}, {dir(3, 0), dir(4, 180)}};
+// The target model's f against the formula quoted, per channel, relative to max(1, the value).
+void expect_rgb_near(const glm::dvec3& got, const glm::dvec3& want, double rel) {
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], rel * std::max(1.0, want[c])) << c;
+}
 
 // Blender 4.x, closure.h @ 02e6985c (Principled BSDF, "Apply IOR adjustment" and the Specular
 // component), quoted:
@@ -80,8 +84,7 @@ TEST(ExportColour, Blender4SpecularTintIsTheF0sHue) {
     const glm::dvec3 F = F0 * tint * (1.0 - s) + glm::dvec3(s);
     const double G = 1.0 / (1.0 + Lambda(wi, a, a) + Lambda(wo, a, a));
     const glm::dvec3 want = F * D(h, a, a) * G / (4.0 * wi.z * wo.z) + g.kd / kPi<double>;
-    const glm::dvec3 got = m.f(wi, wo);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 1e-12 * std::max(1.0, want[c])) << c;
+    expect_rgb_near(m.f(wi, wo), want, 1e-12);
   }
   // saturatef: where the dielectric curve of a large IOR dips below its F0 (here 7.4 for the blue
   // 0.54), a tinted channel stays at or above f0, never negative (without the clamp the red channel
@@ -119,16 +122,67 @@ TEST(ExportColour, OpenPbrSpecularColorIsTheF0sHue) {
     const double ax = m.lobe.alpha_x, ay = m.lobe.alpha_y, avg = std::sqrt(ax * ay);
     const double F = F_Conductor(glm::dot(wo, h), ior, 0.0);
     const double G = 1.0 / (1.0 + Lambda(wi, avg, avg) + Lambda(wo, avg, avg));
-    const glm::dvec3 want =
-        tint * (D(h, ax, ay) * F * G / (4.0 * wi.z * wo.z)) + g.kd / kPi<double> * openpbr_dielectric_throughput(wo.z, avg, ior);
-    const glm::dvec3 got = m.f(wi, wo);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 1e-12 * std::max(1.0, want[c])) << c;
+    const glm::dvec3 want = tint * (D(h, ax, ay) * F * G / (4.0 * wi.z * wo.z)) +
+                            g.kd / kPi<double> * materialx_dielectric_throughput(wo.z, avg, ior);
+    expect_rgb_near(m.f(wi, wo), want, 1e-12);
   }
   // A grey F0 keeps a white specular_color.
   GgxSource grey = g;
   grey.f0 = glm::dvec3(0.04);
   target_model(Target::OpenPbr, grey, &p);
   EXPECT_EQ(c3(p["specular_color"]), glm::dvec3(1.0));
+}
+
+// MaterialX standard_surface (MaterialX @ 4177b2cb): specular_bsdf is a dielectric_bsdf with tint =
+// specular_color, ior = specular_IOR, weight = specular (standard_surface.mtlx:288-299), layered over the
+// diffuse (specular_layer, lines 300-303; Lambert at diffuse_roughness 0); mx_dielectric_bsdf.glsl:43-51,
+// quoted:
+//   vec3 F = mx_compute_fresnel(VdotH, fd);   (mx_fresnel_dielectric at ior)
+//   vec3 dirAlbedo = mx_ggx_dir_albedo(NdotV, avgAlpha, F0, 1.0) * comp;  bsdf.throughput = 1.0 - dirAlbedo * weight;
+//   bsdf.response = D * F * G * comp * safeTint * occlusion * weight / (4.0 * NdotV);
+// (comp left out of the response, as the target model notes), and mx_layer_bsdf.glsl:5, top.response +
+// base.response * top.throughput. The written values, computed outside aniso (scipy's bounded
+// minimize_scalar of the 64-point least squares between mx_fresnel_dielectric and Schlick's curve of
+// the largest F0 channel, 0.541): specular_IOR 7.38976, specular_color F0 / 0.541.
+double mx_fresnel_dielectric(double c, double ior) {  // mx_microfacet_specular.glsl:212-225
+  const double g2 = ior * ior + c * c - 1.0;
+  if (g2 < 0.0) return 1.0;
+  const double g = std::sqrt(g2);
+  return 0.5 * sqr((g - c) / (g + c)) * (1.0 + sqr(((g + c) * c - 1.0) / ((g - c) * c + 1.0)));
+}
+TEST(ExportColour, MaterialXSpecularColorIsTheF0sHue) {
+  json p;
+  const GgxSource g = film(0.12);
+  const TargetBrdf m = target_model(Target::MaterialX, g, &p);
+  EXPECT_EQ(p["metalness"].get<double>(), 0.0);
+  EXPECT_EQ(p["specular"].get<double>(), 1.0);
+  EXPECT_EQ(c3(p["base_color"]), kYellow);
+  const glm::dvec3 tint = c3(p["specular_color"]);
+  const glm::dvec3 want_tint(0.113 / 0.541, 0.319 / 0.541, 1.0);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(tint[c], want_tint[c], 1e-12) << c;
+  const double ior = p["specular_IOR"].get<double>();
+  EXPECT_NEAR(ior, 7.38976, 2e-5);
+  const double F0 = sqr((ior - 1.0) / (ior + 1.0));  // mx_ior_to_f0, mx_microfacet_specular.glsl:183-186
+  // At normal incidence the written reflectance has the source's hue, its blue channel 0.580.
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(m.lobe.weight[c] * m.fresnel(1.0)[c], F0 * want_tint[c], 1e-12) << c;
+  const double r = p["specular_roughness"].get<double>(), a = r * r;  // mx_roughness_anisotropy, anisotropy 0
+  EXPECT_EQ(p["specular_anisotropy"].get<double>(), 0.0);
+  for (const auto& [wi, wo] : kPairs) {
+    const Vec3d h = glm::normalize(wi + wo);
+    const double F = mx_fresnel_dielectric(glm::dot(wo, h), ior);
+    const double G = 1.0 / (1.0 + Lambda(wi, a, a) + Lambda(wo, a, a));
+    const double ess = materialx_ggx_dir_albedo(wo.z, a, 1.0, 1.0), fss = F0 + (1.0 - F0) / 21.0;
+    const double throughput = 1.0 - materialx_ggx_dir_albedo(wo.z, a, F0, 1.0) * (1.0 + fss * (1.0 - ess) / ess);
+    const glm::dvec3 want = want_tint * (D(h, a, a) * F * G / (4.0 * wi.z * wo.z)) + kYellow / kPi<double> * throughput;
+    expect_rgb_near(m.f(wi, wo), want, 1e-9);
+  }
+  // A grey F0 keeps a white specular_color and the index of its own curve.
+  GgxSource grey = g;
+  grey.f0 = glm::dvec3(0.04);
+  target_model(Target::MaterialX, grey, &p);
+  EXPECT_EQ(c3(p["specular_color"]), glm::dvec3(1.0));
+  EXPECT_GT(p["specular_IOR"].get<double>(), 1.3);
+  EXPECT_LT(p["specular_IOR"].get<double>(), 1.6);
 }
 
 // Blender 3.4.1 (the kernel source it installs, intern/cycles/kernel @ v3.4.1), quoted:
@@ -163,8 +217,7 @@ TEST(ExportColour, Blender34AddShaderIsTheSumOfTheTwoNodes) {
     const double FL = std::pow(1.0 - wi.z, 5.0), FV = std::pow(1.0 - wo.z, 5.0), RR = rough * (glm::dot(wi, wo) + 1.0);
     const double burley = (1 - 0.5 * FV) * (1 - 0.5 * FL) + RR * (FL + FV + FL * FV * (RR - 1));
     const glm::dvec3 want = F * (D(h, al, al) * G / (4.0 * wi.z * wo.z)) + kYellow * burley / kPi<double>;
-    const glm::dvec3 got = m.f(wi, wo);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 1e-12 * std::max(1.0, want[c])) << c;
+    expect_rgb_near(m.f(wi, wo), want, 1e-12);
   }
   // The F0 is the source's at normal incidence; one node's cannot be (white mixed with the yellow).
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(m.fresnel(1.0)[c], kBlueF0[c], 1e-12);
@@ -272,6 +325,23 @@ TEST(ExportColour, RealChromeLookFilmKeepsItsBlue) {
   o.measured_grid = 0, o.check_size = 32;
   const ExportResult r = export_material(load_material(real.string()), real.string(), o);
   EXPECT_TRUE(r.report.parameters.contains("Add Shader (3.4)")) << r.report.text();
+  EXPECT_LT(r.report.image.chromaticity_difference, 0.06) << r.report.text();
+  EXPECT_GT(r.report.image.rgb_target.z, 1.4 * r.report.image.rgb_target.x) << r.report.text();  // blue, not grey
+  EXPECT_LT(r.report.image.mean_difference, kCheckWarnMean) << r.report.text();
+  EXPECT_LT(r.report.image.lit_difference, kCheckWarnLit) << r.report.text();
+}
+
+// The same film to MaterialX standard_surface: written with its blue specular_color, it renders blue in
+// aniso's check (before, the F0's mean: chromaticity 0.154, docs/export.md "Real measurements").
+TEST(ExportColour, RealChromeLookFilmToMaterialXKeepsItsBlue) {
+  const fs::path real = fs::path(ANISO_SOURCE_DIR) / ".." / "shared" / "data" / "rgl-real" / "chm_light_blue_rgb.bsdf";
+  if (!fs::exists(real)) GTEST_SKIP() << "../shared/data/rgl-real/ is absent (CI has it): no real chrome-look film";
+  ExportOptions o = quick(4.3);
+  o.target = "materialx", o.measured_grid = 0, o.check_size = 32;
+  const ExportResult r = export_material(load_material(real.string()), real.string(), o);
+  ASSERT_EQ(r.report.parameters["metalness"].get<double>(), 0.0) << r.report.text();
+  const glm::dvec3 tint = c3(r.report.parameters["specular_color"]);
+  EXPECT_GT(tint.z, 2.0 * tint.x) << r.report.text();
   EXPECT_LT(r.report.image.chromaticity_difference, 0.06) << r.report.text();
   EXPECT_GT(r.report.image.rgb_target.z, 1.4 * r.report.image.rgb_target.x) << r.report.text();  // blue, not grey
   EXPECT_LT(r.report.image.mean_difference, kCheckWarnMean) << r.report.text();

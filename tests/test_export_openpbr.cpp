@@ -138,7 +138,7 @@ TEST(ExportOpenPbr, DielectricIsLayeredOverTheDiffuse) {
   lobe.diffuse = glm::dvec3(0.0);
   for (const auto& [wi, wo] : {std::pair{dir(30, 10), dir(40, 200)}, std::pair{dir(70, 80), dir(10, 250)}}) {
     const double avg = std::sqrt(m.lobe.alpha_x * m.lobe.alpha_y);
-    const glm::dvec3 want = lobe.f(wi, wo) + g.kd / kPi<double> * openpbr_dielectric_throughput(wo.z, avg, ior);
+    const glm::dvec3 want = lobe.f(wi, wo) + g.kd / kPi<double> * materialx_dielectric_throughput(wo.z, avg, ior);
     const glm::dvec3 got = m.f(wi, wo);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 1e-12 * std::max(1.0, want[c]));
   }

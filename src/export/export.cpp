@@ -57,7 +57,8 @@ constexpr TargetInfo kTargets[] = {
     {Target::MaterialX, "materialx", ".mtlx", "MaterialX standard_surface (specular_anisotropy, specular_rotation)",
      "Writes a MaterialX document with a standard_surface shader and a surfacematerial. Metals: metalness 1, base_color "
      "= the reflectivity F0 and specular_color = the edge colour of Gulbrandsen's artistic IOR (mx_artistic_ior), "
-     "matched to the source's n, k; dielectrics: base_color = the diffuse albedo, specular_IOR from F0. The tangent is "
+     "matched to the source's n, k; dielectrics: base_color = the diffuse albedo, specular_IOR from F0 and "
+     "specular_color its hue (F0 / its largest channel). The tangent is "
      "the geometry's Tworld rotated by specular_rotation (a fraction of a turn)."},
     {Target::OpenPbr, "openpbr", ".mtlx",
      "OpenPBR Surface (MaterialX open_pbr_surface, 1.39): F82-tint metals, tangent from the geometry",

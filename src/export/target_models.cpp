@@ -186,7 +186,7 @@ TargetBrdf openpbr_model(const GgxSource& g, json& p, std::vector<std::string>& 
     m.lobe.eta = glm::dvec3(td.eta);
     m.lobe.weight = td.tint;
     m.diffuse = glm::clamp(g.kd, 0.0, 1.0);
-    m.diffuse_times_openpbr_throughput = true;
+    m.diffuse_times_dielectric_throughput = true;
     p["base_metalness"] = 0.0, p["base_color"] = j3(m.diffuse), p["specular_color"] = j3(td.tint);
     p["specular_ior"] = td.eta;
     notes.push_back(
@@ -527,16 +527,37 @@ TargetBrdf target_model(Target t, const GgxSource& g, json* params_out, std::vec
             "the conductor goes through Gulbrandsen's artistic IOR (reflectivity, edge colour): two "
             "colours for n, k, so the Fresnel curve is close, not equal");
       } else {
-        const double eta = match_schlick(luminance_avg(g.f0), 1.0, false).eta;
-        m.name = "MaterialX standard_surface, dielectric (exact Fresnel, G2 at the mean alpha) + Lambert";
+        // MaterialX @ 4177b2cb. standard_surface.mtlx:288-303: specular_bsdf is a dielectric_bsdf with
+        // weight = specular (1), tint = specular_color, ior = specular_IOR, and specular_layer layers it
+        // over the diffuse (metalness 0: metalness_mix is specular_layer, lines 329-333). The diffuse is
+        // oren_nayar_diffuse_bsdf of weight base (1), colour max(base_color, 0) (lines 204-210, 222-227)
+        // at diffuse_roughness 0: Lambert (mx_microfacet_diffuse.glsl:8-18, A = 1, B = 0). Its reflection,
+        // mx_dielectric_bsdf.glsl:43-51: response = D F G comp tint weight / (4 NdotV) with F the
+        // dielectric Fresnel at ior (mx_fresnel_dielectric, mx_microfacet_specular.glsl:212-225),
+        // throughput = 1 - dirAlbedo(F0 = mx_ior_to_f0(ior)) comp weight, untinted (the PBR spec,
+        // MaterialX.PBRSpec.md:539: the tint multiplies f_r, not F). So specular_color tints the whole
+        // Fresnel curve, grazing included; the IOR and the tint as for OpenPBR (tinted_dielectric: the
+        // index closest to Schlick's curve of the largest channel, the tint F0 / max(F0)).
+        const TintedDielectric td = tinted_dielectric(g.f0);
+        m.name =
+            "MaterialX standard_surface, dielectric (exact Fresnel times specular_color, G2 at the mean alpha) layered over "
+            "Lambert";
         m.lobe.fresnel = FresnelModel::Dielectric;
-        m.lobe.eta = glm::dvec3(eta);
-        m.diffuse = g.kd;
-        p["metalness"] = 0.0, p["base_color"] = j3(g.kd), p["specular_color"] = j3(glm::dvec3(1.0));
-        p["specular_IOR"] = eta;
+        m.lobe.eta = glm::dvec3(td.eta);
+        m.lobe.weight = td.tint;
+        m.diffuse = glm::max(g.kd, 0.0);
+        m.diffuse_times_dielectric_throughput = true;
+        p["metalness"] = 0.0, p["base_color"] = j3(g.kd), p["specular_color"] = j3(td.tint);
+        p["specular_IOR"] = td.eta;
         notes.push_back(
-            "standard_surface layers the diffuse under the specular (scaled by 1 - its albedo); the "
-            "target model adds them");
+            fmt::format("Schlick's F0 {} becomes the dielectric Fresnel of specular_IOR {:.4g} closest to the curve of its "
+                        "largest channel (F0 {:.4g}) times specular_color {} (F0 / its largest channel: the F0's hue, which "
+                        "standard_surface's dielectric_bsdf applies at every angle, grazing included)",
+                        fmt3(g.f0), td.eta, F_Conductor(1.0, td.eta, 0.0), fmt3(td.tint)));
+        notes.push_back(
+            "standard_surface layers the specular over the diffuse: the diffuse is scaled by 1 - the specular's "
+            "directional albedo at the view (mx_dielectric_bsdf.glsl:47-49, mx_layer_bsdf.glsl:5), which the target "
+            "model does and aniso's GGX (a sum) does not");
       }
       notes.push_back(
           "MaterialX's GGX lobes add a multiple-scattering energy compensation "

@@ -20,7 +20,9 @@
 //               src/pbrt/bxdfs.h (ConductorBxDF::f), src/pbrt/materials.{h,cpp}.
 //   MaterialX   AcademySoftwareFoundation/MaterialX @ 4177b2cb: libraries/pbrlib/genglsl/
 //               mx_roughness_anisotropy.glsl, mx_conductor_bsdf.glsl, mx_artistic_ior.glsl,
-//               lib/mx_microfacet_specular.glsl; libraries/bxdf/standard_surface.mtlx.
+//               mx_dielectric_bsdf.glsl, mx_layer_bsdf.glsl, lib/mx_microfacet_specular.glsl;
+//               libraries/pbrlib/pbrlib_defs.mtlx (ND_dielectric_bsdf); libraries/bxdf/standard_surface.mtlx;
+//               documents/Specification/MaterialX.PBRSpec.md (dielectric_bsdf's tint).
 //   OpenPBR     AcademySoftwareFoundation/MaterialX @ 4177b2cb: libraries/bxdf/open_pbr_surface.mtlx,
 //               libraries/pbrlib/genglsl/mx_generalized_schlick_bsdf.glsl, mx_dielectric_bsdf.glsl,
 //               mx_layer_bsdf.glsl, lib/mx_microfacet_specular.glsl; AcademySoftwareFoundation/OpenPBR
@@ -97,10 +99,11 @@ struct TargetBrdf {
   glm::dvec3 diffuse{0.0};
   bool diffuse_times_one_minus_f = false;
   bool diffuse_times_one_minus_max_f = false;
-  // OpenPBR's dielectric base (open_pbr_surface.mtlx:400-403, a `layer` of the specular over the
-  // diffuse; mx_layer_bsdf.glsl:5): the diffuse times the specular's throughput at the view direction,
-  // openpbr_dielectric_throughput(wo.z, sqrt(alpha_x alpha_y), lobe.eta.x).
-  bool diffuse_times_openpbr_throughput = false;
+  // MaterialX's dielectric_bsdf layered over the diffuse (a `layer`, mx_layer_bsdf.glsl:5: OpenPBR's
+  // dielectric base, open_pbr_surface.mtlx:400-403; standard_surface's specular_layer,
+  // standard_surface.mtlx:300-303): the diffuse times the specular's throughput at the view direction,
+  // materialx_dielectric_throughput(wo.z, sqrt(alpha_x alpha_y), lobe.eta.x).
+  bool diffuse_times_dielectric_throughput = false;
   // >= 0: the diffuse term is Cycles 3.4's Principled diffuse (Burley's, with retro-reflection, at
   // this roughness: cycles_v1_principled_diffuse) instead of Lambert's.
   double burley_roughness = -1.0;
@@ -415,13 +418,14 @@ inline double materialx_ggx_dir_albedo(double NdotV, double alpha, double F0, do
   return F0 * A + F90 * B;
 }
 
-// The throughput of open_pbr_surface's dielectric reflection (mx_dielectric_bsdf.glsl:23-49): with
+// The throughput of MaterialX's dielectric_bsdf in reflection (mx_dielectric_bsdf.glsl:23-49; the
+// specular of open_pbr_surface and of standard_surface, each at weight 1): with
 // NdotV = clamp(wo.z, M_FLOAT_EPS, 1) and F0 = mx_ior_to_f0(ior) = ((ior - 1) / (ior + 1))^2,
 //   comp = 1 + Fss (1 - Ess) / Ess, Fss = F0 + (1 - F0) / 21, Ess = albedo(NdotV, alpha, 1, 1)
 //          (mx_ggx_energy_compensation and mx_fresnel_average, mx_microfacet_specular.glsl:503-521),
 //   throughput = 1 - albedo(NdotV, alpha, F0, 1) comp   (weight 1),
 // which the `layer` multiplies the diffuse base by (mx_layer_bsdf.glsl:5).
-inline double openpbr_dielectric_throughput(double cos_o, double avg_alpha, double ior) {
+inline double materialx_dielectric_throughput(double cos_o, double avg_alpha, double ior) {
   const double NdotV = std::clamp(cos_o, 1e-8, 1.0), f0 = ((ior - 1.0) / (ior + 1.0)) * ((ior - 1.0) / (ior + 1.0));
   const double ess = materialx_ggx_dir_albedo(NdotV, avg_alpha, 1.0, 1.0), fss = f0 + (1.0 - f0) / 21.0;
   const double comp = 1.0 + fss * (1.0 - ess) / ess;
@@ -522,7 +526,7 @@ inline glm::dvec3 TargetBrdf::f(const Vec3d& wi_in, const Vec3d& wo_in) const {
   if (burley_roughness >= 0.0) d *= cycles_v1_principled_diffuse(burley_roughness, wi, wo);
   if (diffuse_times_one_minus_f) d *= glm::dvec3(1.0) - F;
   if (diffuse_times_one_minus_max_f) d *= 1.0 - std::max({F.x, F.y, F.z});
-  if (diffuse_times_openpbr_throughput) d *= openpbr_dielectric_throughput(wo.z, std::sqrt(ax * ay), lobe.eta.x);
+  if (diffuse_times_dielectric_throughput) d *= materialx_dielectric_throughput(wo.z, std::sqrt(ax * ay), lobe.eta.x);
   return out + d;
 }
 
