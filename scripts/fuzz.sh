@@ -9,7 +9,10 @@
 # libFuzzer seed that fuzz/ci.txt gives it, from the seed corpus alone (BUILD_DIR/fuzz-ci-corpus/
 # is emptied first), so the same sources give the same inputs on every machine, and a finding
 # reproduces with the same command. Without libFuzzer (g++): each target replays its corpus once.
-# Exits non-zero on the first crash, hang (an input taking over 30 s), sanitizer report, leak,
+# The targets run FUZZ_JOBS at a time (default: the number of cores; each target is one process on
+# one core, so on CI's 2 cores two at a time halve the run's wall time), each into its own log;
+# each target's lines are printed in the order of the list once all have ended.
+# Exits non-zero on any crash, hang (an input taking over 30 s), sanitizer report, leak,
 # out-of-memory or failed output check; the input is kept in BUILD_DIR/fuzz-findings/ and the
 # command that reproduces it is printed.
 set -euo pipefail
@@ -59,15 +62,17 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 findings="$build/fuzz-findings"
 mkdir -p "$findings"
 start=$SECONDS
-for t in "${targets[@]}"; do
-  [[ -z "$t" ]] && continue
+# fuzz_target NAME: one target's run; its lines on stdout, non-zero on a finding.
+fuzz_target() {
+  local t=$1 bin seeds found executed
+  local -a run_flags
   bin="$build/bin/fuzz_$t"
   seeds="fuzz/corpus/$t"
-  [[ -x "$bin" ]] || { echo "fuzz: $bin is missing (build the fuzz_targets target)"; exit 1; }
-  [[ -d "$seeds" ]] || { echo "fuzz: $seeds is missing (every target needs a seed corpus)"; exit 1; }
+  [[ -x "$bin" ]] || { echo "fuzz: $bin is missing (build the fuzz_targets target)"; return 1; }
+  [[ -d "$seeds" ]] || { echo "fuzz: $seeds is missing (every target needs a seed corpus)"; return 1; }
   if [[ $libfuzzer == 1 ]]; then
     if [[ $ci == 1 ]]; then
-      [[ -n "${ci_seed[$t]:-}" ]] || { echo "fuzz: $t has no line in fuzz/ci.txt (target, seed, runs)"; exit 1; }
+      [[ -n "${ci_seed[$t]:-}" ]] || { echo "fuzz: $t has no line in fuzz/ci.txt (target, seed, runs)"; return 1; }
       found="$build/fuzz-ci-corpus/$t"
       rm -rf "$found"
       run_flags=(-seed="${ci_seed[$t]}" -runs="${ci_runs[$t]}" -reload=0 -max_total_time="$ci_time_cap")
@@ -88,7 +93,7 @@ for t in "${targets[@]}"; do
       if [[ $ci == 1 ]]; then
         echo "fuzz: the same run again: scripts/fuzz.sh --ci $build $t"
       fi
-      exit 1
+      return 1
     fi
     grep -E '^stat::number_of_executed_units|^stat::new_units_added' "$findings/$t.log" | tr '\n' ' ' | sed "s/^/fuzz: $t: /"
     echo
@@ -100,9 +105,30 @@ for t in "${targets[@]}"; do
     if ! "$bin" "$seeds" > "$findings/$t.log" 2>&1; then
       tail -n 60 "$findings/$t.log"
       echo "fuzz: $t FAILED on its corpus"
-      exit 1
+      return 1
     fi
     echo "fuzz: $t: $(tail -n 1 "$findings/$t.log")"
   fi
+}
+
+jobs=${FUZZ_JOBS:-$(nproc)}
+running=0
+for t in "${targets[@]}"; do
+  [[ -z "$t" ]] && continue
+  rm -f "$findings/$t.status"
+  (if fuzz_target "$t" > "$findings/$t.out" 2>&1; then echo 0; else echo 1; fi > "$findings/$t.status") &
+  running=$((running + 1))
+  if ((running >= jobs)); then
+    wait -n || true
+    running=$((running - 1))
+  fi
 done
+wait
+failed=0
+for t in "${targets[@]}"; do
+  [[ -z "$t" ]] && continue
+  cat "$findings/$t.out"
+  [[ "$(cat "$findings/$t.status" 2>/dev/null)" == 0 ]] || failed=1
+done
+((failed == 0)) || exit 1
 echo "fuzz: ${#targets[@]} targets, no findings ($((SECONDS - start)) s)"
