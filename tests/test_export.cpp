@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -425,6 +426,26 @@ TEST(ExportExact, RotationDegOfTheMaterialIsRead) {
   const ExportResult r = export_material(d, "ggx", o);
   EXPECT_NEAR(r.report.parameters["Anisotropic Rotation"].get<double>(), 30.0 / 360.0, 1e-12);
   // The source is compared unrotated against the target model in the target's own frame.
+  EXPECT_LT(r.report.errors.relative_l2cos, 0.2);
+}
+
+// A GGX with f90 below 1 (ggx.h): no target writes F90, so the exported GGX keeps the source's
+// alphas and kd with the Schlick F0' closest to its F over theta_d in [0, 80] degrees, here by hand:
+// F0' = F0 - (1 - F90) <w (1 - w)> / <(1 - w)^2>, w = (1 - cos theta_d)^5, and is refined as a fit is.
+TEST(ExportFit, AFlatFresnelBecomesTheClosestSchlickF0) {
+  const MaterialDesc d =
+      load_material(R"({"model": "ggx", "kd": 0.1, "f0": [0.3, 0.5, 0.05], "f90": [0.4, 0.5, 1.0], "alpha": 0.3})");
+  double ww = 0.0, w1 = 0.0;
+  for (int i = 0; i < 64; ++i) {
+    const double w = std::pow(1.0 - std::cos((i + 0.5) / 64.0 * 80.0 * M_PI / 180.0), 5.0);
+    ww += w * (1.0 - w), w1 += (1.0 - w) * (1.0 - w);
+  }
+  const ExportResult r = export_material(d, "flat", quick("mitsuba3"));
+  EXPECT_FALSE(r.report.exact);
+  EXPECT_NE(r.report.origin.find("closest to its Fresnel with f90 0.4, 0.5, 1"), std::string::npos) << r.report.origin;
+  EXPECT_NE(r.report.origin.find(fmt::format("Schlick F0 {:.4g}, {:.4g}, 0.05", 0.3 - 0.6 * ww / w1, 0.5 - 0.5 * ww / w1)),
+            std::string::npos)
+      << r.report.origin;
   EXPECT_LT(r.report.errors.relative_l2cos, 0.2);
 }
 

@@ -239,5 +239,23 @@ TEST(FitReal, AtMostTheErrorOfAPlainLeastSquaresFit) {
   }
 }
 
+// A Fresnel the data keep flat (`--fresnel free-f90`, docs/fitting.md): on the light blue film the
+// free f90 takes the GGX fit from Schlick's 0.494 to 0.336, where bench/plain_fit.py's SciPy fit of
+// the same form (its ggx-f90) reaches 0.3356; held to 1.1 times that. About 5 s of CPU: the release
+// suite only (the sanitizer suite runs the same paths in FitGGX.FreeF90RecoversAFlatFresnel).
+TEST(FitReal, FreeF90AtMostTheErrorOfAPlainLeastSquaresFit) {
+  if (!fs::is_directory(real_dir())) GTEST_SKIP() << "../shared/data/rgl-real/ is absent (CI has it): no real RGL file to fit";
+  if (test::scaled(4) < 4) GTEST_SKIP() << "ANISO_TEST_SCALE < 1 (the sanitizer suite): a 5-s fit, run by the release suite";
+  const SampleSet data = read_measured((real_dir() / "chm_light_blue_rgb.bsdf").string());
+  FitOptions o;
+  o.model = "ggx";
+  o.fresnel = "free-f90";
+  o.threads = 2;
+  const FitResult r = fit_samples(data, o);
+  EXPECT_LE(r.errors.relative_l2cos, 1.1 * 0.3356);
+  EXPECT_LT(r.errors.relative_l2cos, 0.75 * 0.4939);  // the plain fit's Schlick GGX
+  EXPECT_TRUE(r.material.contains("f90")) << r.material.dump();
+}
+
 }  // namespace
 }  // namespace aniso

@@ -39,10 +39,29 @@ std::optional<GgxSource> exact_ggx(const MaterialDesc& d) {
     g.origin = "exact: the source is a conductor with a GGX lobe (eta, k)";
     return g;
   }
-  // A Fresnel with f90 below 1 (ggx.h): no target writes Schlick's F90, so the targets' Schlick GGX
-  // is fitted to it like any other model.
-  if (dist.f90 != RGBT<double>(1.0)) return std::nullopt;
   g.kd = dist.kd, g.f0 = dist.f0;
+  if (dist.f90 != RGBT<double>(1.0)) {
+    // A Fresnel with f90 below 1 (ggx.h) that no target writes (their GGX materials use Schlick's
+    // F90 = 1): D, G and kd stay the source's, and F0 becomes the Schlick F0' closest to the source's
+    // F over the difference angles of Ngan's range (theta_d uniform in [0, 80] degrees, least squares
+    // per channel): F0' = F0 - (1 - F90) <w (1 - w)> / <(1 - w)^2>, w = (1 - cos theta_d)^5.
+    // (Fitting the whole model on the analytic grid instead misses a sharp lobe's peak: alpha 0.01
+    // is narrower than the grid's theta_h step.)
+    double ww = 0.0, w1 = 0.0;
+    constexpr int kSteps = 64;
+    for (int i = 0; i < kSteps; ++i) {
+      const double theta_d = (i + 0.5) / kSteps * kNganMaxThetaDeg * kPi<double> / 180.0;
+      const double m = 1.0 - std::cos(theta_d), w = m * m * m * m * m;
+      ww += w * (1.0 - w), w1 += (1.0 - w) * (1.0 - w);
+    }
+    for (int c = 0; c < 3; ++c) g.f0[c] = std::clamp(dist.f0[c] - (1.0 - dist.f90[c]) * ww / w1, 0.0, 1.0);
+    g.origin = fmt::format(
+        "the source's GGX (alphas, Lambertian kd) with the Schlick F0 {:.4g}, {:.4g}, {:.4g} closest to its Fresnel with "
+        "f90 {:.4g}, {:.4g}, {:.4g} (theta_d 0 to 80 degrees): no target writes an f90",
+        g.f0[0], g.f0[1], g.f0[2], dist.f90[0], dist.f90[1], dist.f90[2]);
+    g.exact = false;  // not the source's F: refined for each target (refine.cpp), as a fit is
+    return g;
+  }
   if (dist.masking == GgxMasking::HeightCorrelated) {
     g.origin = "exact: the source is an anisotropic GGX (Schlick F0, Lambertian kd)";
   } else {
