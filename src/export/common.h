@@ -53,7 +53,7 @@ struct RoughAniso {
 };
 RoughAniso invert_aspect(double& ax, double& ay, double scale, double cap, std::string_view who, std::vector<std::string>& notes);
 
-// Mitsuba 3's principled (target_models.cpp): the target model with these parameters, the
+// Mitsuba 3's principled (mitsuba3.cpp): the target model with these parameters, the
 // parameters of an aniso principled source, and what still differs between the two.
 TargetBrdf mitsuba_principled_model(const MitsubaPrincipled& mp, double turn, double rotation_deg, json& p,
                                     std::vector<std::string>& notes);

@@ -1,5 +1,7 @@
-// export/gltf.cpp: --to gltf, the .gltf with KHR_materials_anisotropy and its .bin UV sphere.
+// export/gltf.cpp: --to gltf, the .gltf with KHR_materials_anisotropy and its .bin UV sphere, and its
+// target model (gltf_model).
 #include "aniso/version.h"
+#include "export/target_models.h"
 #include "export/writers.h"
 
 #include <cmath>
@@ -103,6 +105,78 @@ SphereMesh uv_sphere(int rings, int segments) {
       if (i != 0) m.indices.insert(m.indices.end(), {a, b, c});
       if (i != rings - 1) m.indices.insert(m.indices.end(), {c, b, d});
     }
+  return m;
+}
+
+// --- the target model: GGX -> pbrMetallicRoughness with KHR_materials_anisotropy ----------------------
+
+TargetBrdf gltf_model(const GgxSource& g, json& p, std::vector<std::string>& notes) {
+  TargetBrdf m;
+  double ax = g.alpha_x, ay = g.alpha_y;
+  const glm::dvec3 cond_f0 = source_f0(g);
+  const double extra = major_first(ax, ay);
+  // README.md:88-100: at = mix(ab, 1, s^2), ab = roughness^2.
+  double ab = ay, at = std::min(ax, 1.0);
+  const double s = ab < 1.0 ? std::sqrt(std::clamp((at - ab) / (1.0 - ab), 0.0, 1.0)) : 0.0;
+  const double rough = std::sqrt(std::min(ab, 1.0));
+  const double rot = glm::radians(std::fmod(g.rotation_deg + extra, 360.0));
+  const glm::dvec2 a = gltf_alpha(rough, s);
+  m.lobe.alpha_x = a.x, m.lobe.alpha_y = a.y;
+  m.tangent_turn_deg = extra;
+  m.lobe.masking = Masking::HeightCorrelated;  // V_GGX_anisotropic (README.md:174-181)
+  m.lobe.fresnel = FresnelModel::Schlick;
+  p["roughnessFactor"] = rough, p["anisotropyStrength"] = s, p["anisotropyRotation"] = rot;
+  if (g.conductor || no_diffuse(g)) {
+    glm::dvec3 f0 = glm::clamp(cond_f0, 0.0, 1.0);
+    if (g.conductor) {
+      // The Schlick F0 closest to the conductor's Fresnel curve: Schlick = F0 (1 - m) + m, m = (1 - c)^5,
+      // is linear in F0; least squares over c in [0, 1] (64 points).
+      glm::dvec3 num(0.0);
+      double den = 0.0;
+      for (int i = 0; i < 64; ++i) {
+        const double c = (i + 0.5) / 64.0, m5 = std::pow(1.0 - c, 5.0);
+        const glm::dvec3 F = F_Conductor(c, RGBT<double>(g.eta), RGBT<double>(g.k));
+        num += (F - m5) * (1.0 - m5), den += sqr(1.0 - m5);
+      }
+      f0 = glm::clamp(num / den, 0.0, 1.0);
+    }
+    m.name = "glTF 2.0 metal_brdf (metallic 1): Schlick F0 = baseColor, height-correlated G";
+    m.lobe.f0 = f0;
+    p["metallicFactor"] = 1.0, p["baseColorFactor"] = j3(f0);
+    if (g.conductor)
+      notes.push_back(
+          "the conductor becomes Schlick's Fresnel with the F0 closest to its curve (least "
+          "squares over the cosine)");
+  } else {
+    // Appendix B: dielectric_brdf = fresnel_mix(ior 1.5, diffuse, specular): (1 - F) diffuse + F specular.
+    m.name = "glTF 2.0 dielectric_brdf (metallic 0): fresnel_mix(ior 1.5) of Lambert and GGX";
+    m.lobe.f0 = glm::dvec3(0.04);
+    m.diffuse = g.kd, m.diffuse_times_one_minus_f = true;
+    p["metallicFactor"] = 0.0, p["baseColorFactor"] = j3(glm::clamp(g.kd, 0.0, 1.0));
+    // glTF's default dielectric F0 is 0.04 (ior 1.5); any other goes into KHR_materials_specular,
+    // whose Fresnel is then Schlick's with the source's F0 exactly (targets.h, gltf_specular_for).
+    if (glm::any(glm::greaterThan(glm::abs(g.f0 - 0.04), glm::dvec3(1e-4)))) {
+      const GltfSpecular sp = gltf_specular_for(g.f0);
+      m.name = sp.ior == 1.5
+                   ? "glTF 2.0 dielectric_brdf (metallic 0) with KHR_materials_specular: Schlick F0 = 0.04 specularColor"
+                   : "glTF 2.0 dielectric_brdf (metallic 0) with KHR_materials_specular and KHR_materials_ior: Schlick F0 "
+                     "= F0(ior) specularColor";
+      m.lobe.f0 = gltf_dielectric_f0(sp.specular, sp.color, sp.ior);
+      m.diffuse_times_one_minus_f = false, m.diffuse_times_one_minus_max_f = true;
+      p["specularFactor"] = sp.specular, p["specularColorFactor"] = j3(sp.color);
+      if (sp.ior != 1.5) p["ior"] = sp.ior;
+      notes.push_back(fmt::format(
+          "the source's dielectric F0 {} is not glTF's 0.04: written with KHR_materials_specular{}; viewers without "
+          "the extension{} show F0 = 0.04",
+          fmt3(g.f0),
+          sp.ior == 1.5 ? " (specularColorFactor = F0 / 0.04)"
+                        : fmt::format(" and KHR_materials_ior (ior {:.6g} for the largest F0, specularColorFactor = F0 / "
+                                      "max F0: every factor in [0, 1])",
+                                      sp.ior),
+          sp.ior == 1.5 ? "" : "s"));
+    }
+  }
+  if (ax > 1.0) notes.push_back("alpha along the tangent above 1 clamped to 1 (glTF's mix(alpha, 1, s^2) <= 1)");
   return m;
 }
 

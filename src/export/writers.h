@@ -1,5 +1,6 @@
 // export/writers.h (private): the writers of the targets' files (one file each: blender.cpp,
-// mitsuba3.cpp, pbrt_v4.cpp, materialx.cpp for MaterialX and OpenPBR, gltf.cpp) and what they share
+// mitsuba3.cpp, pbrt_v4.cpp, materialx.cpp for MaterialX and OpenPBR, gltf.cpp, which also hold the
+// target models, target_models.h) and what they share
 // (writers.cpp): the report as a comment, the escaping of names and text.
 #pragma once
 

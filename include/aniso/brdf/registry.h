@@ -1,13 +1,14 @@
 // aniso/brdf/registry.h: the one list of the models. Everything that dispatches on the model is
 // derived from ANISO_MODELS: the ModelKind tags and the tagged union with its constructors and
-// visit (material.h), the model names of JSON and the CLI (model_name), the parameter tables'
-// order (src/io/params.cpp), the material builders (src/io/materials.cpp), the batch dispatch
-// (src/batch/dispatch-inl.h), the GLSL library table and the GLSL Material dispatch
-// (src/gl/glsl_library.cpp), the GLSL builders (src/gl/glsl_material.cpp) and the registry tests
-// (tests/test_registry.cpp). Every row's kernel has the methods of core/kernel.h (ModelKernel,
-// checked below for float and double): how it roughens and whether it is a GGX, asked by the
-// renderer and the exporters through MaterialT. Adding a model: docs/architecture.md, "Adding a
-// model".
+// visit (material.h), the model names of JSON and the CLI (model_name), the model files (one per
+// row, src/models/<member>.h: its parameter table, cross-key rules and builders; their list and
+// dispatch src/models/all.h; the tables in registry order and the material builders
+// src/models/models.cpp), the batch dispatch (src/batch/dispatch-inl.h), the GLSL library table
+// and the GLSL Material dispatch (src/gl/glsl_library.cpp), the GLSL builders
+// (src/gl/glsl_material.cpp) and the registry tests (tests/test_registry.cpp). Every row's kernel
+// has the methods of core/kernel.h (ModelKernel, checked below for float and double): how it
+// roughens and whether it is a GGX, asked by the renderer and the exporters through MaterialT.
+// Adding a model: docs/architecture.md, "Adding a model".
 //
 // One row per model:
 //   X(Tag, Type, member, name, batch, glsl)
