@@ -121,7 +121,12 @@ void expect_file_in_grammar(const std::string& target, const std::string& file, 
   if (target == "blender") expect_clean_python(file, why);
   if (target == "pbrt-v4") expect_pbrt_statements_only(text, why);
   if (target == "mitsuba3" || target == "materialx" || target == "openpbr") expect_well_formed_xml(file, why);
-  if (target == "gltf") EXPECT_NO_THROW((void)nlohmann::json::parse(text)) << why;
+  if (target == "gltf") {
+    EXPECT_NO_THROW({
+      const nlohmann::json j = nlohmann::json::parse(text);
+      EXPECT_TRUE(j.is_object()) << why;
+    }) << why;
+  }
 }
 
 const char* const kTargets[] = {"blender", "mitsuba3", "pbrt-v4", "materialx", "openpbr", "gltf"};

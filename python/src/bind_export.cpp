@@ -65,7 +65,7 @@ void bind_export(py::module_& m) {
         float* out = a.mutable_data();
         std::fill(out, out + rows * w, 0.f);
         std::copy(t.begin(), t.end(), out);
-        return std::move(a);
+        return a;
       },
       py::arg("material"),
       "A measured material's tables for the GLSL of export_glsl: a float32 array (rows, 4096), the R32F\n"
