@@ -151,17 +151,14 @@ template <class D> HWY_INLINE V3<D> CosinePowerSample(D d, const V3<D>& a, V<D> 
 
 // --- brdf/fresnel.h twins --------------------------------------------------------------------
 
-// F_Schlick(f0, c) = f0 + (1 - f0)(1 - clamp01(c))^5.
-template <class D> HWY_INLINE V<D> F_Schlick(D d, hn::TFromD<D> f0, V<D> cos_theta) {
-  const V<D> m = hn::Sub(K(d, 1), Clamp01(d, cos_theta));
-  const V<D> m2 = hn::Mul(m, m);
-  return hn::Add(K(d, f0), hn::Mul(K(d, hn::TFromD<D>(1) - f0), hn::Mul(hn::Mul(m2, m2), m)));
-}
-// F_Schlick(f0, f90, c) = f0 + (f90 - f0)(1 - clamp01(c))^5 (fresnel.h).
+// F_Schlick(f0, f90, c) = f0 + (f90 - f0)(1 - clamp01(c))^5 (fresnel.h); f90 = 1 is Schlick's.
 template <class D> HWY_INLINE V<D> F_Schlick(D d, hn::TFromD<D> f0, hn::TFromD<D> f90, V<D> cos_theta) {
   const V<D> m = hn::Sub(K(d, 1), Clamp01(d, cos_theta));
   const V<D> m2 = hn::Mul(m, m);
   return hn::Add(K(d, f0), hn::Mul(K(d, f90 - f0), hn::Mul(hn::Mul(m2, m2), m)));
+}
+template <class D> HWY_INLINE V<D> F_Schlick(D d, hn::TFromD<D> f0, V<D> cos_theta) {
+  return F_Schlick(d, f0, hn::TFromD<D>(1), cos_theta);
 }
 
 // F_Conductor(c, eta, k): the same real-arithmetic Fresnel equations, operation for operation.

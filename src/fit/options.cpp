@@ -58,8 +58,6 @@ FitOptions parse_fit_options(const FitOptionText& a) {
   o.shared_exponents = a.shared_exponents;
   o.metal = a.metal;
   o.metal_lobe = a.metal_lobe;
-  if (a.fresnel != "schlick" && a.fresnel != "free-f90")
-    throw InputError(fmt::format("--fresnel: expected schlick or free-f90, got \"{}\"", text_escape(a.fresnel)));
   o.fresnel = a.fresnel;
   if (a.metric == "l2cos")
     o.metric = FitMetric::L2Cos;

@@ -9,18 +9,13 @@ float F_Schlick(float f0, float cos_theta) {
   return f0 + (1.0 - f0) * (m2 * m2 * m);
 }
 
-vec3 F_Schlick(vec3 f0, float cos_theta) {
-  float m = 1.0 - clamp01(cos_theta);
-  float m2 = m * m;
-  return f0 + (vec3(1.0) - f0) * (m2 * m2 * m);
-}
-
 // With a free reflectance at grazing incidence F90 (fresnel.h): F0 + (F90 - F0)(1 - c)^5.
 vec3 F_Schlick(vec3 f0, vec3 f90, float cos_theta) {
   float m = 1.0 - clamp01(cos_theta);
   float m2 = m * m;
   return f0 + (f90 - f0) * (m2 * m2 * m);
 }
+vec3 F_Schlick(vec3 f0, float cos_theta) { return F_Schlick(f0, vec3(1.0), cos_theta); }
 
 // Exact unpolarised reflectance of a conductor with complex index eta + i k, from air.
 // Real-arithmetic form of the Fresnel equations (Born & Wolf, Principles of Optics, Sec. 14.2;

@@ -18,20 +18,17 @@ template <typename T> ANISO_INLINE T F_Schlick(T f0, T cos_theta) {
   return f0 + (T(1) - f0) * (m2 * m2 * m);
 }
 
-template <typename T> ANISO_INLINE RGBT<T> F_Schlick(const RGBT<T>& f0, T cos_theta) {
-  const T m = T(1) - clamp01(cos_theta);
-  const T m2 = m * m;
-  return f0 + (RGBT<T>(T(1)) - f0) * (m2 * m2 * m);
-}
-
 // Schlick's form with a free reflectance at grazing incidence F90 (Schlick 1994 Eq. 15 with 1
 // replaced by F90; Filament's F_Schlick(f0, f90, VoH), Karis 2013's specular model):
-// F(c) = F0 + (F90 - F0)(1 - c)^5. F90 = 1 is Schlick's (the same operations, bit for bit); below
-// 1 the Fresnel stays flatter towards grazing, as films and paints measure (docs/models/ggx.md).
+// F(c) = F0 + (F90 - F0)(1 - c)^5. Below 1 the Fresnel stays flatter towards grazing, as films
+// and paints measure (docs/models/ggx.md).
 template <typename T> ANISO_INLINE RGBT<T> F_Schlick(const RGBT<T>& f0, const RGBT<T>& f90, T cos_theta) {
   const T m = T(1) - clamp01(cos_theta);
   const T m2 = m * m;
   return f0 + (f90 - f0) * (m2 * m2 * m);
+}
+template <typename T> ANISO_INLINE RGBT<T> F_Schlick(const RGBT<T>& f0, T cos_theta) {
+  return F_Schlick(f0, RGBT<T>(T(1)), cos_theta);
 }
 
 // Exact unpolarised reflectance of a conductor with complex index eta + i k, from air.
