@@ -7,9 +7,12 @@ CI until its own limit), or when a name that COSTS_FILE (tests/ctest_costs.cmake
 longer names an entry (ctest ignores set_tests_properties on an unknown name, so a renamed slow
 test would silently lose its place at the front of the queue)."""
 import json
+import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 
 
 def grouped_gtest_names(tests):
@@ -29,9 +32,23 @@ def grouped_gtest_names(tests):
     return found
 
 
+def show_entries(build):
+    """`ctest --show-only=json-v1` of BUILD_DIR's suite, run on a copy of its CTestTestfile.cmake
+    tree: any ctest run in a build folder rewrites its Testing/Temporary/LastTest.log, and this
+    check runs inside the suite's own run, whose log the failure digest reads afterwards
+    (scripts/ctest_failure_digest.sh). The copies name tests and included files by absolute path."""
+    with tempfile.TemporaryDirectory(prefix="ctest-show-") as copy:
+        for root, _dirs, files in os.walk(build):
+            if "CTestTestfile.cmake" in files:
+                target = os.path.join(copy, os.path.relpath(root, build))
+                os.makedirs(target, exist_ok=True)
+                shutil.copy(os.path.join(root, "CTestTestfile.cmake"), target)
+        return subprocess.run(["ctest", "--test-dir", copy, "--show-only=json-v1"], capture_output=True, text=True)
+
+
 def main():
     build, costs_file = sys.argv[1], sys.argv[2]
-    shown = subprocess.run(["ctest", "--test-dir", build, "--show-only=json-v1"], capture_output=True, text=True)
+    shown = show_entries(build)
     if shown.returncode != 0:
         print(shown.stdout, shown.stderr, sep="\n")
         return 1

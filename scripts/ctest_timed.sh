@@ -39,10 +39,13 @@ fi
 preset=${1:?usage: ctest_timed.sh PRESET [CTEST_ARGS...] | ctest_timed.sh --report BUILD_DIR [N]}
 shift
 start=$(date +%s)
-# The run's own output is what the report reads: LastTest.log is rewritten by any ctest run in the
-# same build folder, and the suite holds one (ctest_every_entry_has_a_timeout lists the entries
-# with `ctest --show-only`), which left an empty log behind the whole run.
+# The run's own output is what the report reads, and it is kept as
+# build/PRESET/Testing/LastRunOutput.txt: LastTest.log is rewritten by any ctest run in the same
+# build folder (ctest_every_entry_has_a_timeout runs its ctest on a copy of the test files for that
+# reason), and with the presets' outputOnFailure the run's output holds each failed test's output,
+# which scripts/ctest_failure_digest.sh reads when LastTest.log lacks it.
 out=$(mktemp)
+kept=build/$preset/Testing/LastRunOutput.txt
 ctest --preset "$preset" "$@" | tee "$out"
 status=${PIPESTATUS[0]}
 wall=$(($(date +%s) - start))
@@ -58,5 +61,6 @@ echo "=== ctest --preset $preset: ${wall} s wall, ${cpu} s CPU (user + sys), exi
 # "  12/1590 Test  #147: Name ......   Passed   22.44 sec": the entry's name and its seconds.
 awk '$1 ~ /^[0-9]+\/[0-9]+$/ && $2 == "Test" && $NF == "sec" { name = $4; t = $(NF - 1); if (t + 0 == t) print t, name }' "$out" |
   sort -g -r | head -n 10 | awk 'BEGIN { print "=== the 10 slowest entries of this run:" } { printf "  %8.1f s  %s\n", $1, $2 }'
+{ mkdir -p "$(dirname "$kept")" && cp "$out" "$kept"; } || echo "ctest_timed: could not keep the run's output as $kept"
 rm -f "$out"
 exit "$status"

@@ -65,15 +65,19 @@ class ViewCli : public Cli {
         .append(shell_quote(err.string()))
         .append(" < /dev/null");
     Result r;
-    // xvfb-run's own exit 5 ("problem while cleaning up temporary directory": its `rm -r` of its
-    // temporary folder failed, seen once in 1500 sanitizer-suite entries under ctest -j2) replaces
-    // aniso's exit status, so that run says nothing about aniso: it is run once more.
+    // xvfb-run's own failures replace aniso's exit status, so such a run says nothing about aniso
+    // and is run once more: exit 5 ("problem while cleaning up temporary directory": its `rm -r` of
+    // its temporary folder failed, seen once in 1500 sanitizer-suite entries under ctest -j2) and
+    // exit 1 with "Xvfb failed to start" (no server came up on a free display in its 10 tries).
     for (int attempt = 0; attempt < 2; ++attempt) {
       const int status = std::system(cmd.c_str());
       r.code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
       r.out = read_file(out);
       r.err = read_file(err);
-      if (!(r.code == 5 && contains(r.err, "xvfb-run: error: problem while cleaning up temporary directory"))) break;
+      const bool xvfb_failed =
+          (r.code == 5 && contains(r.err, "xvfb-run: error: problem while cleaning up temporary directory")) ||
+          (r.code == 1 && contains(r.err, "xvfb-run: error: Xvfb failed to start"));
+      if (!xvfb_failed) break;
     }
     if (contains(r.err, "cannot open a window")) skip_reason_ = r.err;
     return r;
