@@ -2,6 +2,8 @@
 // the linear entries solved exactly (separable least squares, src/fit/linear.h), the energy
 // constraint that costs little, and the real RGL files against the plain least-squares fit of
 // bench/plain_fit.py (its figures pinned below).
+#include "fit/jet.h"  // first: the kernels' constants for ceres::Jet (fit/separable.h's includes)
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -15,6 +17,8 @@
 #include "aniso/io/materials.h"
 #include "aniso/measured/samples.h"
 #include "fit/linear.h"
+#include "fit/models.h"
+#include "fit/separable.h"
 #include "stats/rng.h"
 #include "test_util.h"
 
@@ -241,11 +245,11 @@ TEST(FitReal, AtMostTheErrorOfAPlainLeastSquaresFit) {
 
 // A Fresnel the data keep flat (`--fresnel free-f90`, docs/fitting.md): on the light blue film the
 // free f90 takes the GGX fit from Schlick's 0.494 to 0.336, where bench/plain_fit.py's SciPy fit of
-// the same form (its ggx-f90) reaches 0.3356; held to 1.1 times that. About 5 s of CPU: the release
+// the same form (its ggx-f90) reaches 0.3356; held to 1.1 times that. About 1 s of CPU: the release
 // suite only (the sanitizer suite runs the same paths in FitGGX.FreeF90RecoversAFlatFresnel).
 TEST(FitReal, FreeF90AtMostTheErrorOfAPlainLeastSquaresFit) {
   if (!fs::is_directory(real_dir())) GTEST_SKIP() << "../shared/data/rgl-real/ is absent (CI has it): no real RGL file to fit";
-  if (test::scaled(4) < 4) GTEST_SKIP() << "ANISO_TEST_SCALE < 1 (the sanitizer suite): a 5-s fit, run by the release suite";
+  if (test::scaled(4) < 4) GTEST_SKIP() << "ANISO_TEST_SCALE < 1 (the sanitizer suite): a fit of a whole real file, run by the release suite";
   const SampleSet data = read_measured((real_dir() / "chm_light_blue_rgb.bsdf").string());
   FitOptions o;
   o.model = "ggx";
@@ -255,6 +259,37 @@ TEST(FitReal, FreeF90AtMostTheErrorOfAPlainLeastSquaresFit) {
   EXPECT_LE(r.errors.relative_l2cos, 1.1 * 0.3356);
   EXPECT_LT(r.errors.relative_l2cos, 0.75 * 0.4939);  // the plain fit's Schlick GGX
   EXPECT_TRUE(r.material.contains("f90")) << r.material.dump();
+}
+
+// Variable projection (fit/separable.h, project_roughness): from a roughness five times the true
+// one, with every linear entry at 0.5, it lands on the material the exact samples came from: the
+// roughness and, solved at it, kd, F0 and F90 (a free-f90 GGX: 9 linear entries, 1 that is not).
+// A model whose roughness is two entries (anisotropic) is left to the solver, unchanged.
+TEST(FitProjection, RoughnessProjectionLandsOnTheSourceOfExactSamples) {
+  const json m = {{"model", "ggx"},         {"kd", {0.3, 0.25, 0.2}}, {"f0", {0.06, 0.05, 0.04}},
+                  {"f90", {0.2, 0.4, 0.7}}, {"alpha_x", 0.08},        {"alpha_y", 0.08}};
+  const SampleSet data = hemisphere_data(m, int(test::scaled(4000)), 90.0, 1.0, 21);
+  double total = 0.0;
+  for (const MeasuredSample& s : data.samples) total += s.weight;
+  std::vector<fit_detail::Prepared> samples;
+  for (const MeasuredSample& s : data.samples) samples.push_back({s.wi, s.wo, s.value * s.wi.z, std::sqrt(s.weight / total)});
+  const fit_detail::GGXFit model(false, {}, {"f90"});
+  const fit_detail::LinearLayout layout = fit_detail::linear_layout(model);
+  ASSERT_EQ(layout.channel[0].size(), 3u);
+  std::vector<double> x(model.defs.size(), 0.5);
+  x[size_t(model.at("alpha_x"))] = 0.4;
+  ASSERT_TRUE(fit_detail::project_roughness(model, layout, x, samples));
+  EXPECT_NEAR(x[size_t(model.at("alpha_x"))], 0.08, 1e-5);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(x[size_t(model.at("kd", c))], m["kd"][size_t(c)].get<double>(), 1e-5) << "channel " << c;
+    EXPECT_NEAR(x[size_t(model.at("f0", c))], m["f0"][size_t(c)].get<double>(), 1e-5) << "channel " << c;
+    EXPECT_NEAR(x[size_t(model.at("f90", c))], m["f90"][size_t(c)].get<double>(), 1e-5) << "channel " << c;
+  }
+  const fit_detail::GGXFit turned(true);
+  std::vector<double> y(turned.defs.size(), 0.5);
+  const std::vector<double> before = y;
+  EXPECT_FALSE(fit_detail::project_roughness(turned, fit_detail::linear_layout(turned), y, samples));
+  EXPECT_EQ(y, before);
 }
 
 }  // namespace

@@ -2,12 +2,17 @@
 // solved exactly, and the separable grid start over the roughness.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
 #include <optional>
 #include <string_view>
 #include <vector>
 
 #include <Eigen/Dense>
+#include <boost/math/tools/minima.hpp>
 
 #include "fit/linear.h"
 #include "fit/starts.h"
@@ -156,6 +161,64 @@ template <class Model> std::optional<StartPoint> separable_grid_start(const Mode
   }
   if (!std::isfinite(best_cost)) return std::nullopt;
   return best;
+}
+
+// The roughness span of project_roughness, a factor either way: beyond the spacing of the separable
+// grid's 24 steps over 0.002 to 0.8 (a factor of 1.3) and of what ten iterations from a start move
+// the roughness, so the minimum near the best start lies inside; farther minima are other starts'
+// business. From a point converged on a subset of the samples, kProjectionSpanNear.
+inline constexpr double kProjectionSpan = 8.0, kProjectionSpanNear = 1.5;
+
+// Variable projection (Golub & Pereyra 1973, "The differentiation of pseudo-inverses and nonlinear
+// least squares problems whose variables separate", SIAM J. Numer. Anal. 10(2)): where the model's
+// only entry that is not linear is one roughness entry (an isotropic GGX, with or without a free
+// f90, an isotropic Ward), the cost is a function of that entry alone once the linear entries are
+// solved exactly at each of its values (solve_linear), and it is minimised over it by Brent's method
+// (Boost.Math's brent_find_minima) on its logarithm, within a factor `span` of x's value and the
+// entry's bounds. The solver then starts at that minimum: a free-f90 GGX, whose F0 and F90 are
+// nearly collinear for a sharp lobe, took about 70 Levenberg-Marquardt iterations from the best
+// start to get there (docs/fitting.md). x is changed only where the projected cost is below its own
+// (its linear entries solved); returns whether it was. projected_entry: that roughness entry, or
+// -1 for a model with a penalty (Lafortune's), a turn, two roughness entries or other entries that
+// are not linear (metal's eta and k), which are left to the solver.
+template <class Model> int projected_entry(const Model& model, const LinearLayout& layout) {
+  if (layout.empty() || model.penalty_count() > 0) return -1;
+  std::vector<bool> linear(model.defs.size(), false);
+  for (const std::vector<int>& ch : layout.channel)
+    for (int i : ch) linear[size_t(i)] = true;
+  int rough = -1;
+  for (size_t i = 0; i < model.defs.size(); ++i) {
+    if (linear[i]) continue;
+    if (rough >= 0 ||
+        std::find(std::begin(kRoughnessNames), std::end(kRoughnessNames), model.defs[i].name) == std::end(kRoughnessNames))
+      return -1;
+    rough = int(i);
+  }
+  return rough;
+}
+template <class Model> bool project_roughness(const Model& model, const LinearLayout& layout, std::vector<double>& x,
+                                              const std::vector<Prepared>& samples, double span = kProjectionSpan) {
+  const int rough = projected_entry(model, layout);
+  if (rough < 0) return false;
+  const double lo = model.defs[size_t(rough)].lo, hi = model.defs[size_t(rough)].hi, v0 = x[size_t(rough)];
+  if (!(v0 > 0.0) || !(lo > 0.0)) return false;  // the search runs on the logarithm
+  const auto cost_at = [&](double log_v, std::vector<double>* solved) {
+    std::vector<double> y = x;
+    y[size_t(rough)] = std::exp(log_v);
+    const double c = solve_linear(model, layout, y, samples);
+    if (solved) *solved = std::move(y);
+    return std::isfinite(c) ? c : std::numeric_limits<double>::max();
+  };
+  const double c0 = cost_at(std::log(v0), nullptr);
+  // 24 bits of the logarithm: the roughness to about 1e-7 relatively, far below what the solver's
+  // tolerances resolve; 60 evaluations at most (Brent's method needs about 15 on a smooth valley).
+  std::uintmax_t evaluations = 60;
+  const auto [log_v, c] =
+      boost::math::tools::brent_find_minima([&](double t) { return cost_at(t, nullptr); }, std::log(std::max(lo, v0 / span)),
+                                            std::log(std::min(hi, v0 * span)), 24, evaluations);
+  if (!(c < c0)) return false;
+  cost_at(log_v, &x);
+  return true;
 }
 
 }  // namespace aniso::fit_detail
