@@ -285,6 +285,24 @@ TEST(ExportColour, AddShaderWhereItIsTheBetterChoice) {
   }
 }
 
+// Where one node's colour is visibly off and the pair keeps it within the image check's bounds
+// (kBlenderV1ColourOff), the colour wins over the fit's error: chm_light_blue's free-f90 GGX fit
+// (`aniso fit --fresnel free-f90`; its F falls to 0 towards grazing in green and blue, which no
+// Blender 3.4 setup follows) was written grey in one Principled BSDF (chromaticity 0.10; its
+// relative l2cos 0.88 against the pair's 1.00, on the analytic grid over every angle).
+TEST(ExportColour, AddShaderWhereOneNodeIsVisiblyTheWrongColour) {
+  const std::string film = R"({"model": "ggx", "alpha_x": 0.0102848, "alpha_y": 0.0102848, "kd": [0.129299, 0.131637, 0.101205],
+                              "f0": [0.140725, 0.338106, 0.534972], "f90": [0.224979, 0, 0]})";
+  ExportOptions o = quick(3.4);
+  o.grid = 6, o.check_size = 48;  // the defaults: the choice is the one `aniso export` makes
+  const ExportResult r = export_material(load_material(film), "film", o);
+  EXPECT_TRUE(r.report.parameters.contains("Add Shader (3.4)")) << r.report.text();
+  EXPECT_LT(r.report.image.chromaticity_difference, 0.02) << r.report.text();
+  EXPECT_FALSE(r.report.image.warn()) << r.report.text();
+  const TargetBrdf one = target_model(Target::Blender, r.ggx, nullptr, nullptr, 3.4);
+  EXPECT_GT(image_check(build_material<double>(load_material(film)), one, 32).chromaticity_difference, kBlenderV1ColourOff);
+}
+
 // A measured source is refined and measured on its own samples (export_samples: the ones `aniso fit`
 // fits, within 80 degrees), so that --grid changes nothing of what is written.
 TEST(ExportColour, MeasuredSourceRefinedOnItsOwnSamples) {

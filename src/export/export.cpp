@@ -224,9 +224,10 @@ void export_measured(const TargetInfo& info, const MaterialDesc& desc, const Mat
 // `fitted`) and where the pair's 3.4 target model is the better choice (kBlenderV1AddShaderErrorRatio):
 // it fits the samples better in o.metric and renders no further from the source's colour (the image
 // check's chromaticity_difference), or it renders clearly closer to the source's colour and fits
-// about as well. Reported as 3.4 (o.blender_version < 3.5) on the fitted path, each setup is refined in its
-// own model and `refined` becomes the Add Shader's when it is chosen; otherwise (an exact source, or
-// 4.x reported) both setups are measured on `refined`. A note gives both errors.
+// about as well, or the single node's colour is visibly off and the pair's is closer, within the
+// image check's bounds (kBlenderV1ColourOff). Reported as 3.4 (o.blender_version < 3.5) on the fitted path, each setup is refined
+// in its own model and `refined` becomes the Add Shader's when it is chosen; otherwise (an exact source, or 4.x reported) both
+// setups are measured on `refined`. A note gives both errors.
 void blender_v1_nodes(const MaterialD& source, const GgxSource& fitted, GgxSource& refined, const SampleSet& samples,
                       const ExportOptions& o, BlenderV1Nodes& nodes, std::vector<std::string>& notes) {
   nodes = BlenderV1Nodes::Principled;
@@ -241,8 +242,10 @@ void blender_v1_nodes(const MaterialD& source, const GgxSource& fitted, GgxSourc
   const ImageCheck c1 = image_check(source, m1, 32), c2 = image_check(source, m2, 32);
   const double e1 = metric_of(one, o.metric), e2 = metric_of(two, o.metric);
   const double k1 = c1.chromaticity_difference, k2 = c2.chromaticity_difference;
-  const bool better =
-      (e2 < e1 && k2 <= k1) || (k2 <= k1 - kBlenderV1ChromaticityGain && e2 <= kBlenderV1AddShaderErrorRatio * e1);
+  const bool closer_in_colour = k2 <= k1 - kBlenderV1ChromaticityGain;
+  const bool within_check = c2.mean_difference <= kCheckWarnMean && c2.lit_difference <= kCheckWarnLit;
+  const bool better = (e2 < e1 && k2 <= k1) || (closer_in_colour && e2 <= kBlenderV1AddShaderErrorRatio * e1) ||
+                      (closer_in_colour && k1 > kBlenderV1ColourOff && within_check);
   notes.push_back(fmt::format(
       "Blender 3.4: the source's F0 {} is not white mixed with the Base Color's hue: {} (relative l2cos {:.4g}, log {:.4g}, "
       "chromaticity {:.3f} in the image check; one Principled BSDF: {:.4g}, {:.4g}, {:.3f})",

@@ -224,8 +224,14 @@ bool blender_v1_add_shader_candidate(const GgxSource& g);
 // kBlenderV1ChromaticityGain (about the smallest chromaticity step a viewer sees side by side) with
 // an error at most kBlenderV1AddShaderErrorRatio times the single node's (as good a fit: issue 39's
 // bar for a fit against an independent one).
+// Or, where the single node's colour is visibly off (a chromaticity difference above
+// kBlenderV1ColourOff, five times that smallest step: chm_light_blue's free-f90 fit in one node is
+// grey where the source is blue, 0.10) and the pair is closer in colour by kBlenderV1ChromaticityGain
+// and renders within the image check's own bounds (kCheckWarnMean, kCheckWarnLit): the colour wins
+// over an error of the fit that the picture does not show.
 inline constexpr double kBlenderV1ChromaticityGain = 0.01;
 inline constexpr double kBlenderV1AddShaderErrorRatio = 1.1;
+inline constexpr double kBlenderV1ColourOff = 0.05;
 
 // The fitted path's last step: the alphas searched again with the target's own model (its masking and
 // Fresnel), factors 0.6 to 1.5 around the GGX fit's, in o.metric.
