@@ -249,7 +249,8 @@ TEST(FitReal, AtMostTheErrorOfAPlainLeastSquaresFit) {
 // suite only (the sanitizer suite runs the same paths in FitGGX.FreeF90RecoversAFlatFresnel).
 TEST(FitReal, FreeF90AtMostTheErrorOfAPlainLeastSquaresFit) {
   if (!fs::is_directory(real_dir())) GTEST_SKIP() << "../shared/data/rgl-real/ is absent (CI has it): no real RGL file to fit";
-  if (test::scaled(4) < 4) GTEST_SKIP() << "ANISO_TEST_SCALE < 1 (the sanitizer suite): a fit of a whole real file, run by the release suite";
+  if (test::scaled(4) < 4)
+    GTEST_SKIP() << "ANISO_TEST_SCALE < 1 (the sanitizer suite): a fit of a whole real file, run by the release suite";
   const SampleSet data = read_measured((real_dir() / "chm_light_blue_rgb.bsdf").string());
   FitOptions o;
   o.model = "ggx";
