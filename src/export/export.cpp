@@ -225,9 +225,10 @@ void export_measured(const TargetInfo& info, const MaterialDesc& desc, const Mat
 // it fits the samples better in o.metric and renders no further from the source's colour (the image
 // check's chromaticity_difference), or it renders clearly closer to the source's colour and fits
 // about as well, or the single node's colour is visibly off and the pair's is closer, within the
-// image check's bounds (kBlenderV1ColourOff). Reported as 3.4 (o.blender_version < 3.5) on the fitted path, each setup is refined
-// in its own model and `refined` becomes the Add Shader's when it is chosen; otherwise (an exact source, or 4.x reported) both
-// setups are measured on `refined`. A note gives both errors.
+// image check's bounds (kBlenderV1ColourOff). Reported as 3.4 (o.blender_version < 3.5) on the
+// fitted path, each setup is refined in its own model and `refined` becomes the Add Shader's when
+// it is chosen; otherwise (an exact source, or 4.x reported) both setups are measured on
+// `refined`. A note gives both errors.
 void blender_v1_nodes(const MaterialD& source, const GgxSource& fitted, GgxSource& refined, const SampleSet& samples,
                       const ExportOptions& o, BlenderV1Nodes& nodes, std::vector<std::string>& notes) {
   nodes = BlenderV1Nodes::Principled;

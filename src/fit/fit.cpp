@@ -158,9 +158,10 @@ template <class Model, int N> FitResult fit_with(const Model& model, const Sampl
     }
   if (given) starts.insert(starts.begin(), *given);  // at its own orientation
 
+  const bool projectable = projected_entry(model, layout) >= 0;  // separable.h, project_roughness
+
   // Residual blocks: chunks of 64 samples (fewer blocks, less overhead); one sample per block when a
   // robust loss is asked, because the loss acts on a block's squared norm.
-  const bool projectable = projected_entry(model, layout) >= 0;  // separable.h, project_roughness
   const bool robust = o.loss != "none";
   const int chunk = robust ? 1 : 64;
   const auto make_costs = [&](const std::vector<Prepared>& samples) {
@@ -570,7 +571,8 @@ FitResult fit_samples(const SampleSet& data, const FitOptions& o) {
   if (o.fresnel != "schlick" && o.fresnel != "free-f90")
     throw InputError(fmt::format("--fresnel: expected schlick or free-f90, got \"{}\"", text_escape(o.fresnel)));
   if (o.fresnel != "schlick" && o.model != "ggx")
-    throw InputError(fmt::format("--fresnel {}: applies to --model ggx only (its f90), not to --model {}", o.fresnel, o.model));
+    throw InputError(
+        fmt::format("--fresnel {}: applies to --model ggx only (its f90), not to --model {}", o.fresnel, text_escape(o.model)));
   // A sample exactly at the range's edge (a grid at 80 degrees) is in: the cosine's last ulps.
   const double lowest_cos = o.max_theta_deg >= 90.0 ? -1.0 : std::cos(o.max_theta_deg * M_PI / 180.0) - 1e-12;
   const auto in_range = [&](const MeasuredSample& s) { return s.wi.z >= lowest_cos && s.wo.z >= lowest_cos; };
