@@ -55,7 +55,7 @@ class ViewCli : public Cli {
     cmd.append(shell_quote(dir_.string()))
         .append(" && ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" xvfb-run -a -n ")
         .append(std::to_string(first_display()))
-        .append(" -s '-screen 0 1600x1000x24' ");
+        .append(" -s '-screen 0 1600x1000x24 -noreset' ");
     cmd.append(shell_quote(ANISO_CLI)).append(" view");
     for (const std::string& a : args) cmd.append(" ").append(shell_quote(a));
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
@@ -65,10 +65,14 @@ class ViewCli : public Cli {
         .append(shell_quote(err.string()))
         .append(" < /dev/null");
     Result r;
-    // xvfb-run's own failures replace aniso's exit status, so such a run says nothing about aniso
-    // and is run once more: exit 5 ("problem while cleaning up temporary directory": its `rm -r` of
-    // its temporary folder failed, seen once in 1500 sanitizer-suite entries under ctest -j2) and
-    // exit 1 with "Xvfb failed to start" (no server came up on a free display in its 10 tries).
+    // `-noreset`: without it Xvfb resets when its last client (aniso) disconnects and, started with
+    // SIGUSR1 ignored, signals its parent again once reset (the X server's ResetWellKnownSockets ->
+    // NotifyParentProcess); xvfb-run (a dash script) traps SIGUSR1, and a trapped signal arriving
+    // while its EXIT trap runs `if ! rm -r TMPDIR` makes dash take the successful rm as failed: exit 5,
+    // "problem while cleaning up temporary directory" (reproduced here: with a 1-s pause in that trap,
+    // the second SIGUSR1 arrives without -noreset and never with it). Xvfb's other failures still
+    // replace aniso's exit status, so such a run says nothing about aniso and is run once more: that
+    // exit 5 and exit 1 with "Xvfb failed to start" (no server came up on a free display in 10 tries).
     for (int attempt = 0; attempt < 2; ++attempt) {
       const int status = std::system(cmd.c_str());
       r.code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
