@@ -219,16 +219,25 @@ void export_measured(const TargetInfo& info, const MaterialDesc& desc, const Mat
   res.files.push_back({side_name, std::string(bytes.begin(), bytes.end())});
 }
 
+// The colour clauses of the rule for one BSDF against a pair (kExportColourOff, export.h): whether
+// the pair (error e2, image check c2) is to be written over the single BSDF (error e1, image check
+// c1) for its colour although its error is not lower.
+bool pair_wins_on_colour(double e1, const ImageCheck& c1, double e2, const ImageCheck& c2) {
+  const double k1 = c1.chromaticity_difference;
+  const bool closer_in_colour = c2.chromaticity_difference <= k1 - kExportChromaticityGain;
+  const bool within_check = c2.mean_difference <= std::max(kCheckWarnMean, c1.mean_difference) &&
+                            c2.lit_difference <= std::max(kCheckWarnLit, c1.lit_difference);
+  return closer_in_colour && within_check && (e2 <= kExportColourErrorRatio * e1 || k1 > kExportColourOff);
+}
+
 // Blender 3.4's node setup (BlenderV1Nodes) for the script's 3.4 branch: the Add Shader where one
 // Principled BSDF v1 cannot write the source's F0 (blender_v1_add_shader_candidate, on the GGX fit
-// `fitted`) and where the pair's 3.4 target model is the better choice (kBlenderV1AddShaderErrorRatio):
+// `fitted`) and where the pair's 3.4 target model is the better choice (kExportColourOff's rule):
 // it fits the samples better in o.metric and renders no further from the source's colour (the image
-// check's chromaticity_difference), or it renders clearly closer to the source's colour and fits
-// about as well, or the single node's colour is visibly off and the pair's is closer, within the
-// image check's bounds (kBlenderV1ColourOff). Reported as 3.4 (o.blender_version < 3.5) on the
-// fitted path, each setup is refined in its own model and `refined` becomes the Add Shader's when
-// it is chosen; otherwise (an exact source, or 4.x reported) both setups are measured on
-// `refined`. A note gives both errors.
+// check's chromaticity_difference), or it wins on colour (pair_wins_on_colour). Reported as 3.4
+// (o.blender_version < 3.5) on the fitted path, each setup is refined in its own model and `refined`
+// becomes the Add Shader's when it is chosen; otherwise (an exact source, or 4.x reported) both
+// setups are measured on `refined`. A note gives both errors.
 void blender_v1_nodes(const MaterialD& source, const GgxSource& fitted, GgxSource& refined, const SampleSet& samples,
                       const ExportOptions& o, BlenderV1Nodes& nodes, std::vector<std::string>& notes) {
   nodes = BlenderV1Nodes::Principled;
@@ -243,10 +252,7 @@ void blender_v1_nodes(const MaterialD& source, const GgxSource& fitted, GgxSourc
   const ImageCheck c1 = image_check(source, m1, 32), c2 = image_check(source, m2, 32);
   const double e1 = metric_of(one, o.metric), e2 = metric_of(two, o.metric);
   const double k1 = c1.chromaticity_difference, k2 = c2.chromaticity_difference;
-  const bool closer_in_colour = k2 <= k1 - kBlenderV1ChromaticityGain;
-  const bool within_check = c2.mean_difference <= kCheckWarnMean && c2.lit_difference <= kCheckWarnLit;
-  const bool better = (e2 < e1 && k2 <= k1) || (closer_in_colour && e2 <= kBlenderV1AddShaderErrorRatio * e1) ||
-                      (closer_in_colour && k1 > kBlenderV1ColourOff && within_check);
+  const bool better = (e2 < e1 && k2 <= k1) || pair_wins_on_colour(e1, c1, e2, c2);
   notes.push_back(fmt::format(
       "Blender 3.4: the source's F0 {} is not white mixed with the Base Color's hue: {} (relative l2cos {:.4g}, log {:.4g}, "
       "chromaticity {:.3f} in the image check; one Principled BSDF: {:.4g}, {:.4g}, {:.3f})",
@@ -316,8 +322,9 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
     mitsuba_origin = "exact: the source is aniso's principled; Mitsuba 3's principled takes the same parameters";
   } else if (info->target == Target::Mitsuba3 && !res.ggx.conductor && !no_diffuse(res.ggx)) {
     // A GGX with a diffuse part: Mitsuba 3's principled (metallic 0, base_color kd, specular from
-    // F0 = 0.08 specular) beside the blendbsdf; the one closer to the source's samples in the
-    // chosen metric is written.
+    // F0 = 0.08 specular: a grey F0) beside the blendbsdf (the F0's colour in its conductor's eta,
+    // k); the principled is written where it is closer to the source's samples in the chosen metric
+    // and the blendbsdf does not win on colour (pair_wins_on_colour, the image check at 32 px).
     MitsubaPrincipled mp;
     mp.base_color = glm::clamp(res.ggx.kd, 0.0, 1.0);
     mp.metallic = 0.0;
@@ -330,9 +337,13 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
     const TargetBrdf principled = mitsuba_principled_model(mp, ra.extra, res.ggx.rotation_deg, pparams, pnotes);
     const double e_blend = metric_of(target_errors(res.model, samples), o.metric);
     const double e_principled = metric_of(target_errors(principled, samples), o.metric);
-    const std::string which = fmt::format("{} error: principled {:.4g}, blendbsdf {:.4g}",
-                                          o.metric == FitMetric::L2Cos ? "l2cos" : "log", e_principled, e_blend);
-    if (e_principled < e_blend) {
+    const ImageCheck c_blend = image_check(source, res.model, 32), c_principled = image_check(source, principled, 32);
+    const std::string which = fmt::format(
+        "{} error: principled {:.4g}, blendbsdf {:.4g}; chromaticity in the image check: principled {:.3f}, "
+        "blendbsdf {:.3f}",
+        o.metric == FitMetric::L2Cos ? "l2cos" : "log", e_principled, e_blend, c_principled.chromaticity_difference,
+        c_blend.chromaticity_difference);
+    if (e_principled < e_blend && !pair_wins_on_colour(e_principled, c_principled, e_blend, c_blend)) {
       res.model = principled, params = pparams, notes = pnotes;
       notes.push_back(fmt::format("principled written: it is closer to the source than the blendbsdf ({})", which));
       notes.push_back(
@@ -340,7 +351,8 @@ ExportResult export_material(const MaterialDesc& desc, const std::string& source
           "the exact dielectric Fresnel at eta = 2 / (1 - sqrt(0.08 specular)) - 1 for the source's Schlick "
           "F0 (grey: the mean of the source's)");
     } else {
-      notes.push_back(fmt::format("blendbsdf written: it is closer to the source than the principled ({})", which));
+      notes.push_back(fmt::format("blendbsdf written: it is {} than the principled ({})",
+                                  e_blend <= e_principled ? "closer to the source" : "closer to the source's colour", which));
     }
   }
   ExportReport& r = res.report;
