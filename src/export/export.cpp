@@ -44,8 +44,9 @@ constexpr TargetInfo kTargets[] = {
      "Writes a <scene version=\"3.0.0\"> holding one <bsdf> with id = the material name: a roughconductor with "
      "distribution ggx, alpha_u / alpha_v as aniso's alpha_x / alpha_y, and a named material (Ag, Al, Au, Cr, Cu, W) "
      "or rgb eta / k; an aniso principled material as Mitsuba's principled (the same parameters); with a diffuse "
-     "part, a principled or a blendbsdf of a diffuse and a roughconductor, whichever is closer to the source (the "
-     "report gives both errors). Use it with <include "
+     "part, a principled or a blendbsdf of a diffuse and a roughconductor, whichever is closer to the source in the fit's "
+     "error and the image check's colour (the principled's F0 is grey; the report gives both errors and both "
+     "chromaticities). Use it with <include "
      "filename=\"FILE\"/> and <ref id=\"NAME\"/>. The tangent is dp/du of the mesh: rotate the uv map by rotation_deg "
      "to orient the highlight (Mitsuba 3 has no rotation input)."},
     {Target::PbrtV4, "pbrt-v4", ".pbrt", "pbrt-v4 conductor (remaproughness false), or mix of diffuse and conductor",
